@@ -1,0 +1,27 @@
+// Reading point sets and writing meshes and fields. Every writer writes to a
+// temporary file next to the target and renames it on success, so a failure
+// never leaves a half-written output.
+#pragma once
+#include <string>
+
+#include "snvr/domain.hpp"
+#include "snvr/field.hpp"
+#include "snvr/geometry.hpp"
+
+namespace snvr {
+
+// Chooses the reader from the extension: .ply (ASCII, binary little/big endian,
+// float or double x/y/z among any other properties), .xyz/.pts/.txt (whitespace
+// separated x y z per line, extra columns ignored), .obj ("v" lines), .off.
+// Throws IoError (cannot open) or InputError (malformed, names file and place);
+// non-finite coordinates and empty sets are InputErrors.
+PointSet read_points(const std::string& path);
+
+// Chooses the format from the extension: .stl (binary), .ply (binary little endian), .obj.
+void write_mesh(const Mesh& mesh, const std::string& path);
+
+// Writes the field as VTK image data (.vti, raw appended binary) or NRRD (.nrrd),
+// with the domain's origin (cell centres) and spacing in world units.
+void write_field(const Field& field, const Domain& domain, const std::string& path);
+
+}  // namespace snvr

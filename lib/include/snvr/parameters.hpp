@@ -1,0 +1,54 @@
+// Everything a reconstruction can be told, with the paper's defaults.
+// Lengths are in world units (the points' units) unless the name says cells.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+
+#include "snvr/field.hpp"
+#include "snvr/geometry.hpp"
+
+namespace snvr {
+
+struct Parameters {
+    // Offset l of the shell wall from the points (world units); the shell is 2l thick.
+    // Unset: the larger of 2.5 voxels and the points' sampling gap.
+    std::optional<double> offset;
+    // Alternative to offset: the wall-to-wall thickness 2l.
+    std::optional<double> thickness;
+
+    // Fixed grid box (world min and max corners) instead of the points' padded box;
+    // the grid then has exactly `resolution` cells on the box's longest side.
+    std::optional<std::array<Vec3, 2>> box;
+
+    int resolution = 128;          // cells on the longest axis (used when voxel is unset)
+    std::optional<double> voxel;   // voxel size h in world units
+
+    int steps = 8;                 // time steps Nt
+    double dt = 5e-5;              // time step in normalised units (longest side = 1)
+    double eps_cells = 12;         // epsilon of the Allen-Cahn equation, in cells (eps_m)
+    std::optional<double> eps;     // ...or in world units
+    double xi_cells = 4;           // xi of the initial profile, in cells
+    std::optional<double> xi;      // ...or in world units
+
+    double tol = 1e-7;             // l2 residual norm at which the linear solve stops
+    int max_cycles = 50;           // V-cycle cap per time step (reaching it is reported)
+    int pre_smooth = 2;            // red-black Gauss-Seidel sweeps before coarse correction
+    int post_smooth = 2;           // ...and after
+    bool trilinear = true;         // trilinear prolongation (else piecewise constant)
+    // |l - d| beyond band_xi * xi counts as phi0 = +-1, g = 0 (there g < 2e-7). At 12 the
+    // field near the surface matched band_xi = 20 to 2e-16 on a 128^3 sphere, at half the cost.
+    double band_xi = 12;
+
+    Precision precision = Precision::Double;
+    std::string device = "auto";   // auto | openmp | opencl | opencl:P:D | name substring
+
+    // Throws ParameterError naming the first bad value.
+    void validate() const;
+};
+
+// eps_m = m h / (2 sqrt(2) atanh(0.99)): the width (in the units of h) over which
+// tanh profiles go from -0.99 to 0.99 across about m cells.
+double eps_of_cells(double m, double h);
+
+}  // namespace snvr

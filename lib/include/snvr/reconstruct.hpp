@@ -1,0 +1,73 @@
+// The whole method: points in, phase field out (mesh it with extract_isosurface).
+#pragma once
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "snvr/domain.hpp"
+#include "snvr/field.hpp"
+#include "snvr/geometry.hpp"
+#include "snvr/parameters.hpp"
+
+namespace snvr {
+
+struct StepStats {
+    int step = 0;                        // 1-based
+    int cycles = 0;                      // V-cycles used
+    bool converged = false;              // residual below tol within max_cycles
+    double initial_residual = 0;         // before the first cycle
+    double residual = 0;                 // after the last cycle
+    std::vector<double> cycle_residuals; // after each cycle
+    double seconds_linear = 0, seconds_nonlinear = 0;
+};
+
+struct StageSeconds {
+    double domain = 0;     // fitting the grid, gap estimate, kd-tree
+    double distance = 0;   // unsigned distance in the band
+    double init = 0;       // phase field, g, coarse coefficients
+    double steps = 0;      // all time steps
+    double total = 0;
+};
+
+struct Result {
+    Domain domain;
+    Field phi;                    // phi^{Nt}; the shell is where phi > 0
+    double offset = 0;            // l used, world units
+    std::string offset_reason;    // why this offset (given, 2.5 voxels, sampling gap)
+    double gap = 0;               // estimated sampling gap of the points (world)
+    double eps = 0, xi = 0;       // world units
+    std::string backend;          // which backend ran
+    std::size_t active_cells = 0; // cells with g > 0
+    std::size_t active_bricks = 0, total_bricks = 0;
+    std::size_t solver_bytes = 0; // memory held by the solver's fields
+    std::vector<StepStats> steps;
+    StageSeconds seconds;
+    std::vector<std::string> warnings;
+};
+
+struct Progress {
+    std::string stage;      // "domain", "distance", "init", "step"
+    int step = 0, steps = 0;
+    const StepStats* stats = nullptr;  // set for "step"
+    std::string message;
+};
+using ProgressCallback = std::function<void(const Progress&)>;
+
+// Fits the grid (see fit_domain), computes the distance, runs the split scheme.
+// Throws InputError / ParameterError / ResourceError with a message naming the problem.
+Result reconstruct(const PointSet& points, const Parameters& params,
+                   const ProgressCallback& progress = {});
+
+// The grid reconstruct() would use, and the offset and gap it would choose.
+struct DomainPlan {
+    Domain domain;
+    double offset = 0;
+    std::string offset_reason;
+    double gap = 0;
+    double eps = 0, xi = 0;       // world units
+    std::size_t estimated_bytes = 0;
+};
+DomainPlan plan_domain(const PointSet& points, const Parameters& params);
+
+}  // namespace snvr

@@ -1,0 +1,35 @@
+// The linear half of a time step, phi* - dt g Lap_h phi* = phi^n (eq. 8), solved by
+// geometric multigrid V-cycles with red-black Gauss-Seidel smoothing (eq. 9). The
+// schedule is written once here, on top of the backend operations.
+#pragma once
+#include <vector>
+
+#include "backend.hpp"
+#include "hierarchy.hpp"
+
+namespace snvr {
+
+struct MultigridSettings {
+    double dt = 5e-5;       // normalised
+    double tol = 1e-7;      // on sqrt(sum r^2 / N) over the finest grid
+    int max_cycles = 50;
+    int pre_smooth = 2, post_smooth = 2;
+    bool trilinear = true;
+};
+
+struct LinearSolveStats {
+    int cycles = 0;
+    bool converged = false;
+    double initial_residual = 0;
+    std::vector<double> residuals;  // after each cycle
+};
+
+// Coarse coefficients for every level (once per run: g never changes).
+template <class Real>
+void prepare_coarse_levels(Backend<Real>& backend, const Hierarchy& hierarchy);
+
+// Solves with phi (level 0) as both the right-hand side and the initial guess.
+template <class Real>
+LinearSolveStats solve_linear(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s);
+
+}  // namespace snvr

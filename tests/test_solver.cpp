@@ -1,0 +1,124 @@
+// The split scheme on the reference backend: boundedness, multigrid convergence,
+// the exact nonlinear step, and precision.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "backend.hpp"
+#include "hierarchy.hpp"
+#include "openmp/openmp_backend.hpp"
+#include "snvr/reconstruct.hpp"
+#include "snvr/shapes.hpp"
+
+using namespace snvr;
+
+namespace {
+
+Parameters unit_box(int resolution) {
+    Parameters p;
+    p.resolution = resolution;
+    p.offset = 0.05;
+    p.box = std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{1, 1, 1}};
+    return p;
+}
+
+double max_abs(const Field& f) {
+    double m = 0;
+    for (std::size_t n = 0; n < f.size(); ++n) {
+        const double v = std::abs(f[n]);
+        if (!(v <= m)) m = v;  // NaN propagates
+    }
+    return m;
+}
+
+const PointSet& sphere_points() {
+    static const PointSet pts = shapes::sphere({0.5, 0.5, 0.5}, 0.35, 1.0 / 128);
+    return pts;
+}
+
+}  // namespace
+
+TEST_CASE("phi stays within [-1, 1] and the solve converges for dt = 5e-5 and dt = 1") {
+    for (double dt : {5e-5, 1e-2, 1.0}) {
+        Parameters p = unit_box(64);
+        p.dt = dt;
+        p.steps = 4;
+        p.max_cycles = 200;
+        const Result r = reconstruct(sphere_points(), p);
+        const double m = max_abs(r.phi);
+        int worst = 0;
+        for (const StepStats& s : r.steps) {
+            CHECK(s.converged);
+            worst = std::max(worst, s.cycles);
+        }
+        std::printf("dt %g: max|phi| = %.17g, at most %d V-cycles per step\n", dt, m, worst);
+        CHECK(m <= 1.0);
+        CHECK(m > 0.99);
+    }
+}
+
+TEST_CASE("every V-cycle contracts the residual at least 20-fold and the solve ends below tol") {
+    // Measured at 128^3 (V(2,2), trilinear, harmonic coarse g): 0.001-0.011 per cycle.
+    Parameters p = unit_box(128);
+    p.steps = 3;
+    const Result r = reconstruct(sphere_points(), p);
+    for (const StepStats& s : r.steps) {
+        double prev = s.initial_residual;
+        for (double res : s.cycle_residuals) {
+            std::printf("step %d: residual %.3e, contraction %.4f\n", s.step, res, res / prev);
+            CHECK(res / prev < 0.05);
+            prev = res;
+        }
+        CHECK(s.converged);
+        CHECK(s.residual < p.tol);
+    }
+}
+
+TEST_CASE("the nonlinear step matches a fine integration of phi_t = g (phi - phi^3) / eps^2") {
+    Domain d;
+    d.nx = 16, d.ny = 8, d.nz = 8, d.levels = 1;
+    Hierarchy hier = make_levels(d);
+    set_active_bricks(hier, std::vector<std::uint8_t>(hier.levels[0].brick_count(), 1));
+    auto backend = make_openmp_backend<double>();
+    backend->setup(hier);
+    // Distances spread across the whole profile, so phi0 and g take many values.
+    std::vector<double> dist(d.cells());
+    for (std::size_t n = 0; n < dist.size(); ++n) dist[n] = 0.2 * double(n) / double(dist.size());
+    const double l = 0.1, xi = 0.01, cut = 1.0, dt = 5e-5, eps = 0.02;
+    backend->init_phase(dist.data(), l, 1 / (std::sqrt(2.0) * xi), cut);
+    std::vector<double> before(d.cells()), after(d.cells());
+    backend->download_phi(before.data());
+    backend->nonlinear(2 * dt / (eps * eps));
+    backend->download_phi(after.data());
+    double worst = 0;
+    for (std::size_t n = 0; n < dist.size(); ++n) {
+        const double g = 1 - before[n] * before[n];
+        double y = before[n];
+        const int sub = 2000;
+        const double tau = dt / sub;
+        auto f = [&](double v) { return g * (v - v * v * v) / (eps * eps); };
+        for (int s = 0; s < sub; ++s) {  // classical RK4
+            const double k1 = f(y), k2 = f(y + tau / 2 * k1), k3 = f(y + tau / 2 * k2), k4 = f(y + tau * k3);
+            y += tau / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+        }
+        worst = std::max(worst, std::abs(y - after[n]));
+    }
+    std::printf("nonlinear step vs RK4: max difference %.3e\n", worst);
+    CHECK(worst < 1e-12);
+}
+
+TEST_CASE("single precision follows double precision") {
+    Parameters p = unit_box(64);
+    p.steps = 4;
+    const Result rd = reconstruct(sphere_points(), p);
+    p.precision = Precision::Single;
+    p.tol = 1e-6;
+    const Result rf = reconstruct(sphere_points(), p);
+    REQUIRE(rf.phi.precision == Precision::Single);
+    double worst = 0;
+    for (std::size_t n = 0; n < rd.phi.size(); ++n) worst = std::max(worst, std::abs(rd.phi[n] - rf.phi[n]));
+    std::printf("float vs double after 4 steps: max |difference| %.3e\n", worst);
+    CHECK(worst < 1e-4);
+    CHECK(max_abs(rf.phi) <= 1.0);
+}
