@@ -34,8 +34,13 @@ void set_active_bricks(Hierarchy& hier, const std::vector<std::uint8_t>& fine_ma
     for (std::size_t l = 0; l < hier.levels.size(); ++l) {
         Level& lv = hier.levels[l];
         lv.bricks.clear();
+        lv.brick_cells = 0;
         for (std::uint32_t b = 0; b < mask.size(); ++b)
-            if (mask[b]) lv.bricks.push_back(b);
+            if (mask[b]) {
+                lv.bricks.push_back(b);
+                const CellRange r = lv.range(b);
+                lv.brick_cells += std::size_t(r.i1 - r.i0) * std::size_t(r.j1 - r.j0) * std::size_t(r.k1 - r.k0);
+            }
         if (l + 1 == hier.levels.size()) break;
         // A coarse brick covers 2x2x2 fine bricks.
         const Level& cv = hier.levels[l + 1];

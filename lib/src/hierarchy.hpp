@@ -22,6 +22,7 @@ struct Level {
     int bx = 0, by = 0, bz = 0;          // bricks per axis (the last ones may be partial)
     double h = 0;                        // normalised cell size
     std::vector<std::uint32_t> bricks;   // active brick ids, ascending
+    std::size_t brick_cells = 0;         // cells inside the active bricks
 
     std::size_t cells() const { return std::size_t(nx) * std::size_t(ny) * std::size_t(nz); }
     std::size_t brick_count() const { return std::size_t(bx) * std::size_t(by) * std::size_t(bz); }

@@ -6,10 +6,23 @@ namespace snvr {
 
 namespace {
 
+// Memory traffic model: each operation streams its fields once over the active bricks
+// (a stencil's neighbours come from cache). Streams counted per cell of the level:
+// half sweep reads phi, rhs, g and writes phi; the residual reads three fields; the
+// restriction reads three fine fields and writes two coarse ones (and reads coarse g);
+// prolongation reads g and phi and writes phi, plus the coarse phi.
+constexpr double kSweepStreams = 4, kResidualStreams = 3, kRestrictFine = 3, kRestrictCoarse = 3,
+                 kProlongFine = 3, kProlongCoarse = 1, kCopyStreams = 2;
+
 template <class Real>
 class VCycle {
 public:
     VCycle(Backend<Real>& b, const Hierarchy& h, const MultigridSettings& s) : b_(b), h_(h), s_(s) {}
+
+    double bytes_moved = 0;
+    void count(int level, double streams) {
+        bytes_moved += streams * double(h_.levels[std::size_t(level)].brick_cells) * sizeof(Real);
+    }
 
     Real coefficient(int level) const {
         const double hl = h_.levels[std::size_t(level)].h;
@@ -18,6 +31,7 @@ public:
 
     double residual_norm() {
         const Level& fine = h_.levels[0];
+        count(0, kResidualStreams);
         return std::sqrt(b_.residual_sum_squares(0, coefficient(0)) / double(fine.cells()));
     }
 
@@ -29,16 +43,21 @@ public:
         }
         sweeps(level, s_.pre_smooth);
         b_.restrict_residual(level, coefficient(level));
+        count(level, kRestrictFine);
+        count(level + 1, kRestrictCoarse);
         run(level + 1);
         b_.prolong_correct(level, s_.trilinear);
+        count(level, kProlongFine);
+        count(level + 1, kProlongCoarse);
         sweeps(level, s_.post_smooth);
     }
 
 private:
-    void sweeps(int level, int count) {
-        for (int n = 0; n < count; ++n) {
+    void sweeps(int level, int times) {
+        for (int n = 0; n < times; ++n) {
             b_.smooth(level, 0, coefficient(level));
             b_.smooth(level, 1, coefficient(level));
+            count(level, kSweepStreams);  // two half sweeps each touch half the cells
         }
     }
 
@@ -48,9 +67,11 @@ private:
     void solve_coarsest(int level) {
         const Real c = coefficient(level);
         const double start = b_.residual_sum_squares(level, c);
+        count(level, kResidualStreams);
         if (start == 0) return;
         for (int n = 0; n < 500; n += 4) {
             sweeps(level, 4);
+            count(level, kResidualStreams);
             if (b_.residual_sum_squares(level, c) <= 1e-6 * start) return;
         }
     }
@@ -71,6 +92,7 @@ template <class Real>
 LinearSolveStats solve_linear(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s) {
     VCycle<Real> cycle(backend, hierarchy, s);
     backend.load_rhs();
+    cycle.count(0, kCopyStreams);
     LinearSolveStats st;
     // The residual of the initial guess phi^n is dt g Lap phi^n.
     double r = cycle.residual_norm();
@@ -83,7 +105,12 @@ LinearSolveStats solve_linear(Backend<Real>& backend, const Hierarchy& hierarchy
         if (!std::isfinite(r)) break;
     }
     st.converged = r < s.tol;
+    st.bytes_moved = cycle.bytes_moved;
     return st;
+}
+
+double nonlinear_bytes(const Hierarchy& hierarchy, std::size_t real_size) {
+    return 3.0 * double(hierarchy.levels[0].brick_cells) * double(real_size);
 }
 
 template void prepare_coarse_levels<double>(Backend<double>&, const Hierarchy&);

@@ -108,6 +108,7 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
         st.converged = ls.converged;
         st.initial_residual = ls.initial_residual;
         st.cycle_residuals = ls.residuals;
+        st.bytes_moved = ls.bytes_moved + nonlinear_bytes(hier, sizeof(Real));
         st.residual = ls.residuals.empty() ? ls.initial_residual : ls.residuals.back();
         res.seconds.steps += st.seconds_linear + st.seconds_nonlinear;
         res.steps.push_back(st);

@@ -20,6 +20,7 @@ struct StepStats {
     double residual = 0;                 // after the last cycle
     std::vector<double> cycle_residuals; // after each cycle
     double seconds_linear = 0, seconds_nonlinear = 0;
+    double bytes_moved = 0;              // least memory traffic of the step's operations
 };
 
 struct StageSeconds {

@@ -12,9 +12,14 @@ namespace {
 
 // Sum of the present 6 neighbours (mirror boundary: a missing one equals the cell,
 // so it drops out of the Laplacian) and how many there are. Fixed order: -x +x -y +y -z +z.
+// Bricks away from the grid boundary take the branch-free path (all six present).
 template <class Real>
 inline Real neighbour_sum(const Real* p, std::size_t n, int i, int j, int k, const Level& lv, int& count) {
     const std::size_t sy = std::size_t(lv.nx), sz = std::size_t(lv.nx) * std::size_t(lv.ny);
+    if (i > 0 && j > 0 && k > 0 && i < lv.nx - 1 && j < lv.ny - 1 && k < lv.nz - 1) {
+        count = 6;
+        return ((((p[n - 1] + p[n + 1]) + p[n - sy]) + p[n + sy]) + p[n - sz]) + p[n + sz];
+    }
     Real s = 0;
     count = 0;
     if (i > 0) { s += p[n - 1]; ++count; }

@@ -1,0 +1,56 @@
+// snvr-cl: the command-line front end of libsnvr. Dispatches the subcommand and
+// turns exceptions into messages and exit codes (0 ok, 1 failure, 2 usage).
+#include <iostream>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "options.hpp"
+
+#ifndef SNVR_VERSION
+#define SNVR_VERSION "unknown"
+#endif
+
+namespace {
+
+constexpr int kFailure = 1;
+constexpr int kUsage = 2;
+
+int dispatch(const std::string& command, const std::vector<std::string>& rest) {
+    if (command == "reconstruct") return cli::run_reconstruct(rest);
+    if (command == "devices") return cli::run_devices(rest);
+    if (command == "sample") return cli::run_sample(rest);
+    throw cli::UsageError("unknown subcommand '" + command + "' (known: reconstruct, devices, sample)");
+}
+
+bool is_subcommand(const std::string& s) { return s == "reconstruct" || s == "devices" || s == "sample"; }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    const std::string command = args.empty() ? "" : args[0];
+    try {
+        if (command.empty()) throw cli::UsageError("no subcommand given");
+        if (command == "-h" || command == "--help") {
+            cli::print_main_help(std::cout);
+            return 0;
+        }
+        if (command == "--version") {
+            std::cout << "snvr-cl " << SNVR_VERSION << '\n';
+            return 0;
+        }
+        return dispatch(command, std::vector<std::string>(args.begin() + 1, args.end()));
+    } catch (const cli::UsageError& e) {
+        std::cerr << "snvr-cl: error: " << e.what() << "\nRun 'snvr-cl "
+                  << (is_subcommand(command) ? command + " " : std::string()) << "--help' for usage.\n";
+        return kUsage;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "snvr-cl: error: out of memory\n";
+        return kFailure;
+    } catch (const std::exception& e) {
+        std::cerr << "snvr-cl: error: " << e.what() << '\n';
+        return kFailure;
+    }
+}

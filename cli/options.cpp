@@ -1,0 +1,378 @@
+#include "options.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <set>
+#include <utility>
+
+#include "report.hpp"
+#include "snvr/error.hpp"
+
+namespace cli {
+namespace {
+
+// ---------------------------------------------------------------- numbers
+
+// True for "" too: callers decide whether a part may be empty.
+bool digits(const std::string& s) {
+    return std::all_of(s.begin(), s.end(), [](unsigned char ch) { return std::isdigit(ch) != 0; });
+}
+
+std::string without_sign(const std::string& s) {
+    return (!s.empty() && (s[0] == '+' || s[0] == '-')) ? s.substr(1) : s;
+}
+
+// [+-] digits [. digits] [e [+-] digits] with digits on at least one side of the dot:
+// plain decimal only, so "inf", "nan", hex and leading blanks (all taken by strtod)
+// are refused.
+bool is_decimal(const std::string& text) {
+    const std::string s = without_sign(text);
+    const std::size_t e = s.find_first_of("eE");
+    const std::string mantissa = s.substr(0, e);
+    const std::size_t dot = mantissa.find('.');
+    const std::string whole = mantissa.substr(0, dot);
+    const std::string fraction = dot == std::string::npos ? "" : mantissa.substr(dot + 1);
+    if (!digits(whole) || !digits(fraction) || (whole.empty() && fraction.empty())) return false;
+    if (e == std::string::npos) return true;
+    const std::string exponent = without_sign(s.substr(e + 1));
+    return !exponent.empty() && digits(exponent);
+}
+
+[[noreturn]] void bad_value(const std::string& option, const std::string& text, const char* expected) {
+    throw UsageError("bad value '" + text + "' for " + option + ": expected " + expected);
+}
+
+// ---------------------------------------------------------------- option tables
+
+// Called with the option's name and its value ("" for a flag).
+using Apply = std::function<void(const std::string& option, const std::string& value)>;
+
+struct Option {
+    std::string name;     // "--steps"
+    std::string alias;    // "-o", or empty
+    std::string metavar;  // "N"; empty for a flag
+    std::string help;     // '\n' starts a continuation line
+    Apply apply;
+    std::string heading = {};  // printed above this option in the help
+};
+
+struct Command {
+    std::string usage;        // the synopsis after "Usage: "
+    std::string description;  // a paragraph below it
+    std::vector<Option> options;
+    // Pairs that say the same thing two ways: at most one of each may be given.
+    std::vector<std::pair<std::string, std::string>> exclusive;
+    std::string epilogue;
+};
+
+template <class T>
+T parse_as(const std::string& option, const std::string& text);
+template <>
+double parse_as<double>(const std::string& option, const std::string& text) { return parse_real(option, text); }
+template <>
+int parse_as<int>(const std::string& option, const std::string& text) { return parse_int(option, text); }
+template <>
+std::string parse_as<std::string>(const std::string&, const std::string& text) { return text; }
+
+// Parses the value into `target` (plain or optional), whatever its type.
+template <class T>
+Apply store(T& target) {
+    return [&target](const std::string& option, const std::string& value) { target = parse_as<T>(option, value); };
+}
+template <class T>
+Apply store(std::optional<T>& target) {
+    return [&target](const std::string& option, const std::string& value) { target = parse_as<T>(option, value); };
+}
+Apply set_flag(bool& target) {
+    return [&target](const std::string&, const std::string&) { target = true; };
+}
+
+// -h/--help is looked for before parsing (see wants_help); listed for the help text.
+Option help_option(const std::string& heading = {}) {
+    return {"--help", "-h", "", "show this help", [](const std::string&, const std::string&) {}, heading};
+}
+
+bool is_help(const std::string& token) { return token == "-h" || token == "--help"; }
+
+bool wants_help(const std::vector<std::string>& args) {
+    for (const std::string& a : args) {
+        if (a == "--") return false;
+        if (is_help(a)) return true;
+    }
+    return false;
+}
+
+const Option* find_option(const Command& command, const std::string& name) {
+    for (const Option& o : command.options)
+        if (o.name == name || (!o.alias.empty() && o.alias == name)) return &o;
+    return nullptr;
+}
+
+// Applies every option and returns the positional arguments.
+std::vector<std::string> parse(const Command& command, const std::vector<std::string>& args) {
+    std::vector<std::string> positional;
+    std::set<std::string> seen;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& token = args[i];
+        if (token == "--") {
+            positional.insert(positional.end(), args.begin() + std::ptrdiff_t(i) + 1, args.end());
+            break;
+        }
+        if (token.size() < 2 || token[0] != '-') {
+            positional.push_back(token);
+            continue;
+        }
+        const bool is_long = token.compare(0, 2, "--") == 0;
+        const std::size_t eq = is_long ? token.find('=') : std::string::npos;
+        const std::string name = token.substr(0, eq);
+        const Option* option = find_option(command, name);
+        if (!option) throw UsageError("unknown option '" + name + "'");
+        if (!seen.insert(option->name).second) throw UsageError("option " + option->name + " given more than once");
+
+        std::string value;
+        if (option->metavar.empty()) {
+            if (eq != std::string::npos) throw UsageError("option " + option->name + " takes no value");
+        } else if (eq != std::string::npos) {
+            value = token.substr(eq + 1);
+            if (value.empty()) throw UsageError("option " + option->name + " needs a value (" + option->metavar + ")");
+        } else {
+            // A following "--option" means the value was forgotten; negative numbers
+            // ("-1") still pass and are judged by the option itself.
+            if (i + 1 >= args.size() || args[i + 1].compare(0, 2, "--") == 0 || args[i + 1].empty())
+                throw UsageError("option " + option->name + " needs a value (" + option->metavar + ")");
+            value = args[++i];
+        }
+        option->apply(option->name, value);
+    }
+    for (const auto& [a, b] : command.exclusive)
+        if (seen.count(a) && seen.count(b)) throw UsageError("give either " + a + " or " + b + ", not both");
+    return positional;
+}
+
+void print_help(const Command& command, std::ostream& out) {
+    out << "Usage: " << command.usage << "\n\n" << command.description;
+    const std::size_t column = 26;
+    for (const Option& o : command.options) {
+        if (!o.heading.empty()) out << "\n" << o.heading << ":\n";
+        std::string left = "  " + (o.alias.empty() ? std::string("    ") : o.alias + ", ") + o.name;
+        if (!o.metavar.empty()) left += " " + o.metavar;
+        out << left;
+        // Long synopses get the help on the next line.
+        if (left.size() + 2 > column) out << "\n" << std::string(column, ' ');
+        else out << std::string(column - left.size(), ' ');
+        for (char ch : o.help) {
+            out << ch;
+            if (ch == '\n') out << std::string(column, ' ');
+        }
+        out << "\n";
+    }
+    if (!command.epilogue.empty()) out << "\n" << command.epilogue;
+}
+
+const char* const kExitCodes =
+    "Exit status: 0 success; 1 failure (unreadable or bad input, I/O, out of memory,\n"
+    "solver or device errors, an empty result); 2 usage error.\n";
+
+Command reconstruct_command(ReconstructOptions& o) {
+    snvr::Parameters& p = o.params;
+    const snvr::Parameters defaults;
+    auto precision = [&p](const std::string& option, const std::string& value) {
+        if (value == "double") p.precision = snvr::Precision::Double;
+        else if (value == "float") p.precision = snvr::Precision::Single;
+        else bad_value(option, value, "double or float");
+    };
+    Command c;
+    c.usage = "snvr-cl reconstruct INPUT -o OUTPUT [options]";
+    c.description =
+        "Reconstructs a thin closed shell (a narrow volume of thickness 2L around the\n"
+        "points) by the Allen-Cahn method of Li et al. 2014 and writes it as a mesh.\n"
+        "INPUT: points as .ply, .xyz/.pts/.txt, .obj or .off. Lengths are in the\n"
+        "points' (world) units unless the option says cells.\n";
+    c.options = {
+        {"--output", "-o", "FILE", "mesh to write (required): .stl (binary), .ply (binary) or .obj",
+         store(o.output), "Output"},
+        {"--volume", "", "FILE", "also write the final phase field phi: .vti or .nrrd", store(o.volume)},
+        {"--offset", "", "L",
+         "distance of each wall from the points, world units\n"
+         "(default: the larger of 2.5 voxels and the points' sampling gap)",
+         store(p.offset), "Shell"},
+        {"--thickness", "", "T", "wall-to-wall thickness 2L instead of --offset, world units", store(p.thickness)},
+        {"--resolution", "", "N",
+         fmt("cells on the longest axis of the padded box (default %d)", defaults.resolution), store(p.resolution),
+         "Grid"},
+        {"--voxel", "", "H", "voxel size instead of --resolution, world units", store(p.voxel)},
+        {"--steps", "", "N", fmt("time steps (default %d)", defaults.steps), store(p.steps), "Solver"},
+        {"--dt", "", "X", fmt("time step, normalised units: longest side = 1 (default %g)", defaults.dt),
+         store(p.dt)},
+        {"--eps-cells", "", "M", fmt("Allen-Cahn epsilon: the interface spans about M cells\n(default %g)", defaults.eps_cells),
+         store(p.eps_cells)},
+        {"--eps", "", "E", "Allen-Cahn epsilon instead of --eps-cells, world units", store(p.eps)},
+        {"--xi-cells", "", "M", fmt("width xi of the initial tanh profile, in cells (default %g)", defaults.xi_cells),
+         store(p.xi_cells)},
+        {"--xi", "", "X", "xi instead of --xi-cells, world units", store(p.xi)},
+        {"--tol", "", "X",
+         fmt("l2 norm of the residual at which a step's multigrid solve\nstops (default %g)", defaults.tol),
+         store(p.tol)},
+        {"--max-cycles", "", "N",
+         fmt("V-cycles per step at most; reaching it is a warning (default %d)", defaults.max_cycles),
+         store(p.max_cycles)},
+        {"--precision", "", "double|float", "floating point type of the solver (default double)", precision},
+        {"--device", "", "DEV",
+         "auto | openmp | opencl | opencl:P:D | a name substring (default\n"
+         "auto: an OpenCL GPU, else an OpenCL CPU, else OpenMP);\n"
+         "see 'snvr-cl devices'",
+         store(p.device)},
+        {"--quiet", "", "", "no progress or summary (errors and warnings still show)", set_flag(o.quiet),
+         "Other"},
+        help_option(),
+    };
+    c.exclusive = {{"--offset", "--thickness"}, {"--resolution", "--voxel"}, {"--eps-cells", "--eps"},
+                   {"--xi-cells", "--xi"}};
+    c.epilogue = std::string(
+                     "Options take '--opt value' or '--opt=value'. Progress, warnings and the summary\n"
+                     "go to stderr. A mesh that is not closed, manifold and oriented, or that does\n"
+                     "not enclose every point, is still written, with a warning.\n\n") +
+                 kExitCodes;
+    return c;
+}
+
+Command sample_command(SampleOptions& o) {
+    Command c;
+    c.usage = "snvr-cl sample SHAPE -o OUTPUT [--spacing S]";
+    c.description =
+        "Writes points sampled exactly on an analytic test shape centred in the unit box:\n"
+        "sphere, half-sphere (radius 0.35), cube (side 0.35), cylinder (radius and height\n"
+        "0.35), cone (two cones joined at their base, radius 0.35, height 0.7).\n";
+    c.options = {
+        {"--output", "-o", "FILE", "points to write (required): .ply (binary float) or .xyz (text)",
+         store(o.output), "Options"},
+        {"--spacing", "", "S", fmt("distance between neighbouring points (default %g)", o.spacing),
+         store(o.spacing)},
+        help_option(),
+    };
+    c.epilogue = kExitCodes;
+    return c;
+}
+
+Command devices_command() {
+    Command c;
+    c.usage = "snvr-cl devices";
+    c.description = "Lists the devices that can run the solver and the ids that --device accepts.\n";
+    c.options = {help_option("Options")};
+    c.epilogue = kExitCodes;
+    return c;
+}
+
+void require_extension(const std::string& what, const std::string& path, std::initializer_list<const char*> allowed) {
+    const std::string ext = lower_extension(path);
+    std::string list;
+    for (const char* a : allowed) {
+        if (ext == a) return;
+        list += (list.empty() ? "" : ", ") + std::string(a);
+    }
+    throw UsageError(what + " '" + path + "' must end in one of " + list);
+}
+
+std::string only_positional(const std::vector<std::string>& positional, const char* what) {
+    if (positional.empty()) throw UsageError(std::string("missing ") + what);
+    if (positional.size() > 1) throw UsageError("unexpected argument '" + positional[1] + "'");
+    return positional[0];
+}
+
+}  // namespace
+
+double parse_real(const std::string& option, const std::string& text) {
+    if (!is_decimal(text)) bad_value(option, text, "a number");
+    errno = 0;
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v))
+        bad_value(option, text, "a finite number in the range of double");
+    return v;
+}
+
+int parse_int(const std::string& option, const std::string& text) {
+    const std::string unsigned_part = without_sign(text);
+    if (unsigned_part.empty() || !digits(unsigned_part)) bad_value(option, text, "an integer");
+    errno = 0;
+    char* end = nullptr;
+    const long v = std::strtol(text.c_str(), &end, 10);
+    if (end != text.c_str() + text.size() || errno == ERANGE || v < INT_MIN || v > INT_MAX)
+        bad_value(option, text, "an integer in the range of int");
+    return int(v);
+}
+
+std::string lower_extension(const std::string& path) {
+    // The same rule as the library's writers, so the early check agrees with them.
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+    return ext;
+}
+
+std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::string>& args, std::ostream& help_out) {
+    ReconstructOptions o;
+    const Command command = reconstruct_command(o);
+    if (wants_help(args)) {
+        print_help(command, help_out);
+        return std::nullopt;
+    }
+    o.input = only_positional(parse(command, args), "input file (the points)");
+    if (o.output.empty()) throw UsageError("missing output: give -o FILE");
+    require_extension("output", o.output, {".stl", ".ply", ".obj"});
+    if (!o.volume.empty()) require_extension("--volume", o.volume, {".vti", ".nrrd"});
+    // Out-of-range values are the command line's fault, so a usage error, not a failure.
+    try {
+        o.params.validate();
+    } catch (const snvr::ParameterError& e) {
+        throw UsageError(e.what());
+    }
+    return o;
+}
+
+std::optional<SampleOptions> parse_sample(const std::vector<std::string>& args, std::ostream& help_out) {
+    SampleOptions o;
+    const Command command = sample_command(o);
+    if (wants_help(args)) {
+        print_help(command, help_out);
+        return std::nullopt;
+    }
+    o.shape = only_positional(parse(command, args), "shape name (sphere, half-sphere, cube, cylinder, cone)");
+    if (o.output.empty()) throw UsageError("missing output: give -o FILE");
+    require_extension("output", o.output, {".ply", ".xyz"});
+    if (!(o.spacing > 0)) throw UsageError(fmt("--spacing must be positive, got %g", o.spacing));
+    return o;
+}
+
+bool parse_devices(const std::vector<std::string>& args, std::ostream& help_out) {
+    const Command command = devices_command();
+    if (wants_help(args)) {
+        print_help(command, help_out);
+        return false;
+    }
+    const std::vector<std::string> positional = parse(command, args);
+    if (!positional.empty()) throw UsageError("unexpected argument '" + positional[0] + "'");
+    return true;
+}
+
+void print_main_help(std::ostream& out) {
+    out << "snvr-cl: turns a 3D point cloud into a thin closed printable shell\n"
+           "(Allen-Cahn surface embedding narrow volume reconstruction, Li et al. 2014).\n"
+           "\n"
+           "Usage:\n"
+           "  snvr-cl reconstruct INPUT -o OUTPUT [options]   points -> shell mesh (.stl/.ply/.obj)\n"
+           "  snvr-cl devices                                 list the devices that can run the solver\n"
+           "  snvr-cl sample SHAPE -o OUTPUT [--spacing S]    points on an analytic test shape\n"
+           "  snvr-cl --help | --version\n"
+           "\n"
+           "Run 'snvr-cl COMMAND --help' for a command's options, defaults and units.\n"
+           "\n"
+        << kExitCodes;
+}
+
+}  // namespace cli

@@ -1,0 +1,45 @@
+// Command-line parsing of snvr-cl: strict numbers, both `--opt value` and
+// `--opt=value`, exclusive option pairs, and help generated from the same tables.
+#pragma once
+#include <optional>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "snvr/parameters.hpp"
+
+namespace cli {
+
+// A mistake on the command line: exit status 2 and a hint to read --help.
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// The whole token must be a finite decimal number (or an integer), else UsageError
+// naming the option and the value.
+double parse_real(const std::string& option, const std::string& text);
+int parse_int(const std::string& option, const std::string& text);
+
+struct ReconstructOptions {
+    std::string input, output, volume;
+    snvr::Parameters params;
+    bool quiet = false;
+};
+
+struct SampleOptions {
+    std::string shape, output;
+    double spacing = 0.005;
+};
+
+// Each returns nullopt when -h/--help was given; the help then went to `help_out`.
+std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::string>& args, std::ostream& help_out);
+std::optional<SampleOptions> parse_sample(const std::vector<std::string>& args, std::ostream& help_out);
+bool parse_devices(const std::vector<std::string>& args, std::ostream& help_out);
+
+void print_main_help(std::ostream& out);
+
+// ".stl" for "dir/Out.STL"; empty when there is none.
+std::string lower_extension(const std::string& path);
+
+}  // namespace cli

@@ -1,0 +1,106 @@
+// snvr-cl reconstruct: read, reconstruct, mesh, check, write, report.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <system_error>
+
+#include "commands.hpp"
+#include "options.hpp"
+#include "report.hpp"
+#include "snvr/error.hpp"
+#include "snvr/io.hpp"
+#include "snvr/mesh.hpp"
+#include "snvr/reconstruct.hpp"
+
+namespace cli {
+namespace {
+
+class Stopwatch {
+public:
+    // Seconds since construction or the previous lap.
+    double lap() {
+        const auto now = std::chrono::steady_clock::now();
+        const double s = std::chrono::duration<double>(now - last_).count();
+        last_ = now;
+        return s;
+    }
+
+private:
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+// Fails before a long run rather than after it when an output cannot be written.
+void check_writable_location(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw snvr::IoError("cannot write '" + path + "': it is a directory");
+    fs::path dir = fs::path(path).parent_path();
+    if (dir.empty()) dir = ".";
+    if (!fs::is_directory(dir, ec))
+        throw snvr::IoError("cannot write '" + path + "': directory '" + dir.string() + "' does not exist");
+}
+
+}  // namespace
+
+int run_reconstruct(const std::vector<std::string>& args) {
+    const std::optional<ReconstructOptions> parsed = parse_reconstruct(args, std::cout);
+    if (!parsed) return 0;
+    const ReconstructOptions& o = *parsed;
+    const auto say = [&o](const std::string& line) {
+        if (!o.quiet) std::cerr << line << std::endl;
+    };
+
+    Stopwatch total, stage;
+    Seconds seconds;
+    check_writable_location(o.output);
+    if (!o.volume.empty()) check_writable_location(o.volume);
+
+    say("read: " + o.input);
+    const snvr::PointSet points = snvr::read_points(o.input);
+    seconds.read = stage.lap();
+    say("read: " + grouped(points.size()) + " points");
+
+    const snvr::Result result = snvr::reconstruct(points, o.params, [&o](const snvr::Progress& p) {
+        if (!o.quiet) print_progress(std::cerr, p);
+    });
+    stage.lap();
+    for (const std::string& w : result.warnings) warn(w);
+    for (const std::string& w : solver_warnings(result, o.params.tol)) warn(w);
+
+    say("mesh: extracting the zero level set");
+    const snvr::Mesh mesh = snvr::extract_isosurface(result.phi, result.domain, 0.0);
+    seconds.mesh = stage.lap();
+    if (mesh.triangles.empty())
+        throw snvr::Error(fmt("the reconstructed shell is empty (no triangles on the %d x %d x %d grid, offset "
+                              "%.6g, voxel %.6g); try a larger --offset or a finer --resolution. Nothing written",
+                              result.domain.nx, result.domain.ny, result.domain.nz, result.offset,
+                              result.domain.h));
+
+    say("check: " + grouped(mesh.triangles.size()) + " triangles, " + grouped(points.size()) + " points");
+    const snvr::MeshReport report = snvr::check_mesh(mesh);
+    const std::size_t inside = snvr::count_points_inside(mesh, points);
+    seconds.check = stage.lap();
+    for (const std::string& w : mesh_warnings(report, inside, points.size())) warn(w);
+
+    say("write: " + o.output);
+    snvr::write_mesh(mesh, o.output);
+    if (!o.volume.empty()) {
+        say("write: " + o.volume);
+        try {
+            snvr::write_field(result.phi, result.domain, o.volume);
+        } catch (...) {
+            // A failed run leaves no outputs behind, not even the finished mesh.
+            std::remove(o.output.c_str());
+            throw;
+        }
+    }
+    seconds.write = stage.lap();
+    seconds.total = total.lap();
+
+    if (!o.quiet)
+        print_summary(std::cerr, RunSummary{result, report, points.size(), inside, seconds, o.output, o.volume});
+    return 0;
+}
+
+}  // namespace cli

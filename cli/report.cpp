@@ -1,0 +1,136 @@
+#include "report.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstdarg>
+#include <cstdio>
+#include <iostream>
+
+namespace cli {
+
+std::string fmt(const char* format, ...) {
+    va_list args;
+    va_start(args, format);
+    va_list again;
+    va_copy(again, args);
+    const int n = std::vsnprintf(nullptr, 0, format, args);
+    va_end(args);
+    std::string out(n > 0 ? std::size_t(n) : 0, '\0');
+    if (n > 0) std::vsnprintf(out.data(), out.size() + 1, format, again);
+    va_end(again);
+    return out;
+}
+
+std::string grouped(std::size_t n) {
+    std::string digits = std::to_string(n), out;
+    for (std::size_t i = 0; i < digits.size(); ++i) {
+        if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+        out += digits[i];
+    }
+    return out;
+}
+
+void warn(const std::string& message) { std::cerr << "snvr-cl: warning: " << message << std::endl; }
+
+void print_progress(std::ostream& out, const snvr::Progress& p) {
+    if (p.stage == "step" && p.stats) {
+        const snvr::StepStats& s = *p.stats;
+        out << fmt("step %d/%d: %d V-cycle%s, residual %.2g, %.2f s%s", p.step, p.steps, s.cycles,
+                   s.cycles == 1 ? "" : "s", s.residual, s.seconds_linear + s.seconds_nonlinear,
+                   s.converged ? "" : " (not converged)");
+    } else if (p.stage == "step") {
+        out << fmt("step %d/%d", p.step, p.steps);
+    } else {
+        out << p.stage << (p.message.empty() ? "..." : ": " + p.message);
+    }
+    if (p.stage == "step" && !p.message.empty()) out << ": " << p.message;
+    out << std::endl;  // flushed: progress must show while the run goes on
+}
+
+namespace {
+
+double mib(std::size_t bytes) { return double(bytes) / (1024.0 * 1024.0); }
+const char* yes_no(bool b) { return b ? "yes" : "no"; }
+
+}  // namespace
+
+std::size_t peak_rss_bytes() {
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+#if defined(__APPLE__)
+    return std::size_t(usage.ru_maxrss);  // bytes on macOS
+#else
+    return std::size_t(usage.ru_maxrss) * 1024;  // KiB on Linux and the BSDs
+#endif
+}
+
+void print_summary(std::ostream& out, const RunSummary& run) {
+    const snvr::Result& r = run.result;
+    const snvr::Domain& d = r.domain;
+    const double cells = double(d.cells());
+    int total_cycles = 0, max_cycles = 0, unconverged = 0;
+    for (const snvr::StepStats& s : r.steps) {
+        total_cycles += s.cycles;
+        max_cycles = std::max(max_cycles, s.cycles);
+        unconverged += s.converged ? 0 : 1;
+    }
+    const auto row = [&out](const char* key, const std::string& value) {
+        out << "  " << key << std::string(17 - std::min<std::size_t>(17, std::char_traits<char>::length(key)), ' ')
+            << value << '\n';
+    };
+    out << "summary:\n";
+    row("grid", fmt("%d x %d x %d (%s cells), voxel %.6g, %d multigrid levels", d.nx, d.ny, d.nz,
+                    grouped(d.cells()).c_str(), d.h, d.levels));
+    row("offset", fmt("%.6g (%.3g voxels), thickness %.6g; why: %s", r.offset, r.offset / d.h, 2 * r.offset,
+                      r.offset_reason.empty() ? "not reported" : r.offset_reason.c_str()));
+    row("sampling gap", fmt("%.6g", r.gap));
+    // In the cells of --eps-cells/--xi-cells, whichever way they were given.
+    const double per_cell = snvr::eps_of_cells(1, d.h);
+    row("eps, xi", fmt("%.6g (%.3g cells), %.6g (%.3g cells)", r.eps, r.eps / per_cell, r.xi, r.xi / per_cell));
+    row("backend", r.backend);
+    row("active cells", fmt("%s (%.1f%% of the grid)", grouped(r.active_cells).c_str(),
+                            cells > 0 ? 100.0 * double(r.active_cells) / cells : 0.0));
+    row("memory", fmt("solver %.1f MiB, peak RSS %.1f MiB", mib(r.solver_bytes), mib(peak_rss_bytes())));
+    row("V-cycles", fmt("%d in %zu steps, at most %d in a step%s", total_cycles, r.steps.size(), max_cycles,
+                        unconverged ? fmt(", %d not converged", unconverged).c_str() : ""));
+    const snvr::StageSeconds& s = r.seconds;
+    row("seconds", fmt("read %.2f, domain %.2f, distance %.2f, init %.2f, steps %.2f,", run.seconds.read,
+                       s.domain, s.distance, s.init, s.steps));
+    row("", fmt("mesh %.2f, check %.2f, write %.2f; total %.2f", run.seconds.mesh, run.seconds.check,
+                run.seconds.write, run.seconds.total));
+    row("mesh", fmt("%s triangles, %s vertices, %zu component%s", grouped(run.mesh.triangles).c_str(),
+                    grouped(run.mesh.vertices).c_str(), run.mesh.components, run.mesh.components == 1 ? "" : "s"));
+    row("", fmt("closed %s, manifold %s, oriented %s", yes_no(run.mesh.closed()), yes_no(run.mesh.manifold()),
+                yes_no(run.mesh.oriented())));
+    row("points enclosed", fmt("%s of %s", grouped(run.inside).c_str(), grouped(run.points).c_str()));
+    row("wrote", run.output + (run.volume.empty() ? "" : ", " + run.volume));
+    out.flush();
+}
+
+std::vector<std::string> solver_warnings(const snvr::Result& result, double tol) {
+    std::vector<std::string> out;
+    for (const snvr::StepStats& s : result.steps)
+        if (!s.converged)
+            out.push_back(fmt("step %d did not converge: residual %.3g after %d V-cycles (tol %g)", s.step,
+                              s.residual, s.cycles, tol));
+    return out;
+}
+
+std::vector<std::string> mesh_warnings(const snvr::MeshReport& m, std::size_t inside, std::size_t points) {
+    std::vector<std::string> out;
+    if (!m.closed()) out.push_back(fmt("the mesh is not closed: %zu boundary edges", m.boundary_edges));
+    if (!m.manifold())
+        out.push_back(fmt("the mesh is not manifold: %zu non-manifold edges, %zu non-manifold vertices, "
+                          "%zu degenerate triangles",
+                          m.nonmanifold_edges, m.nonmanifold_vertices, m.degenerate_triangles));
+    if (!m.oriented())
+        out.push_back(fmt("the mesh is not consistently oriented: %zu misoriented edges, volume %.6g",
+                          m.misoriented_edges, m.volume));
+    if (inside < points)
+        out.push_back(fmt("the shell encloses %s of %s points; a larger --offset or a finer grid may help",
+                          grouped(inside).c_str(), grouped(points).c_str()));
+    return out;
+}
+
+}  // namespace cli

@@ -1,0 +1,81 @@
+// Line and token scanning over a whole file held in memory. The text readers
+// parse with std::from_chars rather than iostreams so that millions of points
+// load quickly.
+#pragma once
+#include <charconv>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace snvr::detail {
+
+// Hands out one line at a time (without "\n" or "\r\n") and counts lines.
+class LineScanner {
+public:
+    // lines_before: how many file lines precede `text`, so numbers match the file.
+    explicit LineScanner(std::string_view text, std::size_t lines_before = 0)
+        : text_(text), line_(lines_before) {}
+
+    bool next(std::string_view& line) {
+        if (pos_ >= text_.size()) return false;
+        std::size_t end = text_.find('\n', pos_);
+        if (end == std::string_view::npos) end = text_.size();
+        line = text_.substr(pos_, end - pos_);
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+        pos_ = end < text_.size() ? end + 1 : end;
+        ++line_;
+        return true;
+    }
+    std::size_t line_number() const { return line_; }  // of the line last returned
+    std::size_t offset() const { return pos_; }         // first byte after it
+
+private:
+    std::string_view text_;
+    std::size_t pos_ = 0;
+    std::size_t line_ = 0;
+};
+
+inline bool is_space(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
+
+// Removes and returns the next whitespace-separated token (empty at the end).
+inline std::string_view next_token(std::string_view& rest) {
+    std::size_t begin = 0;
+    while (begin < rest.size() && is_space(rest[begin])) ++begin;
+    std::size_t end = begin;
+    while (end < rest.size() && !is_space(rest[end])) ++end;
+    const std::string_view token = rest.substr(begin, end - begin);
+    rest.remove_prefix(end);
+    return token;
+}
+
+inline std::string_view strip_comment(std::string_view line) {
+    return line.substr(0, line.find('#'));
+}
+
+// The whole token must be a number; a leading '+' is allowed (from_chars rejects it).
+inline bool parse_number(std::string_view token, double& out) {
+    if (token.size() > 1 && token[0] == '+' && token[1] != '-' && token[1] != '+') token.remove_prefix(1);
+    if (token.empty()) return false;
+    const char* end = token.data() + token.size();
+    const auto result = std::from_chars(token.data(), end, out);
+    return result.ec == std::errc() && result.ptr == end;
+}
+
+inline bool parse_count(std::string_view token, std::uint64_t& out) {
+    if (token.empty()) return false;
+    const char* end = token.data() + token.size();
+    const auto result = std::from_chars(token.data(), end, out);
+    return result.ec == std::errc() && result.ptr == end;
+}
+
+inline std::string in_quotes(std::string_view text) { return "'" + std::string(text) + "'"; }
+
+// "expected 5 vertices, file ends after 3": shared wording for truncated data.
+inline std::string ends_early(std::uint64_t expected, std::uint64_t got, const std::string& items) {
+    return "expected " + std::to_string(expected) + " " + items + ", file ends after " + std::to_string(got);
+}
+
+}  // namespace snvr::detail
