@@ -52,7 +52,6 @@ BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index
     const double L = d.length_scale();
     const double radius = (band.offset + band.cut) * L * (1 + 1e-9);  // world units
     const Real far = Real(band.offset + 2 * band.cut);
-    const Real l = Real(band.offset), cut = Real(band.cut);
 
     const Hierarchy shapes = make_levels(Domain{d.origin, d.h, d.nx, d.ny, d.nz, 1});
     const Level& lv = shapes.levels[0];
@@ -63,15 +62,14 @@ BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index
 
     BandDistance<Real> out;
     out.distance.assign(d.cells(), far);
-    out.brick_mask.assign(near.size(), 0);
-    std::size_t active = 0, queried = 0;
-#pragma omp parallel for schedule(dynamic, 4) reduction(+ : active, queried)
+    out.near_bricks = todo;
+    std::size_t queried = 0;
+#pragma omp parallel for schedule(dynamic, 4) reduction(+ : queried)
     for (std::size_t t = 0; t < todo.size(); ++t) {
         const CellRange r = lv.range(todo[t]);
         // A neighbour's nearest point is nearly always this cell's nearest too, or close:
         // its distance bounds the query so tightly that the tree prunes almost everything.
         std::size_t known[kBrick][kBrick][kBrick];
-        bool any = false;
         for (int k = r.k0; k < r.k1; ++k)
             for (int j = r.j0; j < r.j1; ++j)
                 for (int i = r.i0; i < r.i1; ++i) {
@@ -88,21 +86,36 @@ BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index
                     ++queried;
                     known[c][b][a] = hit.index;
                     if (hit.index == PointIndex::npos) continue;  // nothing within the radius
-                    const Real dn = Real(std::sqrt(hit.dist_sq) / L);
-                    out.distance[d.index(i, j, k)] = dn;
-                    if (std::abs(l - dn) <= cut) {
-                        ++active;
-                        any = true;
-                    }
+                    out.distance[d.index(i, j, k)] = Real(std::sqrt(hit.dist_sq) / L);
                 }
-        if (any) out.brick_mask[todo[t]] = 1;
     }
-    out.active_cells = active;
     out.queried_cells = queried;
     return out;
 }
 
+template <class Real>
+void classify_band(BandDistance<Real>& bd, const Domain& d, const Band& band) {
+    const Hierarchy shapes = make_levels(Domain{d.origin, d.h, d.nx, d.ny, d.nz, 1});
+    const Level& lv = shapes.levels[0];
+    const Real l = Real(band.offset), cut = Real(band.cut);
+    bd.brick_mask.assign(lv.brick_count(), 0);
+    std::size_t active = 0;
+#pragma omp parallel for schedule(static) reduction(+ : active)
+    for (std::size_t t = 0; t < bd.near_bricks.size(); ++t) {
+        const CellRange r = lv.range(bd.near_bricks[t]);
+        std::size_t here = 0;
+        for (int k = r.k0; k < r.k1; ++k)
+            for (int j = r.j0; j < r.j1; ++j)
+                for (int i = r.i0; i < r.i1; ++i) here += std::abs(l - bd.distance[d.index(i, j, k)]) <= cut;
+        if (here) bd.brick_mask[bd.near_bricks[t]] = 1;
+        active += here;
+    }
+    bd.active_cells = active;
+}
+
 template BandDistance<double> band_distance<double>(const PointSet&, const PointIndex&, const Domain&, const Band&);
 template BandDistance<float> band_distance<float>(const PointSet&, const PointIndex&, const Domain&, const Band&);
+template void classify_band<double>(BandDistance<double>&, const Domain&, const Band&);
+template void classify_band<float>(BandDistance<float>&, const Domain&, const Band&);
 
 }  // namespace snvr

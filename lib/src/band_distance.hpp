@@ -20,13 +20,19 @@ struct Band {
 template <class Real>
 struct BandDistance {
     std::vector<Real> distance;           // normalised, one per cell
+    std::vector<std::uint32_t> near_bricks;  // level-0 bricks within l + cut of a point (queried)
     std::vector<std::uint8_t> brick_mask; // level-0 bricks holding a cell with |l - d| <= cut
     std::size_t active_cells = 0;         // cells with |l - d| <= cut
     std::size_t queried_cells = 0;        // cells that needed a nearest-point query
 };
 
+// Computes distance, near_bricks and queried_cells.
 template <class Real>
 BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index, const Domain& domain,
                                  const Band& band);
+
+// Sets brick_mask and active_cells from the distance (after any adjustment of it).
+template <class Real>
+void classify_band(BandDistance<Real>& bd, const Domain& domain, const Band& band);
 
 }  // namespace snvr

@@ -70,6 +70,7 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
                std::to_string(dom.levels) + " multigrid levels, backend " + res.backend);
 
     BandDistance<Real> dist = band_distance<Real>(points, index, dom, band);
+    classify_band(dist, dom, band);
     res.active_cells = dist.active_cells;
     res.seconds.distance = clock.lap();
     report(progress, "distance",

@@ -21,7 +21,7 @@ PointSet read_points(const std::string& path);
 void write_mesh(const Mesh& mesh, const std::string& path);
 
 // Writes the field as VTK image data (.vti, raw appended binary) or NRRD (.nrrd),
-// with the domain's origin (cell centres) and spacing in world units.
+// with the origin at the centre of cell (0,0,0) (domain.origin + h/2) and spacing h.
 void write_field(const Field& field, const Domain& domain, const std::string& path);
 
 }  // namespace snvr

@@ -1,0 +1,489 @@
+// Point readers, mesh and field writers, and the atomic file behind the writers.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <charconv>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "atomic_file.hpp"
+#include "snvr/error.hpp"
+#include "snvr/io.hpp"
+
+namespace fs = std::filesystem;
+using snvr::PointSet;
+using snvr::Vec3;
+
+namespace {
+
+// A fresh directory per test, removed with everything in it afterwards.
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        static std::atomic<unsigned> counter{0};
+        std::random_device entropy;
+        path = fs::temp_directory_path() /
+               ("snvr-test-io-" + std::to_string(entropy()) + "-" + std::to_string(counter++));
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ignored;
+        fs::remove_all(path, ignored);
+    }
+    std::string file(const std::string& name) const { return (path / name).string(); }
+    std::size_t entries() const { return std::size_t(std::distance(fs::directory_iterator(path), fs::directory_iterator())); }
+};
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    REQUIRE(out.good());
+}
+
+std::string read_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    REQUIRE(in.good());
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Exact round trip text for a double.
+std::string num(double v) {
+    char buf[32];
+    return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
+
+std::string xyz_line(const Vec3& p, const std::string& before = "", const std::string& after = "") {
+    return before + num(p[0]) + " " + num(p[1]) + " " + num(p[2]) + after + "\n";
+}
+
+// Appends v's bytes in the requested order, independent of the host's.
+template <typename T>
+void put(std::string& out, T v, bool big_endian) {
+    char bytes[sizeof(T)];
+    std::memcpy(bytes, &v, sizeof(T));
+    const std::uint16_t probe = 1;
+    const bool host_little = *reinterpret_cast<const unsigned char*>(&probe) == 1;
+    if (host_little == big_endian) std::reverse(bytes, bytes + sizeof(T));
+    out.append(bytes, sizeof(T));
+}
+
+template <typename T>
+T get_le(const std::string& bytes, std::size_t offset) {
+    std::string slice = bytes.substr(offset, sizeof(T));
+    const std::uint16_t probe = 1;
+    if (*reinterpret_cast<const unsigned char*>(&probe) != 1) std::reverse(slice.begin(), slice.end());
+    T v;
+    std::memcpy(&v, slice.data(), sizeof(T));
+    return v;
+}
+
+const PointSet sample = {{0.1, -2.5, 3e-7}, {1e6, 0.3333333333333333, -0.0}, {123.456, 7, -8.9}, {-1e-300, 2.5e30, 42}};
+
+PointSet as_floats(const PointSet& points) {
+    PointSet out;
+    for (const Vec3& p : points) out.push_back({double(float(p[0])), double(float(p[1])), double(float(p[2]))});
+    return out;
+}
+
+// Throws E whose message names the path and every keyword.
+template <typename E, typename F>
+void check_throws(F&& action, const std::string& path, std::vector<std::string> keywords) {
+    bool thrown = false;
+    try {
+        action();
+    } catch (const E& e) {
+        thrown = true;
+        const std::string message = e.what();
+        INFO("message: " << message);
+        CHECK(message.find(path) != std::string::npos);
+        for (const std::string& k : keywords) CHECK_MESSAGE(message.find(k) != std::string::npos, "missing '" << k << "'");
+    }
+    CHECK_MESSAGE(thrown, "expected an exception for " << path);
+}
+
+void check_read_fails(const TempDir& dir, const std::string& name, const std::string& bytes,
+                      std::vector<std::string> keywords) {
+    const std::string path = dir.file(name);
+    write_bytes(path, bytes);
+    INFO("file: " << name);
+    check_throws<snvr::InputError>([&] { snvr::read_points(path); }, path, std::move(keywords));
+}
+
+const std::string ascii_ply_head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+
+snvr::Mesh tetrahedron() {
+    snvr::Mesh mesh;
+    mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.1, 0.2, 1.3}};
+    mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};  // outward
+    return mesh;
+}
+
+snvr::Field ramp_field(snvr::Precision precision) {
+    snvr::Field field;
+    field.nx = 3, field.ny = 4, field.nz = 5;
+    field.precision = precision;
+    for (std::size_t n = 0; n < field.size(); ++n) {
+        const double v = double(n) * 0.25 - 7;
+        if (precision == snvr::Precision::Double)
+            field.f64.push_back(v);
+        else
+            field.f32.push_back(float(v));
+    }
+    return field;
+}
+
+snvr::Domain domain_for(const snvr::Field& field) {
+    snvr::Domain domain;
+    domain.origin = {1, 2, 3};
+    domain.h = 0.5;
+    domain.nx = field.nx, domain.ny = field.ny, domain.nz = field.nz;
+    return domain;
+}
+
+}  // namespace
+
+TEST_CASE("read_points: ASCII PLY with extra properties and elements") {
+    TempDir dir;
+    std::string text =
+        "ply\r\nformat ascii 1.0\ncomment made by the test\nelement vertex 4\nproperty uchar red\n"
+        "property double z\nproperty list uchar int idx\nproperty double x\nproperty float32 nx\nproperty double y\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const Vec3& p : sample)
+        text += "255 " + num(p[2]) + " 2 7 8 " + num(p[0]) + " 0.5 " + num(p[1]) + "\n";
+    text += "3 0 1 2\n";
+    const std::string path = dir.file("ascii.ply");
+    write_bytes(path, text);
+    CHECK(snvr::read_points(path) == sample);
+}
+
+TEST_CASE("read_points: binary little endian PLY with lists before and inside the vertex element") {
+    TempDir dir;
+    std::string bytes =
+        "ply\nformat binary_little_endian 1.0\nelement face 2\nproperty list uchar int vertex_indices\n"
+        "property short flag\nelement vertex 4\nproperty uint8 red\nproperty float x\nproperty int16 s\n"
+        "property list ushort uint32 neighbours\nproperty float32 y\nproperty double extra\nproperty float z\n"
+        "end_header\n";
+    for (int f = 0; f < 2; ++f) {
+        put<std::uint8_t>(bytes, std::uint8_t(3 + f), false);
+        for (int i = 0; i < 3 + f; ++i) put<std::int32_t>(bytes, i, false);
+        put<std::int16_t>(bytes, -1, false);
+    }
+    for (std::size_t i = 0; i < sample.size(); ++i) {
+        put<std::uint8_t>(bytes, 200, false);
+        put<float>(bytes, float(sample[i][0]), false);
+        put<std::int16_t>(bytes, -300, false);
+        put<std::uint16_t>(bytes, std::uint16_t(i), false);  // lists of 0..3 items
+        for (std::size_t k = 0; k < i; ++k) put<std::uint32_t>(bytes, 99, false);
+        put<float>(bytes, float(sample[i][1]), false);
+        put<double>(bytes, 1e10, false);
+        put<float>(bytes, float(sample[i][2]), false);
+    }
+    const std::string path = dir.file("le.PLY");  // extensions match case-insensitively
+    write_bytes(path, bytes);
+    CHECK(snvr::read_points(path) == as_floats(sample));
+}
+
+TEST_CASE("read_points: binary big endian PLY with double coordinates") {
+    TempDir dir;
+    std::string bytes =
+        "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty int id\nproperty float64 x\n"
+        "property double y\nproperty double z\nproperty ushort flags\nelement face 1\n"
+        "property list uchar int vertex_indices\nend_header\n";
+    for (std::size_t i = 0; i < sample.size(); ++i) {
+        put<std::int32_t>(bytes, std::int32_t(i), true);
+        for (double c : sample[i]) put<double>(bytes, c, true);
+        put<std::uint16_t>(bytes, 0xBEEF, true);
+    }
+    bytes += '\3';  // face data, never needed
+    const std::string path = dir.file("be.ply");
+    write_bytes(path, bytes);
+    CHECK(snvr::read_points(path) == sample);
+}
+
+TEST_CASE("read_points: XYZ, PTS, TXT, OBJ and OFF") {
+    TempDir dir;
+    SUBCASE("xyz with comments, blank lines, CRLF and extra columns") {
+        std::string text = "# header comment\n\n";
+        for (const Vec3& p : sample) text += xyz_line(p, "  ", " 0.5 1 2 # note\r");
+        write_bytes(dir.file("a.xyz"), text);
+        CHECK(snvr::read_points(dir.file("a.xyz")) == sample);
+    }
+    SUBCASE("pts with a count line and intensity/colour columns") {
+        std::string text = "4\n";
+        for (const Vec3& p : sample) text += xyz_line(p, "", " -1024 255 128 0");
+        write_bytes(dir.file("a.pts"), text);
+        CHECK(snvr::read_points(dir.file("a.pts")) == sample);
+    }
+    SUBCASE("txt without a trailing newline and with a leading '+'") {
+        write_bytes(dir.file("a.TXT"), "+1 2 3\n4 5 +6");
+        CHECK(snvr::read_points(dir.file("a.TXT")) == PointSet{{1, 2, 3}, {4, 5, 6}});
+    }
+    SUBCASE("obj: only 'v' lines count") {
+        std::string text = "# obj\nmtllib x.mtl\no thing\n";
+        for (const Vec3& p : sample) text += xyz_line(p, "v ", " 1.0");
+        text += "vn 0 0 1\nvt 0.5 0.5\nvp 1 2 3\nf 1 2 3\nf 2 3 4\n";
+        write_bytes(dir.file("a.obj"), text);
+        CHECK(snvr::read_points(dir.file("a.obj")) == sample);
+    }
+    SUBCASE("off") {
+        std::string text = "OFF\n# comment\n4 1 0\n";
+        for (const Vec3& p : sample) text += xyz_line(p);
+        text += "3 0 1 2\n";
+        write_bytes(dir.file("a.off"), text);
+        CHECK(snvr::read_points(dir.file("a.off")) == sample);
+    }
+    SUBCASE("coff with counts on the header line and colours") {
+        std::string text = "COFF 4 0 0\n";
+        for (const Vec3& p : sample) text += xyz_line(p, "", " 255 0 0 255");
+        write_bytes(dir.file("b.off"), text);
+        CHECK(snvr::read_points(dir.file("b.off")) == sample);
+    }
+    SUBCASE("noff with normals") {
+        std::string text = "NOFF\n4 0 0\n";
+        for (const Vec3& p : sample) text += xyz_line(p, "", " 0 0 1");
+        write_bytes(dir.file("c.off"), text);
+        CHECK(snvr::read_points(dir.file("c.off")) == sample);
+    }
+}
+
+TEST_CASE("read_points: missing file and unknown extension") {
+    TempDir dir;
+    const std::string missing = dir.file("missing.ply");
+    check_throws<snvr::IoError>([&] { snvr::read_points(missing); }, missing,
+                                {"cannot open '" + missing + "': No such file or directory"});
+    const std::string weird = dir.file("points.las");
+    write_bytes(weird, "1 2 3\n");
+    check_throws<snvr::InputError>([&] { snvr::read_points(weird); }, weird,
+                                   {".las", ".ply", ".xyz", ".pts", ".txt", ".obj", ".off"});
+}
+
+TEST_CASE("read_points: malformed PLY headers") {
+    TempDir dir;
+    check_read_fails(dir, "magic.ply", "plx\nformat ascii 1.0\nend_header\n", {"'ply' magic", "line 1"});
+    check_read_fails(dir, "format.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n",
+                     {"header line 2", "unknown format", "binary_middle_endian"});
+    check_read_fails(dir, "novertex.ply", "ply\nformat ascii 1.0\nelement face 0\nend_header\n", {"'vertex' element"});
+    check_read_fails(dir, "noz.ply",
+                     "ply\nformat ascii 1.0\ncomment\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n1 2\n",
+                     {"header line 4", "'z'"});
+    check_read_fails(dir, "type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n",
+                     {"header line 4", "float128"});
+    check_read_fails(dir, "noend.ply", "ply\nformat ascii 1.0\nelement vertex 1\n", {"end_header"});
+}
+
+TEST_CASE("read_points: truncated and malformed PLY data") {
+    TempDir dir;
+    const std::string head4 =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nend_header\n";
+    std::string two_and_a_bit = head4;
+    for (int i = 0; i < 7; ++i) put<float>(two_and_a_bit, 1.0f, false);
+    check_read_fails(dir, "short.ply", two_and_a_bit, {"expected 4 vertices, file ends after 2", "byte offset"});
+
+    check_read_fails(dir, "shortlist.ply",
+                     "ply\nformat binary_big_endian 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+                     "element vertex 1\nproperty double x\nproperty double y\nproperty double z\nend_header\n\3abc",
+                     {"expected 1 'face' items, file ends after 0"});
+
+    check_read_fails(dir, "fewlines.ply", ascii_ply_head + "1 2 3\n4 5 6\n", {"expected 3 vertices, file ends after 2"});
+    check_read_fails(dir, "abc.ply", ascii_ply_head + "1 2 3\n4 abc 6\n7 8 9\n", {"line 9", "'abc'", "vertex 1"});
+    check_read_fails(dir, "fewvalues.ply", ascii_ply_head + "1 2 3\n4 5\n7 8 9\n", {"line 9", "too few values"});
+    check_read_fails(dir, "extra.ply", ascii_ply_head + "1 2 3 4\n4 5 6\n7 8 9\n", {"line 8", "more values"});
+}
+
+TEST_CASE("read_points: non-finite coordinates and empty clouds") {
+    TempDir dir;
+    check_read_fails(dir, "nan.ply", ascii_ply_head + "1 2 3\n4 nan 6\n7 8 9\n", {"point 1", "non-finite"});
+    std::string inf_bytes =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty double x\nproperty double y\n"
+        "property double z\nend_header\n";
+    put<double>(inf_bytes, 0.0, false);
+    put<double>(inf_bytes, std::numeric_limits<double>::infinity(), false);
+    put<double>(inf_bytes, 0.0, false);
+    check_read_fails(dir, "inf.ply", inf_bytes, {"point 0", "non-finite"});
+    check_read_fails(dir, "inf.xyz", "1 2 3\n4 5 6\n7 8 9\n1 inf 2\n", {"point 3", "non-finite"});
+    check_read_fails(dir, "empty.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+                     {"no points"});
+    check_read_fails(dir, "empty.xyz", "", {"no points"});
+    check_read_fails(dir, "comments.obj", "# nothing\nvn 0 0 1\n", {"no points"});
+}
+
+TEST_CASE("read_points: malformed XYZ, OBJ and OFF") {
+    TempDir dir;
+    check_read_fails(dir, "text.xyz", "1 2 3\n\n4 five 6\n", {"line 3", "'five'"});
+    check_read_fails(dir, "header.txt", "x y z\n1 2 3\n", {"line 1", "'x'"});
+    check_read_fails(dir, "two.xyz", "1 2 3\n4 5\n", {"line 2", "expected x y z"});
+    check_read_fails(dir, "short.obj", "v 1 2 3\nvn 1 2 3\nv 1 2\n", {"line 3", "expected x y z"});
+    check_read_fails(dir, "bad.obj", "v 1 2 3\nv 1 2 z\n", {"line 2", "'z'"});
+    check_read_fails(dir, "noheader.off", "3 1 0\n0 0 0\n", {"'OFF' header"});
+    check_read_fails(dir, "short.off", "OFF\n3 1 0\n0 0 0\n1 1 1\n", {"expected 3 vertices, file ends after 2"});
+    check_read_fails(dir, "badcount.off", "OFF\nmany 1 0\n", {"line 2", "vertex count"});
+}
+
+TEST_CASE("write_mesh: STL, PLY and OBJ") {
+    TempDir dir;
+    const snvr::Mesh mesh = tetrahedron();
+
+    SUBCASE("binary STL") {
+        const std::string path = dir.file("tet.stl");
+        snvr::write_mesh(mesh, path);
+        const std::string bytes = read_bytes(path);
+        REQUIRE(bytes.size() == 84 + 4 * 50);
+        CHECK(bytes.compare(0, 5, "solid") != 0);
+        CHECK(get_le<std::uint32_t>(bytes, 80) == 4);
+        // First triangle lies in z = 0 and faces down, out of the solid.
+        CHECK(get_le<float>(bytes, 84) == 0.0f);
+        CHECK(get_le<float>(bytes, 88) == 0.0f);
+        CHECK(get_le<float>(bytes, 92) == -1.0f);
+        CHECK(get_le<float>(bytes, 84 + 12 + 12 + 4) == 1.0f);  // second vertex (index 2) y
+        CHECK(get_le<float>(bytes, 84 + 50 + 36 + 8) == float(1.3));  // second triangle, vertex 3 z
+        CHECK(get_le<std::uint16_t>(bytes, 84 + 48) == 0);
+    }
+    SUBCASE("binary PLY reads back") {
+        const std::string path = dir.file("tet.ply");
+        snvr::write_mesh(mesh, path);
+        const std::string bytes = read_bytes(path);
+        const std::size_t end = bytes.find("end_header\n");
+        REQUIRE(end != std::string::npos);
+        const std::string header = bytes.substr(0, end);
+        CHECK(header.rfind("ply\nformat binary_little_endian 1.0\n", 0) == 0);
+        CHECK(header.find("element vertex 4\n") != std::string::npos);
+        CHECK(header.find("element face 4\nproperty list uchar int vertex_indices\n") != std::string::npos);
+        const std::size_t data = end + std::strlen("end_header\n");
+        CHECK(bytes.size() == data + 4 * 12 + 4 * 13);
+        CHECK(bytes[data + 4 * 12] == 3);
+        CHECK(get_le<std::int32_t>(bytes, data + 4 * 12 + 1 + 4) == 2);
+        CHECK(snvr::read_points(path) == as_floats(mesh.vertices));
+    }
+    SUBCASE("OBJ reads back exactly") {
+        const std::string path = dir.file("tet.obj");
+        snvr::write_mesh(mesh, path);
+        const std::string text = read_bytes(path);
+        CHECK(std::count(text.begin(), text.end(), '\n') == 1 + 4 + 4);
+        CHECK(text.find("\nf 1 3 2\n") != std::string::npos);
+        CHECK(text.find("\nv 0.1 0.2 1.3\n") != std::string::npos);
+        CHECK(snvr::read_points(path) == mesh.vertices);
+    }
+    SUBCASE("rejected meshes leave no file") {
+        const std::string path = dir.file("bad.stl");
+        check_throws<snvr::InputError>([&] { snvr::write_mesh(snvr::Mesh{}, path); }, path, {"mesh has no triangles"});
+        snvr::Mesh broken = mesh;
+        broken.triangles[1][2] = 4;
+        check_throws<snvr::InputError>([&] { snvr::write_mesh(broken, path); }, path, {"triangle 1", "vertex 4"});
+        const std::string odd = dir.file("tet.3mf");
+        check_throws<snvr::InputError>([&] { snvr::write_mesh(mesh, odd); }, odd, {".3mf", ".stl", ".ply", ".obj"});
+        CHECK(dir.entries() == 0);
+    }
+}
+
+TEST_CASE("write_field: VTI and NRRD") {
+    TempDir dir;
+    for (const auto precision : {snvr::Precision::Double, snvr::Precision::Single}) {
+        const bool dbl = precision == snvr::Precision::Double;
+        CAPTURE(dbl);
+        const snvr::Field field = ramp_field(precision);
+        const snvr::Domain domain = domain_for(field);
+        const std::size_t sample_size = dbl ? 8 : 4;
+        const std::size_t data_bytes = field.size() * sample_size;
+        auto value_at = [&](const std::string& bytes, std::size_t offset) {
+            return dbl ? get_le<double>(bytes, offset) : double(get_le<float>(bytes, offset));
+        };
+
+        const std::string vti = dir.file(dbl ? "phi64.vti" : "phi32.VTI");
+        snvr::write_field(field, domain, vti);
+        const std::string v = read_bytes(vti);
+        const std::string opening = "<AppendedData encoding=\"raw\">\n   _";
+        REQUIRE(v.find(opening) != std::string::npos);
+        const std::size_t mark = v.find(opening) + opening.size() - 1;  // the '_' before the data
+        const std::string head = v.substr(0, mark);
+        CHECK(head.find("header_type=\"UInt64\"") != std::string::npos);
+        CHECK(head.find("byte_order=\"LittleEndian\"") != std::string::npos);
+        CHECK(head.find("WholeExtent=\"0 2 0 3 0 4\"") != std::string::npos);
+        CHECK(head.find("Origin=\"1.25 2.25 3.25\"") != std::string::npos);
+        CHECK(head.find("Spacing=\"0.5 0.5 0.5\"") != std::string::npos);
+        CHECK(head.find(std::string("type=\"") + (dbl ? "Float64" : "Float32") + "\" Name=\"phi\"") != std::string::npos);
+        const std::string tail = "\n  </AppendedData>\n</VTKFile>\n";
+        CHECK(v.size() == mark + 1 + 8 + data_bytes + tail.size());
+        CHECK(get_le<std::uint64_t>(v, mark + 1) == data_bytes);
+        CHECK(value_at(v, mark + 9) == field[0]);
+        CHECK(value_at(v, mark + 9 + data_bytes - sample_size) == field[field.size() - 1]);
+        CHECK(v.compare(v.size() - tail.size(), tail.size(), tail) == 0);
+
+        const std::string nrrd = dir.file(dbl ? "phi64.nrrd" : "phi32.nrrd");
+        snvr::write_field(field, domain, nrrd);
+        const std::string n = read_bytes(nrrd);
+        const std::size_t end = n.find("\n\n");
+        REQUIRE(end != std::string::npos);
+        const std::string header = n.substr(0, end + 1);
+        CHECK(header.rfind("NRRD0004\n", 0) == 0);
+        CHECK(header.find(std::string("type: ") + (dbl ? "double" : "float") + "\n") != std::string::npos);
+        CHECK(header.find("dimension: 3\n") != std::string::npos);
+        CHECK(header.find("sizes: 3 4 5\n") != std::string::npos);
+        CHECK(header.find("encoding: raw\n") != std::string::npos);
+        CHECK(header.find("endian: little\n") != std::string::npos);
+        CHECK(header.find("space directions: (0.5,0,0) (0,0.5,0) (0,0,0.5)\n") != std::string::npos);
+        CHECK(header.find("space origin: (1.25,2.25,3.25)\n") != std::string::npos);
+        CHECK(n.size() == end + 2 + data_bytes);
+        CHECK(value_at(n, end + 2 + sample_size * 7) == field[7]);
+    }
+}
+
+TEST_CASE("write_field: rejected fields") {
+    TempDir dir;
+    const snvr::Field field = ramp_field(snvr::Precision::Double);
+    snvr::Domain domain = domain_for(field);
+    const std::string path = dir.file("phi.vti");
+    domain.nz = 6;
+    check_throws<snvr::InputError>([&] { snvr::write_field(field, domain, path); }, path, {"3x4x5", "3x4x6"});
+    const std::string odd = dir.file("phi.mhd");
+    check_throws<snvr::InputError>([&] { snvr::write_field(field, domain_for(field), odd); }, odd, {".vti", ".nrrd"});
+    CHECK(dir.entries() == 0);
+}
+
+TEST_CASE("atomic writes") {
+    TempDir dir;
+    const snvr::Mesh mesh = tetrahedron();
+
+    SUBCASE("a nonexistent directory is an IoError and leaves nothing") {
+        const std::string path = dir.file("nowhere/tet.stl");
+        check_throws<snvr::IoError>([&] { snvr::write_mesh(mesh, path); }, path, {"No such file or directory"});
+        CHECK(!fs::exists(dir.path / "nowhere"));
+        CHECK(dir.entries() == 0);
+    }
+    SUBCASE("an abandoned write leaves the old target and no temporary") {
+        const std::string path = dir.file("keep.obj");
+        write_bytes(path, "old contents");
+        try {
+            snvr::AtomicFile out(path);
+            out.write("new contents that never get committed");
+            throw std::runtime_error("writer failed half way");
+        } catch (const std::runtime_error&) {
+        }
+        CHECK(read_bytes(path) == "old contents");
+        CHECK(dir.entries() == 1);
+        check_throws<snvr::InputError>([&] { snvr::write_mesh(snvr::Mesh{}, path); }, path, {"no triangles"});
+        CHECK(read_bytes(path) == "old contents");
+    }
+    SUBCASE("a failed rename removes the temporary") {
+        const std::string path = dir.file("is_a_directory.stl");
+        fs::create_directory(path);
+        check_throws<snvr::IoError>([&] { snvr::write_mesh(mesh, path); }, path, {"rename"});
+        CHECK(fs::is_directory(path));
+        CHECK(dir.entries() == 1);
+    }
+    SUBCASE("a successful write replaces the target and leaves no temporary") {
+        const std::string path = dir.file("tet.obj");
+        write_bytes(path, "old contents");
+        snvr::write_mesh(mesh, path);
+        CHECK(snvr::read_points(path) == mesh.vertices);
+        CHECK(dir.entries() == 1);
+    }
+}
