@@ -1,0 +1,111 @@
+// snvr-cl as a user meets it: bad input gets exit 1 (bad usage 2), a message naming
+// the problem, and no output file; sane degenerate input gets a result.
+#include <doctest/doctest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+    int code;
+    std::string output;  // stdout and stderr together
+};
+
+Run run(const std::string& args) {
+    const std::string cmd = std::string(SNVR_CLI) + " " + args + " 2>&1";
+    Run r{-1, {}};
+    FILE* p = popen(cmd.c_str(), "r");
+    REQUIRE(p != nullptr);
+    char buf[4096];
+    std::size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+    const int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+struct TempDir {
+    fs::path path = fs::temp_directory_path() / ("snvr-cli-" + std::to_string(::getpid()));
+    TempDir() { fs::create_directories(path); }
+    ~TempDir() { fs::remove_all(path); }
+    std::string file(const std::string& name, const std::string& bytes) const {
+        const fs::path f = path / name;
+        std::ofstream(f, std::ios::binary) << bytes;
+        return f.string();
+    }
+    std::string out() const { return (path / "out.stl").string(); }
+};
+
+std::string binary_ply_header(int count) {
+    return "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(count) +
+           "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+}
+
+void expect_failure(const std::string& args, int code, const std::string& words, const TempDir& t) {
+    CAPTURE(args);
+    const Run r = run(args);
+    CAPTURE(r.output);
+    CHECK(r.code == code);
+    CHECK(r.output.find(words) != std::string::npos);
+    CHECK(!fs::exists(t.out()));
+}
+
+}  // namespace
+
+TEST_CASE("bad input: a clear error, exit 1, no output") {
+    TempDir t;
+    const std::string o = " -o " + t.out() + " --quiet";
+    expect_failure("reconstruct " + t.path.string() + "/missing.ply" + o, 1, "No such file", t);
+    expect_failure("reconstruct " + t.file("empty.xyz", "# nothing\n") + o, 1, "no points", t);
+    expect_failure("reconstruct " + t.file("trunc.ply", binary_ply_header(10) + std::string(20, '\0')) + o, 1,
+                   "expected 10 vertices", t);
+    expect_failure("reconstruct " + t.file("count.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                                        "property float y\nproperty float z\nend_header\n0 0 0\n1 1 1\n") + o,
+                   1, "expected 3 vertices", t);
+    expect_failure("reconstruct " + t.file("nan.xyz", "0 0 0\n1 nan 1\n") + o, 1, "point 1", t);
+    expect_failure("reconstruct " + t.file("inf.xyz", "0 0 0\n1 1 inf\n") + o, 1, "point 1", t);
+    expect_failure("reconstruct " + t.file("text.xyz", "0 0 0\n1 abc 1\n") + o, 1, "line 2", t);
+    expect_failure("reconstruct " + t.file("one.xyz", "1 2 3\n") + o, 1, "coincide", t);
+    const std::string cloud = t.file("cloud.xyz", "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n");
+    expect_failure("reconstruct " + cloud + o + " --offset 0.001", 1, "smaller than one voxel", t);
+    expect_failure("reconstruct " + cloud + o + " --voxel 0.0004", 1, "memory", t);
+}
+
+TEST_CASE("bad usage: exit 2 and a hint") {
+    TempDir t;
+    const std::string cloud = t.file("cloud.xyz", "0 0 0\n1 0 0\n0 1 0\n0 0 1\n");
+    expect_failure("reconstruct " + cloud, 2, "-o", t);
+    expect_failure("reconstruct " + cloud + " -o " + t.out() + " --steps abc", 2, "--steps", t);
+    expect_failure("reconstruct " + cloud + " -o " + t.out() + " --offset 1 --thickness 2", 2, "thickness", t);
+    expect_failure("reconstruct " + cloud + " -o " + t.out() + " --bogus", 2, "--bogus", t);
+    expect_failure("frobnicate", 2, "frobnicate", t);
+}
+
+TEST_CASE("degenerate but sane input gets a printable result") {
+    TempDir t;
+    // A single point with a given offset: a ball.
+    Run r = run("reconstruct " + t.file("one.xyz", "1 2 3\n") + " -o " + t.out() + " --offset 0.5 --resolution 32");
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("closed yes, manifold yes, oriented yes") != std::string::npos);
+    CHECK(r.output.find("points enclosed  1 of 1") != std::string::npos);
+    fs::remove(t.out());
+    // All points on one plane: a closed slab around them.
+    std::string plane;
+    for (int i = 0; i <= 20; ++i)
+        for (int j = 0; j <= 20; ++j) plane += std::to_string(i * 0.05) + " " + std::to_string(j * 0.05) + " 0.5\n";
+    r = run("reconstruct " + t.file("plane.xyz", plane) + " -o " + t.out() + " --resolution 48 --volume " +
+            (t.path / "phi.vti").string());
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("closed yes, manifold yes, oriented yes") != std::string::npos);
+    CHECK(r.output.find("points enclosed  441 of 441") != std::string::npos);
+    CHECK(fs::file_size(t.out()) > 84);
+    CHECK(fs::file_size(t.path / "phi.vti") > 48 * 48 * 8);
+}
