@@ -26,6 +26,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,6 +42,7 @@ using Tri = std::array<std::uint32_t, 3>;
 constexpr int kDirs = 7;       // edge directions per sample: axis bit sets 1..7
 constexpr int kPlaneDirs = 3;  // the ones without a z step: 1 (x), 2 (y), 3 (xy)
 constexpr int kCubeEdges = 19;  // 12 cube edges, 6 face diagonals, 1 body diagonal
+constexpr std::size_t kParallelSamples = 1 << 16;  // below this, waking threads costs more than it saves
 
 // Cube corners and edge directions are bit sets: bit 0 = +x, bit 1 = +y, bit 2 = +z.
 struct CubeEdge {
@@ -168,8 +170,9 @@ struct Grid {
 // of uniform samples are tested and skipped 64 at a time.
 class SignBits {
 public:
-    SignBits(const Grid& g, const Samples& s, double iso) : g_(g), bits_(std::size_t(g.ny) * g.nz * g.words, 0) {
-#pragma omp parallel for schedule(static)
+    SignBits(const Grid& g, const Samples& s, double iso, bool parallel)
+        : g_(g), bits_(std::size_t(g.ny) * g.nz * g.words, 0) {
+#pragma omp parallel for schedule(static) if (parallel)
         for (int k = 0; k < g.nz; ++k)
             for (int j = 0; j < g.ny; ++j) {
                 std::uint64_t* row = &bits_[row_start(j, k)];
@@ -232,6 +235,8 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso) {
                              std::to_string(field.ny) + "x" + std::to_string(field.nz) + " but the domain is " +
                              std::to_string(domain.nx) + "x" + std::to_string(domain.ny) + "x" +
                              std::to_string(domain.nz));
+    if (field.nx < 0 || field.ny < 0 || field.nz < 0)
+        throw ParameterError("extract_isosurface: negative grid size");
     const bool dbl = field.precision == Precision::Double;
     const std::size_t stored = dbl ? field.f64.size() : field.f32.size();
     if (stored != field.size())
@@ -245,11 +250,12 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso) {
     const Grid g{field.nx, field.ny, field.nz, (field.nx + 63) / 64};
     const Samples s{dbl ? field.f64.data() : nullptr, dbl ? nullptr : field.f32.data()};
     const Tables& tab = tables();
-    const SignBits sb(g, s, iso);
+    const bool parallel = field.size() >= kParallelSamples;
+    const SignBits sb(g, s, iso, parallel);
 
     // Pass 1: the sign-changing edges of each plane fix the vertex numbering.
     std::vector<std::vector<std::uint32_t>> keys(g.nz);
-#pragma omp parallel for schedule(dynamic)
+#pragma omp parallel for schedule(dynamic) if (parallel)
     for (int k = 0; k < g.nz; ++k) keys[k] = plane_edges(g, sb, k);
     std::vector<std::size_t> base(g.nz + 1, 0);
     for (int k = 0; k < g.nz; ++k) base[k + 1] = base[k] + keys[k].size();
@@ -270,12 +276,14 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso) {
     // Pass 2, one slab of cubes between planes k and k+1 at a time: place the
     // vertices owned by plane k, then triangulate the slab's mixed cubes.
     std::vector<std::vector<Tri>> slab_tris(g.nz - 1);
-#pragma omp parallel
+#pragma omp parallel if (parallel)
     {
         // Vertex index by edge key for the slab's two planes.  Stale entries
         // from earlier slabs are harmless: only sign-changing edges are read.
+        // Left uninitialised: untouched pages of large grids then cost nothing.
         const std::size_t cells = std::size_t(g.nx) * g.ny;
-        std::vector<std::uint32_t> lower(cells * kDirs), upper(cells * kPlaneDirs);
+        const std::unique_ptr<std::uint32_t[]> lower(new std::uint32_t[cells * kDirs]);
+        const std::unique_ptr<std::uint32_t[]> upper(new std::uint32_t[cells * kPlaneDirs]);
 #pragma omp for schedule(dynamic)
         for (int k = 0; k < g.nz - 1; ++k) {
             for (std::size_t n = 0; n < keys[k].size(); ++n) {
@@ -357,7 +365,7 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso) {
     std::vector<std::size_t> tri_base(slab_tris.size() + 1, 0);
     for (std::size_t k = 0; k < slab_tris.size(); ++k) tri_base[k + 1] = tri_base[k] + slab_tris[k].size();
     mesh.triangles.resize(tri_base.back());
-#pragma omp parallel for schedule(dynamic)
+#pragma omp parallel for schedule(dynamic) if (parallel)
     for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(slab_tris.size()); ++k) {
         std::copy(slab_tris[k].begin(), slab_tris[k].end(), mesh.triangles.begin() + std::ptrdiff_t(tri_base[k]));
         std::vector<Tri>().swap(slab_tris[k]);

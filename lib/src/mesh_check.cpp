@@ -16,6 +16,9 @@ namespace {
 
 using Tri = std::array<std::uint32_t, 3>;
 
+// Below these sizes, waking threads costs more than it saves.
+constexpr std::size_t kParallelTriangles = 1 << 15, kParallelPoints = 1 << 10;
+
 bool degenerate(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
 
 void check_indices(const Mesh& mesh, const char* who) {
@@ -48,20 +51,39 @@ private:
 };
 
 // Items grouped by bucket (counting sort): bucket b is items[start[b] .. start[b+1]).
+template <class Item>
 struct Buckets {
     std::vector<std::size_t> start;
-    std::vector<std::uint64_t> items;
+    std::vector<Item> items;
 };
 
-template <class ForEach>  // ForEach(emit) calls emit(bucket, item) for every item
-Buckets bucket_items(std::size_t n_buckets, const ForEach& for_each) {
-    Buckets b;
+// ForEach(source, emit) calls emit(bucket, item) for each item of one source.
+// Sources run in parallel, so the order within a bucket is unspecified;
+// callers sort a bucket or do not depend on its order.
+template <class Item, class ForEach>
+Buckets<Item> bucket_items(std::size_t n_buckets, std::size_t n_sources, bool parallel, const ForEach& for_each) {
+    Buckets<Item> b;
     b.start.assign(n_buckets + 1, 0);
-    for_each([&](std::size_t bucket, std::uint64_t) { ++b.start[bucket + 1]; });
+    std::size_t* count = b.start.data() + 1;
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t src = 0; src < std::ptrdiff_t(n_sources); ++src)
+        for_each(std::size_t(src), [&](std::size_t bucket, Item) {
+#pragma omp atomic
+            ++count[bucket];
+        });
     for (std::size_t i = 0; i < n_buckets; ++i) b.start[i + 1] += b.start[i];
     b.items.resize(b.start[n_buckets]);
-    std::vector<std::size_t> fill(b.start.begin(), b.start.end() - 1);
-    for_each([&](std::size_t bucket, std::uint64_t item) { b.items[fill[bucket]++] = item; });
+    std::vector<std::size_t> cursor(b.start.begin(), b.start.end() - 1);
+    std::size_t* next = cursor.data();
+    Item* items = b.items.data();
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t src = 0; src < std::ptrdiff_t(n_sources); ++src)
+        for_each(std::size_t(src), [&](std::size_t bucket, Item item) {
+            std::size_t at;
+#pragma omp atomic capture
+            at = next[bucket]++;
+            items[at] = item;
+        });
     return b;
 }
 
@@ -85,9 +107,16 @@ int sign_of_sum(const double* terms, int n) {
     double e[16];
     int m = 0;
     for (int t = 0; t < n; ++t) {
+        if (terms[t] == 0) continue;
         double q = terms[t];
-        for (int i = 0; i < m; ++i) two_sum(q, e[i], q, e[i]);
-        e[m++] = q;
+        int kept = 0;
+        for (int i = 0; i < m; ++i) {
+            double err;
+            two_sum(q, e[i], q, err);
+            if (err != 0) e[kept++] = err;  // dropping zeros keeps the expansion short
+        }
+        e[kept] = q;
+        m = kept + 1;
     }
     for (int i = m - 1; i >= 0; --i)
         if (e[i] != 0) return e[i] > 0 ? 1 : -1;
@@ -133,45 +162,61 @@ int orient2d_perturbed(const Vec3& a, const Vec3& b, double qx, double qy) {
     return 0;
 }
 
-// Uniform grid over xy; each cell lists the triangles whose xy bounding box meets it.
+// A triangle's footprint seen from +z: its xy box, rounded outwards to
+// floats (a box only needs to contain the triangle) to halve the memory traffic.
+struct Footprint {
+    std::array<float, 2> lo, hi;
+    std::uint32_t tri;
+};
+
+float round_down(double v) {
+    const float f = float(v);
+    return double(f) > v ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+float round_up(double v) {
+    const float f = float(v);
+    return double(f) < v ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+// Uniform grid over xy; each cell lists the footprints whose box meets it.
 class ColumnGrid {
 public:
-    ColumnGrid(const Mesh& mesh, const std::vector<std::uint32_t>& tris) {
-        const auto& V = mesh.vertices;
+    ColumnGrid(const std::vector<Footprint>& feet, bool parallel) {
         lo_ = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
         hi_ = {-lo_[0], -lo_[1]};
-        for (std::uint32_t t : tris)
-            for (std::uint32_t v : mesh.triangles[t])
-                for (int d = 0; d < 2; ++d) {
-                    lo_[d] = std::min(lo_[d], V[v][d]);
-                    hi_[d] = std::max(hi_[d], V[v][d]);
-                }
-        if (tris.empty()) return;
-        // About one cell per triangle, shaped like the mesh's footprint.
-        const double wx = hi_[0] - lo_[0], wy = hi_[1] - lo_[1], n = double(tris.size());
-        const double fx = std::sqrt(n * wx / wy);  // both > 0: the triangles are not edge-on
-        n_[0] = int(std::clamp(std::ceil(fx), 1.0, 4096.0));
-        n_[1] = int(std::clamp(std::ceil(n / n_[0]), 1.0, 4096.0));
-        for (int d = 0; d < 2; ++d) inv_[d] = n_[d] / (hi_[d] - lo_[d]);
-
-        cells_ = bucket_items(std::size_t(n_[0]) * n_[1], [&](const auto& emit) {
-            for (std::uint32_t t : tris) {
-                const Tri& tri = mesh.triangles[t];
-                std::array<int, 2> c0, c1;
-                for (int d = 0; d < 2; ++d) {
-                    const double a = V[tri[0]][d], b = V[tri[1]][d], c = V[tri[2]][d];
-                    c0[d] = cell(d, std::min({a, b, c}));
-                    c1[d] = cell(d, std::max({a, b, c}));
-                }
-                for (int y = c0[1]; y <= c1[1]; ++y)
-                    for (int x = c0[0]; x <= c1[0]; ++x) emit(std::size_t(x) + std::size_t(n_[0]) * y, t);
+        std::array<double, 2> extent{0, 0};  // summed box sizes
+        for (const Footprint& f : feet)
+            for (int d = 0; d < 2; ++d) {
+                lo_[d] = std::min<double>(lo_[d], f.lo[d]);
+                hi_[d] = std::max<double>(hi_[d], f.hi[d]);
+                extent[d] += f.hi[d] - f.lo[d];
             }
-        });
+        if (feet.empty()) return;
+        // Cells twice the mean box: a box meets about two cells, a cell holds a
+        // few dozen boxes per sheet (building is bound by scattered writes, so
+        // finer cells cost more than they save); never more than ~2 cells per triangle.
+        const double n = double(feet.size());
+        std::array<double, 2> cells;
+        for (int d = 0; d < 2; ++d)  // width and extent > 0: no footprint is edge-on
+            cells[d] = std::clamp(std::floor((hi_[d] - lo_[d]) / (2 * extent[d] / n)), 1.0, 4096.0);
+        const double excess = cells[0] * cells[1] / (2 * n + 16);
+        for (int d = 0; d < 2; ++d) {
+            if (excess > 1) cells[d] = std::max(1.0, std::floor(cells[d] / std::sqrt(excess)));
+            n_[d] = int(cells[d]);
+            inv_[d] = n_[d] / (hi_[d] - lo_[d]);
+        }
+        const auto for_each = [&](std::size_t f, const auto& emit) {
+            const int x0 = cell(0, feet[f].lo[0]), x1 = cell(0, feet[f].hi[0]);
+            const int y0 = cell(1, feet[f].lo[1]), y1 = cell(1, feet[f].hi[1]);
+            for (int y = y0; y <= y1; ++y)
+                for (int x = x0; x <= x1; ++x) emit(std::size_t(x) + std::size_t(n_[0]) * y, std::uint32_t(f));
+        };
+        cells_ = bucket_items<std::uint32_t>(std::size_t(n_[0]) * n_[1], feet.size(), parallel, for_each);
     }
     bool covers(double x, double y) const { return x >= lo_[0] && x <= hi_[0] && y >= lo_[1] && y <= hi_[1]; }
-    // Triangles that may contain (x, y); the same monotone cell() for boxes and
-    // queries guarantees a point on a box's edge still finds the triangle.
-    std::pair<const std::uint64_t*, const std::uint64_t*> candidates(double x, double y) const {
+    // Footprints that may contain (x, y); the same monotone cell() for boxes and
+    // queries guarantees a point on a box's edge still finds the box.
+    std::pair<const std::uint32_t*, const std::uint32_t*> candidates(double x, double y) const {
         const std::size_t c = std::size_t(cell(0, x)) + std::size_t(n_[0]) * cell(1, y);
         return {cells_.items.data() + cells_.start[c], cells_.items.data() + cells_.start[c + 1]};
     }
@@ -180,7 +225,7 @@ private:
     int cell(int d, double v) const { return int(std::clamp(std::floor((v - lo_[d]) * inv_[d]), 0.0, n_[d] - 1.0)); }
     std::array<double, 2> lo_{}, hi_{}, inv_{};
     std::array<int, 2> n_{1, 1};
-    Buckets cells_;
+    Buckets<std::uint32_t> cells_;
 };
 
 }  // namespace
@@ -189,82 +234,83 @@ MeshReport check_mesh(const Mesh& mesh) {
     check_indices(mesh, "check_mesh");
     const auto& T = mesh.triangles;
     const std::size_t nv = mesh.vertices.size(), nt = T.size();
-    if (nt >= (std::size_t(1) << 31)) throw ResourceError("check_mesh: more than 2^31 triangles");
+    if (nt > std::numeric_limits<std::uint32_t>::max()) throw ResourceError("check_mesh: more than 2^32 triangles");
     MeshReport r;
     r.vertices = nv;
     r.triangles = nt;
     for (const Tri& t : T) r.degenerate_triangles += degenerate(t);
+    const bool parallel = nt >= kParallelTriangles;
 
-    // Each undirected edge, bucketed by its lower vertex, as hi << 32 | triangle << 1 | forward;
-    // sorting a bucket groups the triangles of each edge.
-    Buckets edges = bucket_items(nv, [&](const auto& emit) {
-        for (std::size_t t = 0; t < nt; ++t) {
-            if (degenerate(T[t])) continue;
-            for (int c = 0; c < 3; ++c) {
-                const std::uint32_t a = T[t][c], b = T[t][(c + 1) % 3];
-                emit(std::min(a, b), std::uint64_t(std::max(a, b)) << 32 | std::uint64_t(t) << 1 | (a < b));
-            }
-        }
+    // Half-edges a -> b of the non-degenerate triangles, bucketed by a, as
+    // b << 32 | triangle.  Bucket a lists each triangle around a exactly once;
+    // sorted, it groups the half-edges by their other end.
+    Buckets<std::uint64_t> out = bucket_items<std::uint64_t>(nv, nt, parallel, [&](std::size_t t, const auto& emit) {
+        if (degenerate(T[t])) return;
+        for (int c = 0; c < 3; ++c) emit(T[t][c], std::uint64_t(T[t][(c + 1) % 3]) << 32 | t);
     });
-    std::size_t boundary = 0, nonmanifold = 0, misoriented = 0;
-#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : boundary, nonmanifold, misoriented)
-    for (std::ptrdiff_t v = 0; v < std::ptrdiff_t(nv); ++v) {
-        std::uint64_t* first = edges.items.data() + edges.start[v];
-        std::uint64_t* last = edges.items.data() + edges.start[v + 1];
-        std::sort(first, last);
-        for (std::uint64_t* run = first; run != last;) {
-            std::uint64_t* end = run + 1;
-            while (end != last && *end >> 32 == *run >> 32) ++end;
-            const std::ptrdiff_t count = end - run;
-            if (count == 1) ++boundary;
-            else if (count > 2) ++nonmanifold;
-            else if ((run[0] & 1) == (run[1] & 1)) ++misoriented;
-            run = end;
-        }
-    }
-    r.boundary_edges = boundary;
-    r.nonmanifold_edges = nonmanifold;
-    r.misoriented_edges = misoriented;
+#pragma omp parallel for schedule(dynamic, 4096) if (parallel)
+    for (std::ptrdiff_t v = 0; v < std::ptrdiff_t(nv); ++v)
+        std::sort(out.items.begin() + std::ptrdiff_t(out.start[v]), out.items.begin() + std::ptrdiff_t(out.start[v + 1]));
+    using Run = std::pair<const std::uint64_t*, const std::uint64_t*>;
+    const auto bucket = [&](std::size_t v) -> Run {
+        return {out.items.data() + out.start[v], out.items.data() + out.start[v + 1]};
+    };
+    const auto target = [](std::uint64_t item) { return std::uint32_t(item >> 32); };
+    // The half-edges a -> b: a sub-range of bucket a.
+    const auto half_edges = [&](std::uint32_t a, std::uint32_t b) -> Run {
+        const auto [first, last] = bucket(a);
+        const std::uint64_t* lo = std::lower_bound(first, last, std::uint64_t(b) << 32);
+        const std::uint64_t* hi = lo;
+        while (hi != last && target(*hi) == b) ++hi;
+        return {lo, hi};
+    };
 
-    DisjointSets pieces(nt);
-    for (std::size_t v = 0; v < nv; ++v)
-        for (std::size_t q = edges.start[v] + 1; q < edges.start[v + 1]; ++q)
-            if (edges.items[q] >> 32 == edges.items[q - 1] >> 32)
-                pieces.unite(std::uint32_t(edges.items[q]) >> 1, std::uint32_t(edges.items[q - 1]) >> 1);
-    for (std::size_t t = 0; t < nt; ++t) r.components += !degenerate(T[t]) && pieces.find(std::uint32_t(t)) == t;
-    std::vector<std::uint64_t>().swap(edges.items);
-
-    // A vertex is manifold when its triangles, linked through the edges at the
-    // vertex, form one fan.
-    const Buckets around = bucket_items(nv, [&](const auto& emit) {
-        for (std::size_t t = 0; t < nt; ++t)
-            if (!degenerate(T[t]))
-                for (std::uint32_t v : T[t]) emit(v, t);
-    });
-    std::size_t nonmanifold_vertices = 0;
-#pragma omp parallel reduction(+ : nonmanifold_vertices)
+    // Edges and fans, vertex by vertex.  An edge {v, x} is classified at v if
+    // v -> x exists and either v < x or x -> v does not exist: exactly once.
+    std::size_t boundary = 0, nonmanifold = 0, misoriented = 0, nonmanifold_vertices = 0;
+#pragma omp parallel reduction(+ : boundary, nonmanifold, misoriented, nonmanifold_vertices) if (parallel)
     {
-        std::vector<std::uint64_t> spokes;  // other vertex << 32 | local triangle index
+        std::vector<std::uint64_t> spokes;  // neighbour << 32 | local triangle index
         std::vector<std::uint32_t> parent;
 #pragma omp for schedule(dynamic, 4096)
-        for (std::ptrdiff_t v = 0; v < std::ptrdiff_t(nv); ++v) {
-            const std::size_t begin = around.start[v], n = around.start[v + 1] - begin;
+        for (std::ptrdiff_t vi = 0; vi < std::ptrdiff_t(nv); ++vi) {
+            const auto v = std::uint32_t(vi);
+            const auto [first, last] = bucket(v);
+            for (const std::uint64_t* run = first; run != last;) {
+                const std::uint32_t x = target(*run);
+                const std::uint64_t* end = run;
+                while (end != last && target(*end) == x) ++end;
+                const Run back = half_edges(x, v);
+                const std::ptrdiff_t fwd = end - run, bwd = back.second - back.first;
+                if (v < x || bwd == 0) {
+                    if (fwd + bwd == 1) ++boundary;
+                    else if (fwd + bwd > 2) ++nonmanifold;
+                    else if (bwd != 1) ++misoriented;  // both triangles run the same way
+                }
+                run = end;
+            }
+
+            // The triangles around v form one fan when linked through shared spokes.
+            const std::size_t n = std::size_t(last - first);
             if (n < 2) continue;
             spokes.clear();
             parent.resize(n);
             for (std::size_t q = 0; q < n; ++q) {
                 parent[q] = std::uint32_t(q);
-                for (std::uint32_t w : T[around.items[begin + q]])
-                    if (w != std::uint32_t(v)) spokes.push_back(std::uint64_t(w) << 32 | q);
+                const Tri& tri = T[std::uint32_t(first[q])];
+                const std::uint32_t b = target(first[q]);
+                const auto c = std::uint32_t(std::uint64_t(tri[0]) + tri[1] + tri[2] - v - b);  // the third corner
+                spokes.push_back(std::uint64_t(b) << 32 | q);
+                spokes.push_back(std::uint64_t(c) << 32 | q);
             }
             std::sort(spokes.begin(), spokes.end());
-            const auto find = [&](std::uint32_t x) {
-                while (parent[x] != x) x = parent[x] = parent[parent[x]];
-                return x;
+            const auto find = [&](std::uint32_t y) {
+                while (parent[y] != y) y = parent[y] = parent[parent[y]];
+                return y;
             };
             std::size_t fans = n;
             for (std::size_t q = 1; q < spokes.size(); ++q)
-                if (spokes[q] >> 32 == spokes[q - 1] >> 32) {
+                if (target(spokes[q]) == target(spokes[q - 1])) {
                     const std::uint32_t a = find(std::uint32_t(spokes[q])), b = find(std::uint32_t(spokes[q - 1]));
                     if (a != b) {
                         parent[a] = b;
@@ -274,7 +320,28 @@ MeshReport check_mesh(const Mesh& mesh) {
             nonmanifold_vertices += fans > 1;
         }
     }
+    r.boundary_edges = boundary;
+    r.nonmanifold_edges = nonmanifold;
+    r.misoriented_edges = misoriented;
     r.nonmanifold_vertices = nonmanifold_vertices;
+
+    // Components: join the triangles of each run v -> x, and the run to x -> v.
+    DisjointSets pieces(nt);
+    for (std::size_t vi = 0; vi < nv; ++vi) {
+        const auto v = std::uint32_t(vi);
+        const auto [first, last] = bucket(v);
+        for (const std::uint64_t* it = first; it != last; ++it) {
+            if (it != first && target(it[-1]) == target(*it)) {
+                pieces.unite(std::uint32_t(it[-1]), std::uint32_t(*it));
+                continue;
+            }
+            const Run back = half_edges(target(*it), v);
+            if (back.first != back.second) pieces.unite(std::uint32_t(*back.first), std::uint32_t(*it));
+        }
+    }
+    for (std::size_t t = 0; t < nt; ++t)
+        r.components += !degenerate(T[t]) && pieces.find(std::uint32_t(t)) == std::uint32_t(t);
+    std::vector<std::uint64_t>().swap(out.items);
 
     // Divergence theorem about the bounding-box centre (less cancellation than
     // about the origin); fixed chunks keep the sum independent of thread count.
@@ -288,7 +355,7 @@ MeshReport check_mesh(const Mesh& mesh) {
     const Vec3 o{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
     constexpr std::size_t kChunk = 1 << 16;
     std::vector<double> partial((nt + kChunk - 1) / kChunk, 0.0);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel)
     for (std::ptrdiff_t c = 0; c < std::ptrdiff_t(partial.size()); ++c) {
         double sum = 0;
         for (std::size_t t = std::size_t(c) * kChunk; t < std::min(nt, std::size_t(c + 1) * kChunk); ++t) {
@@ -315,25 +382,42 @@ MeshReport check_mesh(const Mesh& mesh) {
 std::size_t count_points_inside(const Mesh& mesh, const PointSet& points) {
     check_indices(mesh, "count_points_inside");
     const auto& V = mesh.vertices;
+    const auto& T = mesh.triangles;
+    const bool parallel = points.size() >= kParallelPoints || T.size() >= kParallelTriangles;
     // Triangles that are edge-on seen from +z cannot be crossed by the perturbed ray.
-    std::vector<std::uint32_t> tris;
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-        const Tri& tri = mesh.triangles[t];
-        if (!degenerate(tri) && orient2d(V[tri[0]], V[tri[1]], V[tri[2]][0], V[tri[2]][1]) != 0)
-            tris.push_back(std::uint32_t(t));
+    std::vector<char> seen(T.size());
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t t = 0; t < std::ptrdiff_t(T.size()); ++t)
+        seen[t] = !degenerate(T[t]) && orient2d(V[T[t][0]], V[T[t][1]], V[T[t][2]][0], V[T[t][2]][1]) != 0;
+    std::vector<std::uint32_t> kept;
+    for (std::size_t t = 0; t < T.size(); ++t)
+        if (seen[t]) kept.push_back(std::uint32_t(t));
+    if (kept.empty()) return 0;
+    std::vector<Footprint> feet(kept.size());
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t n = 0; n < std::ptrdiff_t(kept.size()); ++n) {
+        const Tri& tri = T[kept[n]];
+        for (int d = 0; d < 2; ++d) {
+            const double a = V[tri[0]][d], b = V[tri[1]][d], c = V[tri[2]][d];
+            feet[n].lo[d] = round_down(std::min({a, b, c}));
+            feet[n].hi[d] = round_up(std::max({a, b, c}));
+        }
+        feet[n].tri = kept[n];
     }
-    if (tris.empty()) return 0;
-    const ColumnGrid grid(mesh, tris);
+    const ColumnGrid grid(feet, parallel);
 
     std::size_t inside = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : inside)
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : inside) if (parallel)
     for (std::ptrdiff_t n = 0; n < std::ptrdiff_t(points.size()); ++n) {
         const Vec3& p = points[n];
         if (!grid.covers(p[0], p[1])) continue;
         long winding = 0;
         const auto [first, last] = grid.candidates(p[0], p[1]);
-        for (const std::uint64_t* it = first; it != last; ++it) {
-            const Tri& tri = mesh.triangles[*it];
+        for (const std::uint32_t* it = first; it != last; ++it) {
+            const Footprint& f = feet[*it];
+            // Outside the closed box, the perturbed point is outside the triangle too.
+            if (p[0] < f.lo[0] || p[0] > f.hi[0] || p[1] < f.lo[1] || p[1] > f.hi[1]) continue;
+            const Tri& tri = T[f.tri];
             const Vec3 &a = V[tri[0]], &b = V[tri[1]], &c = V[tri[2]];
             const int s = orient2d_perturbed(a, b, p[0], p[1]);
             if (s == 0 || orient2d_perturbed(b, c, p[0], p[1]) != s || orient2d_perturbed(c, a, p[0], p[1]) != s)
