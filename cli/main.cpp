@@ -1,5 +1,8 @@
 // snvr-cl: the command-line front end of libsnvr. Dispatches the subcommand and
 // turns exceptions into messages and exit codes (0 ok, 1 failure, 2 usage).
+#include <unistd.h>
+
+#include <cstdlib>
 #include <iostream>
 #include <new>
 #include <string>
@@ -26,9 +29,19 @@ int dispatch(const std::string& command, const std::vector<std::string>& rest) {
 
 bool is_subcommand(const std::string& s) { return s == "reconstruct" || s == "devices" || s == "sample"; }
 
+// OpenMP's default spinning wait made a 64^3 linear step take 15x longer on a shared
+// 2-core machine. libgomp reads OMP_WAIT_POLICY when it loads, before main, so the
+// only way to choose passive waiting for the user is to set it and start again.
+void prefer_passive_waiting(char** argv) {
+    if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
+    ::setenv("OMP_WAIT_POLICY", "passive", 1);
+    ::execv("/proc/self/exe", argv);  // returns only on failure: carry on spinning
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    prefer_passive_waiting(argv);
     const std::vector<std::string> args(argv + 1, argv + argc);
     const std::string command = args.empty() ? "" : args[0];
     try {

@@ -170,7 +170,7 @@ struct Grid {
 // of uniform samples are tested and skipped 64 at a time.
 class SignBits {
 public:
-    SignBits(const Grid& g, const Samples& s, double iso, bool parallel)
+    SignBits(const Grid& g, const Samples& s, double iso, [[maybe_unused]] bool parallel)
         : g_(g), bits_(std::size_t(g.ny) * g.nz * g.words, 0) {
 #pragma omp parallel for schedule(static) if (parallel)
         for (int k = 0; k < g.nz; ++k)

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "snvr/error.hpp"
@@ -61,7 +62,8 @@ struct Buckets {
 // Sources run in parallel, so the order within a bucket is unspecified;
 // callers sort a bucket or do not depend on its order.
 template <class Item, class ForEach>
-Buckets<Item> bucket_items(std::size_t n_buckets, std::size_t n_sources, bool parallel, const ForEach& for_each) {
+Buckets<Item> bucket_items(std::size_t n_buckets, std::size_t n_sources, [[maybe_unused]] bool parallel,
+                            const ForEach& for_each) {
     Buckets<Item> b;
     b.start.assign(n_buckets + 1, 0);
     std::size_t* count = b.start.data() + 1;

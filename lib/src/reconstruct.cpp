@@ -88,6 +88,9 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
     res.solver_bytes = backend->bytes() + dist.distance.size() * sizeof(Real);
     dist.distance = std::vector<Real>();  // the phase field now lives in the backend
     res.seconds.init = clock.lap();
+    report(progress, "init",
+           "phase field on " + std::to_string(res.active_bricks) + " of " + std::to_string(res.total_bricks) +
+               " bricks, " + std::to_string(res.solver_bytes >> 20) + " MiB of fields");
 
     MultigridSettings ms;
     ms.dt = params.dt;

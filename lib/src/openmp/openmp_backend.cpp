@@ -1,39 +1,33 @@
 #include "openmp/openmp_backend.hpp"
+#include "openmp/brick_grid.hpp"
 
 #include <omp.h>
 
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 namespace snvr {
 
 namespace {
 
-// Sum of the present 6 neighbours (mirror boundary: a missing one equals the cell,
-// so it drops out of the Laplacian) and how many there are. Fixed order: -x +x -y +y -z +z.
-// Bricks away from the grid boundary take the branch-free path (all six present).
-template <class Real>
-inline Real neighbour_sum(const Real* p, std::size_t n, int i, int j, int k, const Level& lv, int& count) {
-    const std::size_t sy = std::size_t(lv.nx), sz = std::size_t(lv.nx) * std::size_t(lv.ny);
-    if (i > 0 && j > 0 && k > 0 && i < lv.nx - 1 && j < lv.ny - 1 && k < lv.nz - 1) {
-        count = 6;
-        return ((((p[n - 1] + p[n + 1]) + p[n - sy]) + p[n + sy]) + p[n - sz]) + p[n + sz];
-    }
-    Real s = 0;
-    count = 0;
-    if (i > 0) { s += p[n - 1]; ++count; }
-    if (i < lv.nx - 1) { s += p[n + 1]; ++count; }
-    if (j > 0) { s += p[n - sy]; ++count; }
-    if (j < lv.ny - 1) { s += p[n + sy]; ++count; }
-    if (k > 0) { s += p[n - sz]; ++count; }
-    if (k < lv.nz - 1) { s += p[n + sz]; ++count; }
-    return s;
-}
-
 template <class Real>
 struct LevelFields {
-    std::vector<Real> phi, rhs, g;
+    std::vector<Real> phi, rhs, g;  // brick-major (brick_grid.hpp)
+};
+
+// The six neighbours of the 8 cells of one brick row, in the fixed order -x +x -y +y
+// -z +z, with 0 for a neighbour outside the grid, and how many are present. Adding the
+// zeros leaves the sum bit-identical to skipping them (the mirror boundary: a missing
+// neighbour equals the cell, so it drops out of the Laplacian).
+template <class Real>
+struct RowStencil {
+    Real nb[6][kBrick];
+    Real count[kBrick];
+    int cells;  // valid cells in the row (fewer in a partial brick)
+
+    Real sum(int q) const { return ((((nb[0][q] + nb[1][q]) + nb[2][q]) + nb[3][q]) + nb[4][q]) + nb[5][q]; }
 };
 
 template <class Real>
@@ -43,9 +37,11 @@ public:
 
     void setup(const Hierarchy& hier) override {
         hier_ = hier;
+        grids_.clear();
         fields_.assign(hier.levels.size(), {});
         for (std::size_t l = 0; l < hier.levels.size(); ++l) {
-            const std::size_t n = hier.levels[l].cells();
+            grids_.emplace_back(hier.levels[l]);
+            const std::size_t n = grids_[l].storage();
             fields_[l].phi.assign(n, Real(0));
             fields_[l].rhs.assign(n, Real(0));
             fields_[l].g.assign(n, Real(0));
@@ -61,24 +57,32 @@ public:
     void init_phase(const Real* d, Real l, Real s, Real cut) override {
         Real* phi = fields_[0].phi.data();
         Real* g = fields_[0].g.data();
-        const std::ptrdiff_t n = std::ptrdiff_t(hier_.levels[0].cells());
+        const Level& lv = hier_.levels[0];
+        const BrickGrid& bg = grids_[0];
+        const std::ptrdiff_t nb = std::ptrdiff_t(lv.brick_count());
 #pragma omp parallel for schedule(static)
-        for (std::ptrdiff_t c = 0; c < n; ++c) {
-            const Real diff = l - d[c];
-            if (std::abs(diff) > cut) {
-                phi[c] = diff > 0 ? Real(1) : Real(-1);
-                g[c] = 0;
-            } else {
-                const Real p = std::tanh(diff * s);
-                phi[c] = p;
-                g[c] = Real(1) - p * p;
-            }
+        for (std::ptrdiff_t b = 0; b < nb; ++b) {
+            const CellRange r = lv.range(std::uint32_t(b));
+            for (int k = r.k0; k < r.k1; ++k)
+                for (int j = r.j0; j < r.j1; ++j)
+                    for (int i = r.i0; i < r.i1; ++i) {
+                        const std::size_t c = bg.at(i, j, k);
+                        const Real diff = l - d[std::size_t(i) + std::size_t(lv.nx) * (std::size_t(j) + std::size_t(lv.ny) * std::size_t(k))];
+                        if (std::abs(diff) > cut) {
+                            phi[c] = diff > 0 ? Real(1) : Real(-1);
+                            g[c] = 0;
+                        } else {
+                            const Real p = std::tanh(diff * s);
+                            phi[c] = p;
+                            g[c] = Real(1) - p * p;
+                        }
+                    }
         }
     }
 
     void restrict_coefficient(int level) override {
-        const Level& fine = hier_.levels[std::size_t(level)];
         const Real* gf = fields_[std::size_t(level)].g.data();
+        const BrickGrid& fine = grids_[std::size_t(level)];
         Real* gc = fields_[std::size_t(level) + 1].g.data();
         for_cells(level + 1, [&](std::size_t n, int i, int j, int k) {
             Real sum = 0;
@@ -94,185 +98,259 @@ public:
     void load_rhs() override {
         const Real* phi = fields_[0].phi.data();
         Real* rhs = fields_[0].rhs.data();
-        for_rows(0, [&](std::size_t n, int len) { std::memcpy(rhs + n, phi + n, std::size_t(len) * sizeof(Real)); });
+        const BrickGrid& bg = grids_[0];
+        each_brick(0, [&](std::uint32_t b, std::size_t) {
+            std::memcpy(rhs + bg.base(b), phi + bg.base(b), kBrickCells * sizeof(Real));
+        });
     }
 
     void smooth(int level, int color, Real c) override {
-        const Level& lv = hier_.levels[std::size_t(level)];
         LevelFields<Real>& f = fields_[std::size_t(level)];
         Real* phi = f.phi.data();
         const Real* rhs = f.rhs.data();
         const Real* g = f.g.data();
-        const std::size_t sy = std::size_t(lv.nx), sz = std::size_t(lv.nx) * std::size_t(lv.ny);
-        each_brick(level, [&](const CellRange& r, std::size_t) {
-            if (is_interior(lv, r)) {
-                // Whole rows at once (vectorisable): compute every cell, keep this colour's.
-                // Where g = 0 the formula gives rhs, which phi already equals.
-                for (int k = r.k0; k < r.k1; ++k)
-                    for (int j = r.j0; j < r.j1; ++j) {
-                        const std::size_t n0 = index(lv, r.i0, j, k);
-                        Real next[kBrick];
-                        for (int q = 0; q < kBrick; ++q) {
-                            const std::size_t n = n0 + std::size_t(q);
-                            const Real a = g[n] * c;
-                            const Real s = ((((phi[n - 1] + phi[n + 1]) + phi[n - sy]) + phi[n + sy]) + phi[n - sz]) + phi[n + sz];
-                            next[q] = (rhs[n] + a * s) / (Real(1) + a * Real(6));
-                        }
-                        for (int q = (r.i0 + j + k + color) & 1; q < kBrick; q += 2) phi[n0 + std::size_t(q)] = next[q];
-                    }
-                return;
+        for_rows(level, phi, [&](std::size_t row, int j, int k, int i0, const RowStencil<Real>& st) {
+            // Every cell of the row is computed (vectorisable), this colour's are kept.
+            // Where g = 0 the formula gives rhs, which phi already equals.
+            Real next[kBrick];
+            for (int q = 0; q < kBrick; ++q) {
+                const Real a = g[row + std::size_t(q)] * c;
+                next[q] = (rhs[row + std::size_t(q)] + a * st.sum(q)) / (Real(1) + a * st.count[q]);
             }
-            for (int k = r.k0; k < r.k1; ++k)
-                for (int j = r.j0; j < r.j1; ++j) {
-                    const int i0 = r.i0 + ((r.i0 + j + k + color) & 1);
-                    for (int i = i0; i < r.i1; i += 2) {
-                        const std::size_t n = index(lv, i, j, k);
-                        if (g[n] == Real(0)) continue;  // decoupled: phi already equals rhs
-                        const Real a = g[n] * c;
-                        int cnt;
-                        const Real s = neighbour_sum(phi, n, i, j, k, lv, cnt);
-                        phi[n] = (rhs[n] + a * s) / (Real(1) + a * Real(cnt));
-                    }
-                }
+            for (int q = (i0 + j + k + color) & 1; q < st.cells; q += 2) phi[row + std::size_t(q)] = next[q];
         });
     }
 
     double residual_sum_squares(int level, Real c) override {
         const Level& lv = hier_.levels[std::size_t(level)];
         std::vector<double> partial(lv.bricks.size(), 0.0);
-        each_brick(level, [&](const CellRange& r, std::size_t t) {
+        const LevelFields<Real>& f = fields_[std::size_t(level)];
+        for_rows(level, f.phi.data(), [&](std::size_t row, int, int, int, const RowStencil<Real>& st, std::size_t t) {
+            Real r[kBrick];
+            residual_row(f, c, row, st, r);
             double s = 0;
-            for (int k = r.k0; k < r.k1; ++k)
-                for (int j = r.j0; j < r.j1; ++j)
-                    for (int i = r.i0; i < r.i1; ++i) {
-                        const double res = double(residual(level, c, i, j, k));
-                        s += res * res;
-                    }
-            partial[t] = s;
+            for (int q = 0; q < st.cells; ++q) s += double(r[q]) * double(r[q]);
+            partial[t] += s;
         });
         double total = 0;
         for (double p : partial) total += p;
         return total;
     }
 
+    // Each fine brick's children belong to a 4x4x4 block of one coarse brick, so fine
+    // bricks write disjoint coarse cells. Coarse cells whose children lie in inactive
+    // bricks have g_c = 0: their rhs and phi are zero from setup and stay zero.
     void restrict_residual(int level, Real c) override {
-        const Level& fine = hier_.levels[std::size_t(level)];
-        const Real* gf = fields_[std::size_t(level)].g.data();
+        const Level& fl = hier_.levels[std::size_t(level)];
+        const LevelFields<Real>& ff = fields_[std::size_t(level)];
+        const BrickGrid& fine = grids_[std::size_t(level)];
+        const BrickGrid& coarse = grids_[std::size_t(level) + 1];
         LevelFields<Real>& cf = fields_[std::size_t(level) + 1];
-        for_cells(level + 1, [&](std::size_t n, int i, int j, int k) {
-            cf.phi[n] = 0;
-            const Real gc = cf.g[n];
-            if (gc == Real(0)) {
-                cf.rhs[n] = 0;
-                return;
-            }
-            Real sum = 0;
-            for (int dk = 0; dk < 2; ++dk)
-                for (int dj = 0; dj < 2; ++dj)
-                    for (int di = 0; di < 2; ++di) {
-                        const int fi = 2 * i + di, fj = 2 * j + dj, fk = 2 * k + dk;
-                        sum += residual(level, c, fi, fj, fk) / gf[index(fine, fi, fj, fk)];
+        each_brick(level, [&](std::uint32_t b, std::size_t) {
+            const CellRange r = fl.range(b);
+            Real res[kBrickCells];
+            RowStencil<Real> st;
+            st.cells = r.i1 - r.i0;
+            for (int k = r.k0; k < r.k1; ++k)
+                for (int j = r.j0; j < r.j1; ++j) {
+                    const std::size_t row = fine.at(r.i0, j, k);
+                    gather(fine, ff.phi.data(), r, j, k, row, st);
+                    residual_row(ff, c, row, st, res + BrickGrid::local(0, j - r.j0, k - r.k0));
+                }
+            const std::size_t base = fine.base(b);
+            for (int k = r.k0 / 2; k < r.k1 / 2; ++k)
+                for (int j = r.j0 / 2; j < r.j1 / 2; ++j)
+                    for (int i = r.i0 / 2; i < r.i1 / 2; ++i) {
+                        const std::size_t n = coarse.at(i, j, k);
+                        cf.phi[n] = 0;
+                        const Real gc = cf.g[n];
+                        if (gc == Real(0)) {
+                            cf.rhs[n] = 0;
+                            continue;
+                        }
+                        Real sum = 0;
+                        for (int dk = 0; dk < 2; ++dk)
+                            for (int dj = 0; dj < 2; ++dj)
+                                for (int di = 0; di < 2; ++di) {
+                                    const int loc = BrickGrid::local(2 * i + di - r.i0, 2 * j + dj - r.j0, 2 * k + dk - r.k0);
+                                    sum += res[loc] / ff.g[base + std::size_t(loc)];
+                                }
+                        cf.rhs[n] = gc * (sum * Real(0.125));
                     }
-            cf.rhs[n] = gc * (sum * Real(0.125));
         });
     }
 
     void prolong_correct(int level, bool trilinear) override {
+        const Level& fl = hier_.levels[std::size_t(level)];
         const Level& coarse = hier_.levels[std::size_t(level) + 1];
+        const BrickGrid& fine = grids_[std::size_t(level)];
+        const BrickGrid& cg = grids_[std::size_t(level) + 1];
         const Real* pc = fields_[std::size_t(level) + 1].phi.data();
         Real* phi = fields_[std::size_t(level)].phi.data();
         const Real* g = fields_[std::size_t(level)].g.data();
-        for_cells(level, [&](std::size_t n, int i, int j, int k) {
-            if (g[n] == Real(0)) return;
-            const int I = i >> 1, J = j >> 1, K = k >> 1;
-            if (!trilinear) {
-                phi[n] += pc[index(coarse, I, J, K)];
-                return;
-            }
-            // Cell-centred trilinear: weights 3/4 on the parent, 1/4 on the next coarse
-            // cell towards this child (the parent itself at the boundary, by mirroring).
-            const int I2 = clamp_index(I + ((i & 1) ? 1 : -1), coarse.nx);
-            const int J2 = clamp_index(J + ((j & 1) ? 1 : -1), coarse.ny);
-            const int K2 = clamp_index(K + ((k & 1) ? 1 : -1), coarse.nz);
-            const Real w0 = Real(0.75), w1 = Real(0.25);
-            auto row = [&](int jj, int kk) { return w0 * pc[index(coarse, I, jj, kk)] + w1 * pc[index(coarse, I2, jj, kk)]; };
-            auto plane = [&](int kk) { return w0 * row(J, kk) + w1 * row(J2, kk); };
-            phi[n] += w0 * plane(K) + w1 * plane(K2);
+        constexpr int W = kBrick / 2 + 2;  // the brick's coarse cells and a one-cell halo
+        each_brick(level, [&](std::uint32_t b, std::size_t) {
+            const CellRange r = fl.range(b);
+            const int I0 = r.i0 / 2 - 1, J0 = r.j0 / 2 - 1, K0 = r.k0 / 2 - 1;
+            // Coarse values with the halo clamped: mirroring at the grid boundary.
+            Real cv[W][W][W];
+            for (int kk = 0; kk < W; ++kk)
+                for (int jj = 0; jj < W; ++jj)
+                    for (int ii = 0; ii < W; ++ii)
+                        cv[kk][jj][ii] = pc[cg.at(clamp_index(I0 + ii, coarse.nx), clamp_index(J0 + jj, coarse.ny),
+                                                  clamp_index(K0 + kk, coarse.nz))];
+            for (int k = r.k0; k < r.k1; ++k)
+                for (int j = r.j0; j < r.j1; ++j)
+                    for (int i = r.i0; i < r.i1; ++i) {
+                        const std::size_t n = fine.at(i, j, k);
+                        if (g[n] == Real(0)) continue;
+                        const int I = (i >> 1) - I0, J = (j >> 1) - J0, K = (k >> 1) - K0;
+                        if (!trilinear) {
+                            phi[n] += cv[K][J][I];
+                            continue;
+                        }
+                        // Cell-centred trilinear: 3/4 on the parent, 1/4 on the next coarse
+                        // cell towards this child.
+                        const int I2 = I + ((i & 1) ? 1 : -1), J2 = J + ((j & 1) ? 1 : -1), K2 = K + ((k & 1) ? 1 : -1);
+                        const Real w0 = Real(0.75), w1 = Real(0.25);
+                        auto row = [&](int jj, int kk) { return w0 * cv[kk][jj][I] + w1 * cv[kk][jj][I2]; };
+                        auto plane = [&](int kk) { return w0 * row(J, kk) + w1 * row(J2, kk); };
+                        phi[n] += w0 * plane(K) + w1 * plane(K2);
+                    }
         });
     }
 
     void nonlinear(Real k) override {
         Real* phi = fields_[0].phi.data();
         const Real* g = fields_[0].g.data();
-        for_cells(0, [&](std::size_t n, int, int, int) {
-            if (g[n] == Real(0)) return;  // e = 1: phi unchanged
-            const Real e = std::exp(-k * g[n]);
-            const Real p = phi[n];
-            phi[n] = p / std::sqrt(e + p * p * (Real(1) - e));
+        const BrickGrid& bg = grids_[0];
+        each_brick(0, [&](std::uint32_t b, std::size_t) {
+            for (std::size_t n = bg.base(b); n < bg.base(b) + kBrickCells; ++n) {
+                if (g[n] == Real(0)) continue;  // e = 1: phi unchanged
+                const Real e = std::exp(-k * g[n]);
+                const Real p = phi[n];
+                phi[n] = p / std::sqrt(e + p * p * (Real(1) - e));
+            }
         });
     }
 
     void download_phi(Real* out) override {
-        std::memcpy(out, fields_[0].phi.data(), fields_[0].phi.size() * sizeof(Real));
+        const Level& lv = hier_.levels[0];
+        const BrickGrid& bg = grids_[0];
+        const Real* phi = fields_[0].phi.data();
+#pragma omp parallel for schedule(static)
+        for (int k = 0; k < lv.nz; ++k)
+            for (int j = 0; j < lv.ny; ++j)
+                for (int i = 0; i < lv.nx; ++i)
+                    out[std::size_t(i) + std::size_t(lv.nx) * (std::size_t(j) + std::size_t(lv.ny) * std::size_t(k))] =
+                        phi[bg.at(i, j, k)];
     }
 
 private:
-    static std::size_t index(const Level& lv, int i, int j, int k) {
-        return std::size_t(i) + std::size_t(lv.nx) * (std::size_t(j) + std::size_t(lv.ny) * std::size_t(k));
-    }
-    // A full brick whose cells all have six neighbours inside the grid.
-    static bool is_interior(const Level& lv, const CellRange& r) {
-        return r.i0 > 0 && r.j0 > 0 && r.k0 > 0 && r.i1 < lv.nx && r.j1 < lv.ny && r.k1 < lv.nz &&
-               r.i1 - r.i0 == kBrick;
-    }
     static int clamp_index(int i, int n) { return i < 0 ? 0 : (i >= n ? n - 1 : i); }
 
     template <class F>
-    static void for_children(const Level& fine, int i, int j, int k, F&& f) {
+    static void for_children(const BrickGrid& fine, int i, int j, int k, F&& f) {
         for (int dk = 0; dk < 2; ++dk)
             for (int dj = 0; dj < 2; ++dj)
-                for (int di = 0; di < 2; ++di) f(index(fine, 2 * i + di, 2 * j + dj, 2 * k + dk));
+                for (int di = 0; di < 2; ++di) f(fine.at(2 * i + di, 2 * j + dj, 2 * k + dk));
     }
 
-    Real residual(int level, Real c, int i, int j, int k) const {
-        const Level& lv = hier_.levels[std::size_t(level)];
-        const LevelFields<Real>& f = fields_[std::size_t(level)];
-        const std::size_t n = index(lv, i, j, k);
-        const Real a = f.g[n] * c;
-        int cnt;
-        const Real s = neighbour_sum(f.phi.data(), n, i, j, k, lv, cnt);
-        return (f.rhs[n] - f.phi[n]) + a * (s - Real(cnt) * f.phi[n]);
+    // r = rhs - A phi for the 8 cells of a row.
+    static void residual_row(const LevelFields<Real>& f, Real c, std::size_t row, const RowStencil<Real>& st, Real* r) {
+        for (int q = 0; q < kBrick; ++q) {
+            const std::size_t n = row + std::size_t(q);
+            const Real a = f.g[n] * c;
+            r[q] = (f.rhs[n] - f.phi[n]) + a * (st.sum(q) - st.count[q] * f.phi[n]);
+        }
     }
 
-    // Runs f(range, position in the brick list) for every active brick of the level.
+    // Runs f(brick id, position in the active list) for every active brick of the level.
     // Tiny levels run on one thread: waking the team costs more than the work.
     template <class F>
     void each_brick(int level, F&& f) const {
         const std::vector<std::uint32_t>& bricks = hier_.levels[std::size_t(level)].bricks;
-        const Level& lv = hier_.levels[std::size_t(level)];
         const std::ptrdiff_t nb = std::ptrdiff_t(bricks.size());
 #pragma omp parallel for schedule(static) if (nb > 16)
-        for (std::ptrdiff_t t = 0; t < nb; ++t) f(lv.range(bricks[std::size_t(t)]), std::size_t(t));
+        for (std::ptrdiff_t t = 0; t < nb; ++t) f(bricks[std::size_t(t)], std::size_t(t));
     }
+
+    // f(storage index, i, j, k) for every cell of the active bricks.
     template <class F>
     void for_cells(int level, F&& f) const {
         const Level& lv = hier_.levels[std::size_t(level)];
-        each_brick(level, [&](const CellRange& r, std::size_t) {
+        const BrickGrid& bg = grids_[std::size_t(level)];
+        each_brick(level, [&](std::uint32_t b, std::size_t) {
+            const CellRange r = lv.range(b);
             for (int k = r.k0; k < r.k1; ++k)
                 for (int j = r.j0; j < r.j1; ++j)
-                    for (int i = r.i0; i < r.i1; ++i) f(index(lv, i, j, k), i, j, k);
-        });
-    }
-    template <class F>
-    void for_rows(int level, F&& f) const {
-        const Level& lv = hier_.levels[std::size_t(level)];
-        each_brick(level, [&](const CellRange& r, std::size_t) {
-            for (int k = r.k0; k < r.k1; ++k)
-                for (int j = r.j0; j < r.j1; ++j) f(index(lv, r.i0, j, k), r.i1 - r.i0);
+                    for (int i = r.i0; i < r.i1; ++i) f(bg.at(i, j, k), i, j, k);
         });
     }
 
+    // f(row start, j, k, i0, stencil[, position]) for every row of the active bricks,
+    // with the row's neighbours gathered from `p`.
+    template <class F>
+    void for_rows(int level, const Real* p, F&& f) const {
+        const Level& lv = hier_.levels[std::size_t(level)];
+        const BrickGrid& bg = grids_[std::size_t(level)];
+        each_brick(level, [&](std::uint32_t b, std::size_t t) {
+            const CellRange r = lv.range(b);
+            RowStencil<Real> st;
+            st.cells = r.i1 - r.i0;
+            for (int k = r.k0; k < r.k1; ++k)
+                for (int j = r.j0; j < r.j1; ++j) {
+                    const std::size_t row = bg.at(r.i0, j, k);
+                    gather(bg, p, r, j, k, row, st);
+                    if constexpr (std::is_invocable_v<F, std::size_t, int, int, int, const RowStencil<Real>&, std::size_t>)
+                        f(row, j, k, r.i0, st, t);
+                    else
+                        f(row, j, k, r.i0, st);
+                }
+        });
+    }
+
+    // The row's neighbour values: inside the brick at fixed offsets, across a brick face
+    // through the neighbouring brick, 0 (and not counted) outside the grid.
+    static void gather(const BrickGrid& bg, const Real* p, const CellRange& r, int j, int k, std::size_t row,
+                       RowStencil<Real>& st) {
+        const int n = r.i1 - r.i0;
+        const Real* self = p + row;
+        for (int q = 0; q < kBrick; ++q) {
+            const bool inside = q < n;
+            st.nb[0][q] = q > 0 ? self[q - 1] : (r.i0 > 0 ? p[bg.at(r.i0 - 1, j, k)] : Real(0));
+            st.nb[1][q] = q + 1 < n ? self[q + 1] : (inside && r.i0 + q + 1 < bg.nx ? p[bg.at(r.i0 + q + 1, j, k)] : Real(0));
+            st.count[q] = Real(2) - Real(q == 0 && r.i0 == 0) - Real(inside && r.i0 + q + 1 >= bg.nx);
+        }
+        add_axis(bg, p, r, j, k, row, st, 1);
+        add_axis(bg, p, r, j, k, row, st, 2);
+    }
+
+    // y (axis 1) or z (axis 2) neighbours of a row: whole rows, from this brick or the next.
+    static void add_axis(const BrickGrid& bg, const Real* p, const CellRange& r, int j, int k, std::size_t row,
+                         RowStencil<Real>& st, int axis) {
+        const int c = axis == 1 ? j : k, size = axis == 1 ? bg.ny : bg.nz;
+        const std::size_t stride = axis == 1 ? kBrick : kBrick * kBrick;
+        const int lc = c % kBrick;
+        for (int side = 0; side < 2; ++side) {
+            const int nc = c + (side ? 1 : -1);
+            Real* out = st.nb[2 * axis + side];
+            if (nc < 0 || nc >= size) {
+                for (int q = 0; q < kBrick; ++q) out[q] = 0;
+                continue;
+            }
+            const bool same = side ? lc + 1 < kBrick : lc > 0;
+            const Real* src = same ? p + (side ? row + stride : row - stride)
+                                   : p + (axis == 1 ? bg.at(r.i0, nc, k) : bg.at(r.i0, j, nc));
+            for (int q = 0; q < kBrick; ++q) {
+                out[q] = src[q];
+                st.count[q] += Real(1);
+            }
+        }
+    }
+
     Hierarchy hier_;
+    std::vector<BrickGrid> grids_;
     std::vector<LevelFields<Real>> fields_;
 };
 

@@ -1,0 +1,99 @@
+// Each backend operation on the level-0 active bricks of a real reconstruction, timed
+// alone: seconds per call, the bytes it must move (the traffic model of multigrid.cpp)
+// and the bandwidth that implies, next to a copy over the same bricks (load_rhs) and a
+// dense triad. Tells whether an operation is at its memory floor or far from it.
+//
+//   bench_operations FILE [--resolution N] [--repeat N]
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "backend.hpp"
+#include "band_distance.hpp"
+#include "domain_plan.hpp"
+#include "hierarchy.hpp"
+#include "multigrid.hpp"
+#include "snvr/snvr.hpp"
+
+using namespace snvr;
+
+namespace {
+
+double best_seconds(int repeat, const std::function<void()>& f) {
+    double best = 1e30;
+    for (int r = 0; r < repeat; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        f();
+        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    return best;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: %s FILE [--resolution N] [--repeat N]\n", argv[0]);
+        return 2;
+    }
+    Parameters params;
+    params.resolution = 256;
+    int repeat = 10;
+    for (int a = 2; a + 1 < argc; a += 2) {
+        const std::string opt = argv[a];
+        if (opt == "--resolution") params.resolution = std::atoi(argv[a + 1]);
+        else if (opt == "--repeat") repeat = std::atoi(argv[a + 1]);
+    }
+    const PointSet points = read_points(argv[1]);
+    const PointIndex index(points);
+    const DomainPlan plan = plan_domain(points, params, index);
+    const Domain& dom = plan.domain;
+    const double L = dom.length_scale();
+    const Band band{plan.offset / L, params.band_xi * plan.xi / L};
+    BandDistance<double> dist = band_distance<double>(points, index, dom, band);
+    classify_band(dist, dom, band);
+    Hierarchy hier = make_levels(dom);
+    set_active_bricks(hier, dist.brick_mask);
+    std::string notice;
+    auto backend = make_backend<double>("openmp", notice);
+    backend->setup(hier);
+    backend->init_phase(dist.distance.data(), band.offset, 1 / (std::sqrt(2.0) * plan.xi / L), band.cut);
+    prepare_coarse_levels(*backend, hier);
+    backend->load_rhs();
+
+    const Level& lv = hier.levels[0];
+    const double cells = double(lv.brick_cells), bytes_per_stream = cells * sizeof(double);
+    const double c = params.dt / (lv.h * lv.h);
+    std::printf("grid %dx%dx%d, %zu active bricks (%.0f cells), %d threads, best of %d\n", dom.nx, dom.ny, dom.nz,
+                lv.bricks.size(), cells, omp_get_max_threads(), repeat);
+
+    struct Op {
+        const char* name;
+        double streams;  // per cell of level 0 (coarse-level traffic ignored: 1/8 or less)
+        std::function<void()> run;
+    };
+    const std::vector<Op> ops = {
+        {"copy (load_rhs)", 2, [&] { backend->load_rhs(); }},
+        {"smooth, one colour", 4, [&] { backend->smooth(0, 0, c); }},
+        {"residual norm", 3, [&] { backend->residual_sum_squares(0, c); }},
+        {"restrict residual", 3, [&] { backend->restrict_residual(0, c); }},
+        {"prolong + correct", 3, [&] { backend->prolong_correct(0, true); }},
+        {"nonlinear", 3, [&] { backend->nonlinear(1e-3); }},
+    };
+    double copy_rate = 0;
+    std::printf("| operation | ms | GB moved | GB/s | of copy |\n|---|---|---|---|---|\n");
+    for (const Op& op : ops) {
+        const double s = best_seconds(repeat, op.run);
+        const double gb = op.streams * bytes_per_stream / 1e9;
+        if (copy_rate == 0) copy_rate = gb / s;
+        std::printf("| %s | %.2f | %.3f | %.1f | %.0f%% |\n", op.name, s * 1e3, gb, gb / s, 100 * (gb / s) / copy_rate);
+    }
+    return 0;
+}
