@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
         const double read_s = seconds_since(t);
         const snvr::Result r = snvr::reconstruct(points, params);
         t = std::chrono::steady_clock::now();
-        const snvr::Mesh mesh = snvr::extract_isosurface(r.phi, r.domain);
+        const snvr::Mesh mesh = snvr::extract_isosurface(r.phi, r.domain, 0.0, snvr::Interpolation::PhaseField);
         const double mesh_s = seconds_since(t);
         t = std::chrono::steady_clock::now();
         snvr::write_mesh(mesh, out);

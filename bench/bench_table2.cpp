@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
                 snvr::Parameters p = snvr::table2::parameters(n, nt);
                 if (scale_dt) p.dt = 5e-5 * (128.0 / n) * (128.0 / n);
                 const snvr::Result r = snvr::reconstruct(points, p);
-                const snvr::Mesh mesh = snvr::extract_isosurface(r.phi, r.domain);
+                const snvr::Mesh mesh = snvr::extract_isosurface(r.phi, r.domain, 0.0, snvr::Interpolation::PhaseField);
                 const snvr::table2::Errors e = snvr::table2::surface_errors(mesh, shape, 0.05);
                 int cycles = 0;
                 for (const auto& s : r.steps) cycles = std::max(cycles, s.cycles);

@@ -69,7 +69,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
     for (const std::string& w : solver_warnings(result, o.params.tol)) warn(w);
 
     say("mesh: extracting the zero level set");
-    const snvr::Mesh mesh = snvr::extract_isosurface(result.phi, result.domain, 0.0);
+    const snvr::Mesh mesh = snvr::extract_isosurface(result.phi, result.domain, 0.0, snvr::Interpolation::PhaseField);
     seconds.mesh = stage.lap();
     if (mesh.triangles.empty())
         throw snvr::Error(fmt("the reconstructed shell is empty (no triangles on the %d x %d x %d grid, offset "

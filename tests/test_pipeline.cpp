@@ -32,7 +32,7 @@ TEST_CASE("Table 2 at 128^3: grown and shrunk errors no larger than the paper's"
     for (const table2::Shape& shape : table2::shapes()) {
         const PointSet points = shapes::by_name(shape.name, 0.5 / resolution);
         const Result r = reconstruct(points, table2::parameters(resolution, steps));
-        const Mesh mesh = extract_isosurface(r.phi, r.domain);
+        const Mesh mesh = extract_isosurface(r.phi, r.domain, 0.0, Interpolation::PhaseField);
         const table2::Errors e = table2::surface_errors(mesh, shape, 0.05);
         std::printf("%-8s grown %.3e (paper %.3e)  shrunk %.3e (paper %.3e)\n", shape.name.c_str(), e.grown,
                     shape.paper_grown_128, e.shrunk, shape.paper_shrunk_128);
@@ -49,7 +49,7 @@ TEST_CASE("an open surface (half sphere, paper Fig. 5) becomes one closed shell 
     Parameters p;
     p.resolution = 96;
     const Result r = reconstruct(points, p);
-    check_printable(extract_isosurface(r.phi, r.domain), points, 1);
+    check_printable(extract_isosurface(r.phi, r.domain, 0.0, Interpolation::PhaseField), points, 1);
 }
 
 TEST_CASE("a real scan (the Stanford bunny) gives a printable shell") {
@@ -59,5 +59,5 @@ TEST_CASE("a real scan (the Stanford bunny) gives a printable shell") {
     p.steps = 4;
     const Result r = reconstruct(points, p);
     std::printf("bunny: offset %.5g (%s)\n", r.offset, r.offset_reason.c_str());
-    check_printable(extract_isosurface(r.phi, r.domain), points, 1);
+    check_printable(extract_isosurface(r.phi, r.domain, 0.0, Interpolation::PhaseField), points, 1);
 }

@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
         const snvr::Result result = snvr::reconstruct(points, params, [](const snvr::Progress& p) {
             if (p.stats) std::printf("step %d/%d: %d V-cycles\n", p.step, p.steps, p.stats->cycles);
         });
-        const snvr::Mesh mesh = snvr::extract_isosurface(result.phi, result.domain);
+        const snvr::Mesh mesh = snvr::extract_isosurface(result.phi, result.domain, 0.0, snvr::Interpolation::PhaseField);
         const snvr::MeshReport report = snvr::check_mesh(mesh);
         std::printf("%zu triangles, closed %d, manifold %d, %zu of %zu points inside\n", report.triangles,
                     report.closed(), report.manifold(), snvr::count_points_inside(mesh, points), points.size());

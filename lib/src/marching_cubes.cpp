@@ -23,6 +23,7 @@
 // There are no ambiguous cases; the price is more triangles than marching cubes.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -151,6 +152,16 @@ double crossing(double fa, double fb, double iso) {
     return t >= 0 && t <= 1 ? t : 0.5;
 }
 
+// A phase field is tanh of a signed distance: its atanh is linear where the distance is.
+double unfold(double v) {
+    constexpr double edge = 1 - 1e-12;
+    return std::atanh(std::clamp(v, -edge, edge));
+}
+
+double crossing(double fa, double fb, double iso, Interpolation mode) {
+    return mode == Interpolation::PhaseField ? crossing(unfold(fa), unfold(fb), unfold(iso)) : crossing(fa, fb, iso);
+}
+
 // Read access to either storage precision without copying the field.
 struct Samples {
     const double* f64 = nullptr;
@@ -229,7 +240,7 @@ std::vector<std::uint32_t> plane_edges(const Grid& g, const SignBits& sb, int k)
 
 }  // namespace
 
-Mesh extract_isosurface(const Field& field, const Domain& domain, double iso) {
+Mesh extract_isosurface(const Field& field, const Domain& domain, double iso, Interpolation interpolation) {
     if (field.nx != domain.nx || field.ny != domain.ny || field.nz != domain.nz)
         throw ParameterError("extract_isosurface: field is " + std::to_string(field.nx) + "x" +
                              std::to_string(field.ny) + "x" + std::to_string(field.nz) + " but the domain is " +
@@ -268,7 +279,7 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso) {
         const int dir = int(key % kDirs) + 1;
         const int i = int(cell % std::uint32_t(g.nx)), j = int(cell / std::uint32_t(g.nx));
         const int dx = dir & 1, dy = dir >> 1 & 1, dz = dir >> 2;
-        const double t = crossing(s[g.at(i, j, k)], s[g.at(i + dx, j + dy, k + dz)], iso);
+        const double t = crossing(s[g.at(i, j, k)], s[g.at(i + dx, j + dy, k + dz)], iso, interpolation);
         const Vec3 a = domain.cell_center(i, j, k), b = domain.cell_center(i + dx, j + dy, k + dz);
         return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
     };
@@ -325,7 +336,7 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso) {
                         // Crossing point in cube-local coordinates, for choosing quad diagonals.
                         const auto local_point = [&](int e) {
                             const CubeEdge ce = tab.edges[e];
-                            const double t = crossing(value[ce.corner], value[ce.corner | ce.dir], iso);
+                            const double t = crossing(value[ce.corner], value[ce.corner | ce.dir], iso, interpolation);
                             Vec3 p = corner_pos(ce.corner);
                             for (int d = 0; d < 3; ++d) p[d] += t * double(ce.dir >> d & 1);
                             return p;

@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <array>
 #include <cstring>
 #include <type_traits>
 #include <vector>
@@ -17,17 +18,25 @@ struct LevelFields {
     std::vector<Real> phi, rhs, g;  // brick-major (brick_grid.hpp)
 };
 
-// The six neighbours of the 8 cells of one brick row, in the fixed order -x +x -y +y
-// -z +z, with 0 for a neighbour outside the grid, and how many are present. Adding the
-// zeros leaves the sum bit-identical to skipping them (the mirror boundary: a missing
-// neighbour equals the cell, so it drops out of the Laplacian).
+// The neighbours of the 8 cells of one brick row: the row itself for -x/+x (and the
+// cells just beyond its ends), whole rows for -y +y -z +z, taken from this brick or
+// the next one; outside the grid a row of zeros and a lower count. Adding those zeros
+// leaves the sum bit-identical to skipping them (the mirror boundary: a missing
+// neighbour equals the cell, so it drops out of the Laplacian). Fixed summation
+// order: -x +x -y +y -z +z, the same as the kernels.
 template <class Real>
 struct RowStencil {
-    Real nb[6][kBrick];
+    const Real* self;
+    const Real *ym, *yp, *zm, *zp;
+    Real xm_end, xp_end;  // -x neighbour of cell 0, +x neighbour of cell 7
     Real count[kBrick];
-    int cells;  // valid cells in the row (fewer in a partial brick)
+    int cells;            // valid cells in the row (fewer in a partial brick)
 
-    Real sum(int q) const { return ((((nb[0][q] + nb[1][q]) + nb[2][q]) + nb[3][q]) + nb[4][q]) + nb[5][q]; }
+    Real sum(int q) const {
+        const Real left = q > 0 ? self[q - 1] : xm_end;
+        const Real right = q < kBrick - 1 ? self[q + 1] : xp_end;
+        return ((((left + right) + ym[q]) + yp[q]) + zm[q]) + zp[q];
+    }
 };
 
 template <class Real>
@@ -110,14 +119,12 @@ public:
         const Real* rhs = f.rhs.data();
         const Real* g = f.g.data();
         for_rows(level, phi, [&](std::size_t row, int j, int k, int i0, const RowStencil<Real>& st) {
-            // Every cell of the row is computed (vectorisable), this colour's are kept.
-            // Where g = 0 the formula gives rhs, which phi already equals.
-            Real next[kBrick];
-            for (int q = 0; q < kBrick; ++q) {
-                const Real a = g[row + std::size_t(q)] * c;
-                next[q] = (rhs[row + std::size_t(q)] + a * st.sum(q)) / (Real(1) + a * st.count[q]);
+            for (int q = (i0 + j + k + color) & 1; q < st.cells; q += 2) {
+                const std::size_t n = row + std::size_t(q);
+                if (g[n] == Real(0)) continue;  // decoupled: phi already equals rhs
+                const Real a = g[n] * c;
+                phi[n] = (rhs[n] + a * st.sum(q)) / (Real(1) + a * st.count[q]);
             }
-            for (int q = (i0 + j + k + color) & 1; q < st.cells; q += 2) phi[row + std::size_t(q)] = next[q];
         });
     }
 
@@ -141,22 +148,19 @@ public:
     // bricks write disjoint coarse cells. Coarse cells whose children lie in inactive
     // bricks have g_c = 0: their rhs and phi are zero from setup and stay zero.
     void restrict_residual(int level, Real c) override {
-        const Level& fl = hier_.levels[std::size_t(level)];
         const LevelFields<Real>& ff = fields_[std::size_t(level)];
         const BrickGrid& fine = grids_[std::size_t(level)];
         const BrickGrid& coarse = grids_[std::size_t(level) + 1];
         LevelFields<Real>& cf = fields_[std::size_t(level) + 1];
-        each_brick(level, [&](std::uint32_t b, std::size_t) {
-            const CellRange r = fl.range(b);
-            Real res[kBrickCells];
-            RowStencil<Real> st;
-            st.cells = r.i1 - r.i0;
-            for (int k = r.k0; k < r.k1; ++k)
-                for (int j = r.j0; j < r.j1; ++j) {
-                    const std::size_t row = fine.at(r.i0, j, k);
-                    gather(fine, ff.phi.data(), r, j, k, row, st);
-                    residual_row(ff, c, row, st, res + BrickGrid::local(0, j - r.j0, k - r.k0));
-                }
+        // Each thread's residuals of the brick it is on.
+        std::vector<std::array<Real, kBrickCells>> scratch(static_cast<std::size_t>(omp_get_max_threads()));
+        const auto rows = [&](std::size_t row, int j, int k, int i0, const RowStencil<Real>& st) {
+            const std::size_t offset = std::size_t(BrickGrid::local(0, j % kBrick, k % kBrick));
+            (void)i0;
+            residual_row(ff, c, row, st, scratch[std::size_t(omp_get_thread_num())].data() + offset);
+        };
+        for_rows(level, ff.phi.data(), rows, [&](std::uint32_t b, const CellRange& r) {
+            const Real* res = scratch[std::size_t(omp_get_thread_num())].data();
             const std::size_t base = fine.base(b);
             for (int k = r.k0 / 2; k < r.k1 / 2; ++k)
                 for (int j = r.j0 / 2; j < r.j1 / 2; ++j)
@@ -199,24 +203,33 @@ public:
                     for (int ii = 0; ii < W; ++ii)
                         cv[kk][jj][ii] = pc[cg.at(clamp_index(I0 + ii, coarse.nx), clamp_index(J0 + jj, coarse.ny),
                                                   clamp_index(K0 + kk, coarse.nz))];
+            const Real w0 = Real(0.75), w1 = Real(0.25);
+            // Cell-centred trilinear: 3/4 on the parent, 1/4 on the next coarse cell towards
+            // the child, separably: x first, then y, then z (the kernels' order).
+            Real along_x[W][W][kBrick];  // [coarse k][coarse j][fine i]
+            for (int kk = 0; kk < W; ++kk)
+                for (int jj = 0; jj < W; ++jj)
+                    for (int q = 0; q < r.i1 - r.i0; ++q) {
+                        const int i = r.i0 + q, I = (i >> 1) - I0, I2 = I + ((i & 1) ? 1 : -1);
+                        along_x[kk][jj][q] = trilinear ? w0 * cv[kk][jj][I] + w1 * cv[kk][jj][I2] : cv[kk][jj][I];
+                    }
             for (int k = r.k0; k < r.k1; ++k)
-                for (int j = r.j0; j < r.j1; ++j)
-                    for (int i = r.i0; i < r.i1; ++i) {
-                        const std::size_t n = fine.at(i, j, k);
+                for (int j = r.j0; j < r.j1; ++j) {
+                    const int J = (j >> 1) - J0, J2 = J + ((j & 1) ? 1 : -1);
+                    const int K = (k >> 1) - K0, K2 = K + ((k & 1) ? 1 : -1);
+                    const std::size_t row = fine.at(r.i0, j, k);
+                    for (int q = 0; q < r.i1 - r.i0; ++q) {
+                        const std::size_t n = row + std::size_t(q);
                         if (g[n] == Real(0)) continue;
-                        const int I = (i >> 1) - I0, J = (j >> 1) - J0, K = (k >> 1) - K0;
                         if (!trilinear) {
-                            phi[n] += cv[K][J][I];
+                            phi[n] += along_x[K][J][q];
                             continue;
                         }
-                        // Cell-centred trilinear: 3/4 on the parent, 1/4 on the next coarse
-                        // cell towards this child.
-                        const int I2 = I + ((i & 1) ? 1 : -1), J2 = J + ((j & 1) ? 1 : -1), K2 = K + ((k & 1) ? 1 : -1);
-                        const Real w0 = Real(0.75), w1 = Real(0.25);
-                        auto row = [&](int jj, int kk) { return w0 * cv[kk][jj][I] + w1 * cv[kk][jj][I2]; };
-                        auto plane = [&](int kk) { return w0 * row(J, kk) + w1 * row(J2, kk); };
-                        phi[n] += w0 * plane(K) + w1 * plane(K2);
+                        const Real plane_k = w0 * along_x[K][J][q] + w1 * along_x[K][J2][q];
+                        const Real plane_k2 = w0 * along_x[K2][J][q] + w1 * along_x[K2][J2][q];
+                        phi[n] += w0 * plane_k + w1 * plane_k2;
                     }
+                }
         });
     }
 
@@ -289,64 +302,55 @@ private:
     }
 
     // f(row start, j, k, i0, stencil[, position]) for every row of the active bricks,
-    // with the row's neighbours gathered from `p`.
-    template <class F>
-    void for_rows(int level, const Real* p, F&& f) const {
+    // with the row's neighbours taken from `p`; then done(brick, cell range), on the
+    // same thread, once the brick's rows are through.
+    struct Nothing {
+        void operator()(std::uint32_t, const CellRange&) const {}
+    };
+    template <class F, class Done = Nothing>
+    void for_rows(int level, const Real* p, F&& f, Done&& done = Done()) const {
         const Level& lv = hier_.levels[std::size_t(level)];
         const BrickGrid& bg = grids_[std::size_t(level)];
+        static const Real zeros[kBrick] = {};
         each_brick(level, [&](std::uint32_t b, std::size_t t) {
             const CellRange r = lv.range(b);
+            const int bi = r.i0 / kBrick, bj = r.j0 / kBrick, bk = r.k0 / kBrick;
+            // Start of each neighbouring brick (-x +x -y +y -z +z), or none at the grid edge.
+            const std::size_t none = std::size_t(-1), bx = std::size_t(bg.bx), bxy = bx * std::size_t(bg.by);
+            const std::size_t here = bg.base(b);
+            const std::size_t nb[6] = {bi > 0 ? here - kBrickCells : none,
+                                       bi + 1 < bg.bx ? here + kBrickCells : none,
+                                       bj > 0 ? here - bx * kBrickCells : none,
+                                       bj + 1 < bg.by ? here + bx * kBrickCells : none,
+                                       bk > 0 ? here - bxy * kBrickCells : none,
+                                       bk + 1 < bg.bz ? here + bxy * kBrickCells : none};
             RowStencil<Real> st;
             st.cells = r.i1 - r.i0;
             for (int k = r.k0; k < r.k1; ++k)
                 for (int j = r.j0; j < r.j1; ++j) {
-                    const std::size_t row = bg.at(r.i0, j, k);
-                    gather(bg, p, r, j, k, row, st);
+                    const int lj = j - r.j0, lk = k - r.k0;
+                    const std::size_t row = here + std::size_t(BrickGrid::local(0, lj, lk));
+                    st.self = p + row;
+                    // Rows across a brick face come from the neighbour's opposite face.
+                    auto across = [&](int side, int cj, int ck) {
+                        return nb[side] == none ? zeros : p + nb[side] + std::size_t(BrickGrid::local(0, cj, ck));
+                    };
+                    st.ym = j == 0 ? zeros : lj > 0 ? st.self - kBrick : across(2, kBrick - 1, lk);
+                    st.yp = j + 1 >= bg.ny ? zeros : lj + 1 < kBrick ? st.self + kBrick : across(3, 0, lk);
+                    st.zm = k == 0 ? zeros : lk > 0 ? st.self - kBrick * kBrick : across(4, lj, kBrick - 1);
+                    st.zp = k + 1 >= bg.nz ? zeros : lk + 1 < kBrick ? st.self + kBrick * kBrick : across(5, lj, 0);
+                    st.xm_end = nb[0] == none ? Real(0) : p[nb[0] + std::size_t(BrickGrid::local(kBrick - 1, lj, lk))];
+                    st.xp_end = nb[1] == none ? Real(0) : p[nb[1] + std::size_t(BrickGrid::local(0, lj, lk))];
+                    const Real yz = Real(4) - Real(j == 0) - Real(j + 1 >= bg.ny) - Real(k == 0) - Real(k + 1 >= bg.nz);
+                    for (int q = 0; q < kBrick; ++q)
+                        st.count[q] = yz + Real(2) - Real(q == 0 && r.i0 == 0) - Real(r.i0 + q + 1 >= bg.nx);
                     if constexpr (std::is_invocable_v<F, std::size_t, int, int, int, const RowStencil<Real>&, std::size_t>)
                         f(row, j, k, r.i0, st, t);
                     else
                         f(row, j, k, r.i0, st);
                 }
+            done(b, r);
         });
-    }
-
-    // The row's neighbour values: inside the brick at fixed offsets, across a brick face
-    // through the neighbouring brick, 0 (and not counted) outside the grid.
-    static void gather(const BrickGrid& bg, const Real* p, const CellRange& r, int j, int k, std::size_t row,
-                       RowStencil<Real>& st) {
-        const int n = r.i1 - r.i0;
-        const Real* self = p + row;
-        for (int q = 0; q < kBrick; ++q) {
-            const bool inside = q < n;
-            st.nb[0][q] = q > 0 ? self[q - 1] : (r.i0 > 0 ? p[bg.at(r.i0 - 1, j, k)] : Real(0));
-            st.nb[1][q] = q + 1 < n ? self[q + 1] : (inside && r.i0 + q + 1 < bg.nx ? p[bg.at(r.i0 + q + 1, j, k)] : Real(0));
-            st.count[q] = Real(2) - Real(q == 0 && r.i0 == 0) - Real(inside && r.i0 + q + 1 >= bg.nx);
-        }
-        add_axis(bg, p, r, j, k, row, st, 1);
-        add_axis(bg, p, r, j, k, row, st, 2);
-    }
-
-    // y (axis 1) or z (axis 2) neighbours of a row: whole rows, from this brick or the next.
-    static void add_axis(const BrickGrid& bg, const Real* p, const CellRange& r, int j, int k, std::size_t row,
-                         RowStencil<Real>& st, int axis) {
-        const int c = axis == 1 ? j : k, size = axis == 1 ? bg.ny : bg.nz;
-        const std::size_t stride = axis == 1 ? kBrick : kBrick * kBrick;
-        const int lc = c % kBrick;
-        for (int side = 0; side < 2; ++side) {
-            const int nc = c + (side ? 1 : -1);
-            Real* out = st.nb[2 * axis + side];
-            if (nc < 0 || nc >= size) {
-                for (int q = 0; q < kBrick; ++q) out[q] = 0;
-                continue;
-            }
-            const bool same = side ? lc + 1 < kBrick : lc > 0;
-            const Real* src = same ? p + (side ? row + stride : row - stride)
-                                   : p + (axis == 1 ? bg.at(r.i0, nc, k) : bg.at(r.i0, j, nc));
-            for (int q = 0; q < kBrick; ++q) {
-                out[q] = src[q];
-                st.count[q] += Real(1);
-            }
-        }
     }
 
     Hierarchy hier_;
