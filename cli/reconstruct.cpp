@@ -80,8 +80,9 @@ int run_reconstruct(const std::vector<std::string>& args) {
     say("check: " + grouped(mesh.triangles.size()) + " triangles, " + grouped(points.size()) + " points");
     const snvr::MeshReport report = snvr::check_mesh(mesh);
     const std::size_t inside = snvr::count_points_inside(mesh, points);
+    const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
     seconds.check = stage.lap();
-    for (const std::string& w : mesh_warnings(report, inside, points.size())) warn(w);
+    for (const std::string& w : mesh_warnings(report, inside, points.size(), clusters)) warn(w);
 
     say("write: " + o.output);
     snvr::write_mesh(mesh, o.output);

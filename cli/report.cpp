@@ -117,8 +117,13 @@ std::vector<std::string> solver_warnings(const snvr::Result& result, double tol)
     return out;
 }
 
-std::vector<std::string> mesh_warnings(const snvr::MeshReport& m, std::size_t inside, std::size_t points) {
+std::vector<std::string> mesh_warnings(const snvr::MeshReport& m, std::size_t inside, std::size_t points,
+                                       std::size_t clusters) {
     std::vector<std::string> out;
+    if (m.components > 2 * clusters)
+        out.push_back(fmt("the shell fell apart into %zu pieces, but the points form %zu cluster%s at twice the "
+                          "offset: raise --offset (or lower the resolution) to close the gaps",
+                          m.components, clusters, clusters == 1 ? "" : "s"));
     if (!m.closed()) out.push_back(fmt("the mesh is not closed: %zu boundary edges", m.boundary_edges));
     if (!m.manifold())
         out.push_back(fmt("the mesh is not manifold: %zu non-manifold edges, %zu non-manifold vertices, "

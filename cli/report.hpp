@@ -43,7 +43,10 @@ void print_summary(std::ostream& out, const RunSummary& run);
 // Steps whose linear solve stopped at the cycle cap above tol.
 std::vector<std::string> solver_warnings(const snvr::Result& result, double tol);
 // Not closed / manifold / oriented, or not every point enclosed.
-std::vector<std::string> mesh_warnings(const snvr::MeshReport& mesh, std::size_t inside, std::size_t points);
+// `clusters`: snvr::count_point_clusters at twice the offset (a broken shell has more
+// than two pieces per cluster).
+std::vector<std::string> mesh_warnings(const snvr::MeshReport& mesh, std::size_t inside, std::size_t points,
+                                       std::size_t clusters);
 
 // Peak resident set size of this process in bytes (0 if unknown).
 std::size_t peak_rss_bytes();

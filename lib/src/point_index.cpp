@@ -52,6 +52,22 @@ private:
     double best_ = std::numeric_limits<double>::max();
 };
 
+// Hands every point within the radius to a callback, keeping no list.
+class WithinRadius {
+public:
+    WithinRadius(double radius_sq, const std::function<void(std::size_t)>& f) : r_(radius_sq), f_(f) {}
+    bool full() const { return true; }
+    bool addPoint(double d, std::uint32_t n) {
+        if (d < r_) f_(n);
+        return true;
+    }
+    double worstDist() const { return r_; }
+
+private:
+    double r_;
+    const std::function<void(std::size_t)>& f_;
+};
+
 }  // namespace
 
 struct PointIndex::Impl {
@@ -70,6 +86,11 @@ PointIndex::Hit PointIndex::nearest(const Vec3& q, double bound_sq) const {
 }
 
 const Vec3& PointIndex::point(std::size_t n) const { return impl_->adaptor.pts[n]; }
+
+void PointIndex::for_each_within(const Vec3& q, double radius, const std::function<void(std::size_t)>& f) const {
+    WithinRadius result(radius * radius, f);
+    impl_->tree.findNeighbors(result, q.data(), nanoflann::SearchParams());
+}
 
 double PointIndex::nearest_other(std::size_t n) const {
     NearestDistinct result;

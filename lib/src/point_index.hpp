@@ -2,6 +2,7 @@
 // whose API differs from later versions) so that no other file depends on it.
 #pragma once
 #include <cstddef>
+#include <functional>
 #include <memory>
 
 #include "snvr/geometry.hpp"
@@ -26,6 +27,9 @@ public:
     Hit nearest(const Vec3& q, double bound_sq) const;
 
     const Vec3& point(std::size_t n) const;
+
+    // Calls f(index) for every point closer than `radius` to q.
+    void for_each_within(const Vec3& q, double radius, const std::function<void(std::size_t)>& f) const;
 
     // Distance from point n to its nearest *distinct* point (0 if all points coincide).
     double nearest_other(std::size_t n) const;
