@@ -73,7 +73,6 @@ int main(int argc, char** argv) {
         }
     }
     try {
-        const double bandwidth = triad_bandwidth();
         const auto t0 = std::chrono::steady_clock::now();
         auto t = t0;
         const snvr::PointSet points = snvr::read_points(argv[1]);
@@ -89,6 +88,8 @@ int main(int argc, char** argv) {
 
         const snvr::MeshReport rep = snvr::check_mesh(mesh);
         const std::size_t inside = snvr::count_points_inside(mesh, points);
+        const double peak_mib = peak_rss_mib();  // before the triad's own arrays
+        const double bandwidth = triad_bandwidth();
 
         std::printf("file %s, %zu points, grid %dx%dx%d, %s, %s precision, %d threads\n", argv[1], points.size(),
                     r.domain.nx, r.domain.ny, r.domain.nz, r.backend.c_str(),
@@ -116,7 +117,7 @@ int main(int argc, char** argv) {
         std::printf("mesh: %zu triangles, closed %s, manifold %s, oriented %s, %zu components, %zu of %zu points inside\n",
                     rep.triangles, rep.closed() ? "yes" : "no", rep.manifold() ? "yes" : "no",
                     rep.oriented() ? "yes" : "no", rep.components, inside, points.size());
-        std::printf("peak RSS %.1f MiB (solver fields %.1f MiB)\n", peak_rss_mib(), double(r.solver_bytes) / (1 << 20));
+        std::printf("peak RSS %.1f MiB (solver fields and distance %.1f MiB)\n", peak_mib, double(r.solver_bytes) / (1 << 20));
     } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return 1;

@@ -9,7 +9,8 @@ namespace snvr {
 
 inline std::size_t real_size(Precision p) { return p == Precision::Double ? sizeof(double) : sizeof(float); }
 
-// Three fields (phi, rhs, g) on every level, the distance on the finest, and the
+// At most: three fields (phi, rhs, g) on every level (fewer where bricks are inactive),
+// the distance on the finest, and the
 // copy of phi handed back in the result.
 inline std::size_t estimate_solver_bytes(const Domain& d, Precision p) {
     std::size_t cells = 0;

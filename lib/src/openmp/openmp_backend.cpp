@@ -3,6 +3,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <array>
 #include <cstring>
@@ -54,6 +55,8 @@ public:
             fields_[l].phi.assign(n, Real(0));
             fields_[l].rhs.assign(n, Real(0));
             fields_[l].g.assign(n, Real(0));
+            std::fill_n(fields_[l].phi.begin() + kPlusSlot * kBrickCells, kBrickCells, Real(1));
+            std::fill_n(fields_[l].phi.begin() + kMinusSlot * kBrickCells, kBrickCells, Real(-1));
         }
     }
 
@@ -67,16 +70,23 @@ public:
         Real* phi = fields_[0].phi.data();
         Real* g = fields_[0].g.data();
         const Level& lv = hier_.levels[0];
-        const BrickGrid& bg = grids_[0];
+        BrickGrid& bg = grids_[0];
+        auto flat = [&](int i, int j, int k) {
+            return std::size_t(i) + std::size_t(lv.nx) * (std::size_t(j) + std::size_t(lv.ny) * std::size_t(k));
+        };
         const std::ptrdiff_t nb = std::ptrdiff_t(lv.brick_count());
 #pragma omp parallel for schedule(static)
         for (std::ptrdiff_t b = 0; b < nb; ++b) {
             const CellRange r = lv.range(std::uint32_t(b));
+            if (bg.slot[std::size_t(b)] < kConstantSlots) {  // no band cell: one sign throughout
+                bg.slot[std::size_t(b)] = l - d[flat(r.i0, r.j0, r.k0)] > 0 ? kPlusSlot : kMinusSlot;
+                continue;
+            }
             for (int k = r.k0; k < r.k1; ++k)
                 for (int j = r.j0; j < r.j1; ++j)
                     for (int i = r.i0; i < r.i1; ++i) {
                         const std::size_t c = bg.at(i, j, k);
-                        const Real diff = l - d[std::size_t(i) + std::size_t(lv.nx) * (std::size_t(j) + std::size_t(lv.ny) * std::size_t(k))];
+                        const Real diff = l - d[flat(i, j, k)];
                         if (std::abs(diff) > cut) {
                             phi[c] = diff > 0 ? Real(1) : Real(-1);
                             g[c] = 0;
@@ -316,14 +326,15 @@ private:
             const CellRange r = lv.range(b);
             const int bi = r.i0 / kBrick, bj = r.j0 / kBrick, bk = r.k0 / kBrick;
             // Start of each neighbouring brick (-x +x -y +y -z +z), or none at the grid edge.
-            const std::size_t none = std::size_t(-1), bx = std::size_t(bg.bx), bxy = bx * std::size_t(bg.by);
+            const std::size_t none = std::size_t(-1);
+            const std::uint32_t bx = std::uint32_t(bg.bx), bxy = bx * std::uint32_t(bg.by);
             const std::size_t here = bg.base(b);
-            const std::size_t nb[6] = {bi > 0 ? here - kBrickCells : none,
-                                       bi + 1 < bg.bx ? here + kBrickCells : none,
-                                       bj > 0 ? here - bx * kBrickCells : none,
-                                       bj + 1 < bg.by ? here + bx * kBrickCells : none,
-                                       bk > 0 ? here - bxy * kBrickCells : none,
-                                       bk + 1 < bg.bz ? here + bxy * kBrickCells : none};
+            const std::size_t nb[6] = {bi > 0 ? bg.base(b - 1) : none,
+                                       bi + 1 < bg.bx ? bg.base(b + 1) : none,
+                                       bj > 0 ? bg.base(b - bx) : none,
+                                       bj + 1 < bg.by ? bg.base(b + bx) : none,
+                                       bk > 0 ? bg.base(b - bxy) : none,
+                                       bk + 1 < bg.bz ? bg.base(b + bxy) : none};
             RowStencil<Real> st;
             st.cells = r.i1 - r.i0;
             for (int k = r.k0; k < r.k1; ++k)
