@@ -335,8 +335,9 @@ private:
                                        bj + 1 < bg.by ? bg.base(b + bx) : none,
                                        bk > 0 ? bg.base(b - bxy) : none,
                                        bk + 1 < bg.bz ? bg.base(b + bxy) : none};
-            RowStencil<Real> st;
+            RowStencil<Real> st{};
             st.cells = r.i1 - r.i0;
+            bool six = false;  // st.count holds all sixes
             for (int k = r.k0; k < r.k1; ++k)
                 for (int j = r.j0; j < r.j1; ++j) {
                     const int lj = j - r.j0, lk = k - r.k0;
@@ -352,9 +353,15 @@ private:
                     st.zp = k + 1 >= bg.nz ? zeros : lk + 1 < kBrick ? st.self + kBrick * kBrick : across(5, lj, 0);
                     st.xm_end = nb[0] == none ? Real(0) : p[nb[0] + std::size_t(BrickGrid::local(kBrick - 1, lj, lk))];
                     st.xp_end = nb[1] == none ? Real(0) : p[nb[1] + std::size_t(BrickGrid::local(0, lj, lk))];
-                    const Real yz = Real(4) - Real(j == 0) - Real(j + 1 >= bg.ny) - Real(k == 0) - Real(k + 1 >= bg.nz);
-                    for (int q = 0; q < kBrick; ++q)
-                        st.count[q] = yz + Real(2) - Real(q == 0 && r.i0 == 0) - Real(r.i0 + q + 1 >= bg.nx);
+                    // Rows away from the grid boundary (nearly all) have six neighbours everywhere.
+                    const bool edge = r.i0 == 0 || r.i0 + kBrick >= bg.nx || j == 0 || j + 1 >= bg.ny || k == 0 ||
+                                      k + 1 >= bg.nz;
+                    if (edge || !six) {
+                        const Real yz = Real(4) - Real(j == 0) - Real(j + 1 >= bg.ny) - Real(k == 0) - Real(k + 1 >= bg.nz);
+                        for (int q = 0; q < kBrick; ++q)
+                            st.count[q] = yz + Real(2) - Real(q == 0 && r.i0 == 0) - Real(r.i0 + q + 1 >= bg.nx);
+                        six = !edge;
+                    }
                     if constexpr (std::is_invocable_v<F, std::size_t, int, int, int, const RowStencil<Real>&, std::size_t>)
                         f(row, j, k, r.i0, st, t);
                     else
