@@ -12,23 +12,12 @@
 #include "snvr/io.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/reconstruct.hpp"
+#include "snvr/stopwatch.hpp"
 
 namespace cli {
 namespace {
 
-class Stopwatch {
-public:
-    // Seconds since construction or the previous lap.
-    double lap() {
-        const auto now = std::chrono::steady_clock::now();
-        const double s = std::chrono::duration<double>(now - last_).count();
-        last_ = now;
-        return s;
-    }
-
-private:
-    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
+using snvr::Stopwatch;
 
 // Fails before a long run rather than after it when an output cannot be written.
 void check_writable_location(const std::string& path) {

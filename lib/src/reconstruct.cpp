@@ -1,6 +1,7 @@
 // The method, once: grid, distance, phase field, then Nt operator-split steps
 // (implicit linear solve by multigrid, exact nonlinear step), on any backend.
 #include "snvr/reconstruct.hpp"
+#include "snvr/stopwatch.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -16,18 +17,6 @@ namespace snvr {
 
 namespace {
 
-class Stopwatch {
-public:
-    double lap() {
-        const auto now = std::chrono::steady_clock::now();
-        const double s = std::chrono::duration<double>(now - last_).count();
-        last_ = now;
-        return s;
-    }
-
-private:
-    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
 
 void check_points(const PointSet& points) {
     if (points.empty()) throw InputError("the point set is empty");

@@ -10,3 +10,4 @@
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"
 #include "snvr/devices.hpp"
+#include "snvr/stopwatch.hpp"

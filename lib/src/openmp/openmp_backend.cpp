@@ -164,9 +164,8 @@ public:
         LevelFields<Real>& cf = fields_[std::size_t(level) + 1];
         // Each thread's residuals of the brick it is on.
         std::vector<std::array<Real, kBrickCells>> scratch(static_cast<std::size_t>(omp_get_max_threads()));
-        const auto rows = [&](std::size_t row, int j, int k, int i0, const RowStencil<Real>& st) {
+        const auto rows = [&](std::size_t row, int j, int k, int, const RowStencil<Real>& st) {
             const std::size_t offset = std::size_t(BrickGrid::local(0, j % kBrick, k % kBrick));
-            (void)i0;
             residual_row(ff, c, row, st, scratch[std::size_t(omp_get_thread_num())].data() + offset);
         };
         for_rows(level, ff.phi.data(), rows, [&](std::uint32_t b, const CellRange& r) {
