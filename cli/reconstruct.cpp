@@ -1,5 +1,4 @@
 // snvr-cl reconstruct: read, reconstruct, mesh, check, write, report.
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>

@@ -3,7 +3,6 @@
 #include "snvr/reconstruct.hpp"
 #include "snvr/stopwatch.hpp"
 
-#include <chrono>
 #include <cmath>
 
 #include "band_distance.hpp"
