@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
     };
     const std::vector<Op> ops = {
         {"copy (load_rhs)", 2, [&] { backend->load_rhs(); }},
-        {"smooth, one colour", 4, [&] { backend->smooth(0, 0, c); }},
+        {"smooth, one colour", 4, [&] { backend->smooth(0, 0, c, params.omega); }},
         {"residual norm", 3, [&] { backend->residual_sum_squares(0, c); }},
         {"restrict residual", 3, [&] { backend->restrict_residual(0, c); }},
         {"prolong + correct", 3, [&] { backend->prolong_correct(0, true); }},

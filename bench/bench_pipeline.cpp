@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
         else if (opt == "--post") params.post_smooth = std::atoi(val.c_str());
         else if (opt == "--prolong") params.trilinear = val != "constant";
         else if (opt == "--band") params.band_xi = std::atof(val.c_str());
+        else if (opt == "--omega") params.omega = std::atof(val.c_str());
         else {
             std::fprintf(stderr, "unknown option %s\n", opt.c_str());
             return 2;

@@ -33,8 +33,9 @@ public:
 
     // Level 0: rhs = phi (the right-hand side of eq. 8 is phi^n).
     virtual void load_rhs() = 0;
-    // One red-black Gauss-Seidel half sweep over cells with (i + j + k) % 2 == color.
-    virtual void smooth(int level, int color, Real dt_over_h2) = 0;
+    // One red-black Gauss-Seidel half sweep over cells with (i + j + k) % 2 == color,
+    // over-relaxed: phi += omega (gs - phi), exactly phi = gs when omega is 1.
+    virtual void smooth(int level, int color, Real dt_over_h2, Real omega) = 0;
     // Sum over the level of r^2, r = rhs - A phi (accumulated in double, brick order).
     virtual double residual_sum_squares(int level, Real dt_over_h2) = 0;
     // rhs(level+1) = g_c * mean(r / g) over the 8 children (0 where g_c = 0); phi(level+1) = 0.

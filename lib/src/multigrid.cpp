@@ -55,8 +55,8 @@ public:
 private:
     void sweeps(int level, int times) {
         for (int n = 0; n < times; ++n) {
-            b_.smooth(level, 0, coefficient(level));
-            b_.smooth(level, 1, coefficient(level));
+            b_.smooth(level, 0, coefficient(level), Real(s_.omega));
+            b_.smooth(level, 1, coefficient(level), Real(s_.omega));
             count(level, kSweepStreams);  // two half sweeps each touch half the cells
         }
     }

@@ -14,6 +14,7 @@ struct MultigridSettings {
     double tol = 1e-7;      // on sqrt(sum r^2 / N) over the finest grid
     int max_cycles = 50;
     int pre_smooth = 2, post_smooth = 2;
+    double omega = 1.2;     // over-relaxation of the smoother
     bool trilinear = true;
 };
 

@@ -46,6 +46,7 @@ void Parameters::validate() const {
     require(max_cycles >= 1 && max_cycles <= 10000, "max-cycles must be between 1 and 10000, got " + std::to_string(max_cycles));
     require(pre_smooth >= 0 && post_smooth >= 0 && pre_smooth + post_smooth >= 1,
             "the V-cycle needs at least one smoothing sweep");
+    require(std::isfinite(omega) && omega > 0 && omega < 2, "omega must be in (0, 2), got " + show(omega));
     require(std::isfinite(band_xi) && band_xi >= 4, "band must be at least 4 xi, got " + show(band_xi));
     if (box) {
         for (int a = 0; a < 3; ++a)

@@ -87,6 +87,7 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
     ms.pre_smooth = params.pre_smooth;
     ms.post_smooth = params.post_smooth;
     ms.trilinear = params.trilinear;
+    ms.omega = params.omega;
     const double eps_n = plan.eps / L;
     const Real k = Real(2 * params.dt / (eps_n * eps_n));
     for (int step = 1; step <= params.steps; ++step) {

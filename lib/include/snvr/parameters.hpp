@@ -36,6 +36,10 @@ struct Parameters {
     int pre_smooth = 2;            // red-black Gauss-Seidel sweeps before coarse correction
     int post_smooth = 2;           // ...and after
     bool trilinear = true;         // trilinear prolongation (else piecewise constant)
+    // Over-relaxation of the red-black Gauss-Seidel smoother. On the bunny at 256^3
+    // (6 steps) 1.2 cut the V-cycles per step from 5 to 3 (contraction 0.07 -> 0.011);
+    // 1.15 and 1.25 needed 4, 1.3 needed 4 and was slower.
+    double omega = 1.2;
     // |l - d| beyond band_xi * xi counts as phi0 = +-1, g = 0 (there g < 2e-7). At 12 the
     // field near the surface matched band_xi = 20 to 2e-16 on a 128^3 sphere, at half the cost.
     double band_xi = 12;

@@ -123,7 +123,7 @@ public:
         });
     }
 
-    void smooth(int level, int color, Real c) override {
+    void smooth(int level, int color, Real c, Real omega) override {
         LevelFields<Real>& f = fields_[std::size_t(level)];
         Real* phi = f.phi.data();
         const Real* rhs = f.rhs.data();
@@ -134,7 +134,8 @@ public:
             for (int q = (i0 + j + k + color) & 1; q < st.cells; q += 2) {
                 const std::size_t n = row + std::size_t(q);
                 const Real a = g[n] * c;
-                phi[n] = (rhs[n] + a * st.sum(q)) / (Real(1) + a * st.count[q]);
+                const Real gs = (rhs[n] + a * st.sum(q)) / (Real(1) + a * st.count[q]);
+                phi[n] = omega == Real(1) ? gs : phi[n] + omega * (gs - phi[n]);
             }
         });
     }
