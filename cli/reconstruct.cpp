@@ -54,7 +54,6 @@ int run_reconstruct(const std::vector<std::string>& args) {
     });
     stage.lap();
     for (const std::string& w : result.warnings) warn(w);
-    for (const std::string& w : solver_warnings(result, o.params.tol)) warn(w);
 
     say("mesh: extracting the zero level set");
     const snvr::Mesh mesh = snvr::extract_isosurface(result.phi, result.domain, 0.0, snvr::Interpolation::PhaseField);

@@ -108,15 +108,6 @@ void print_summary(std::ostream& out, const RunSummary& run) {
     out.flush();
 }
 
-std::vector<std::string> solver_warnings(const snvr::Result& result, double tol) {
-    std::vector<std::string> out;
-    for (const snvr::StepStats& s : result.steps)
-        if (!s.converged)
-            out.push_back(fmt("step %d did not converge: residual %.3g after %d V-cycles (tol %g)", s.step,
-                              s.residual, s.cycles, tol));
-    return out;
-}
-
 std::vector<std::string> mesh_warnings(const snvr::MeshReport& m, std::size_t inside, std::size_t points,
                                        std::size_t clusters) {
     std::vector<std::string> out;

@@ -40,8 +40,6 @@ struct RunSummary {
 };
 void print_summary(std::ostream& out, const RunSummary& run);
 
-// Steps whose linear solve stopped at the cycle cap above tol.
-std::vector<std::string> solver_warnings(const snvr::Result& result, double tol);
 // Not closed / manifold / oriented, or not every point enclosed.
 // `clusters`: snvr::count_point_clusters at twice the offset (a broken shell has more
 // than two pieces per cluster).

@@ -4,6 +4,7 @@
 #include "snvr/stopwatch.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "band_distance.hpp"
 #include "backend.hpp"
@@ -105,10 +106,12 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
         st.residual = ls.residuals.empty() ? ls.initial_residual : ls.residuals.back();
         res.seconds.steps += st.seconds_linear + st.seconds_nonlinear;
         res.steps.push_back(st);
-        if (!st.converged)
-            res.warnings.push_back("step " + std::to_string(step) + ": linear solve stopped at residual " +
-                                   std::to_string(st.residual) + " after " + std::to_string(st.cycles) +
-                                   " V-cycles (tolerance " + std::to_string(params.tol) + ")");
+        if (!st.converged) {
+            char text[160];
+            std::snprintf(text, sizeof text, "step %d did not converge: residual %.3g after %d V-cycles (tol %g)", step,
+                          st.residual, st.cycles, params.tol);
+            res.warnings.push_back(text);
+        }
         if (progress) {
             Progress p;
             p.stage = "step";
