@@ -101,6 +101,8 @@ void print_summary(std::ostream& out, const RunSummary& run) {
                 run.seconds.write, run.seconds.total));
     row("mesh", fmt("%s triangles, %s vertices, %zu component%s", grouped(run.mesh.triangles).c_str(),
                     grouped(run.mesh.vertices).c_str(), run.mesh.components, run.mesh.components == 1 ? "" : "s"));
+    row("", fmt("%zu solid piece%s (the other components bound cavities)", run.mesh.solids,
+                run.mesh.solids == 1 ? "" : "s"));
     row("", fmt("closed %s, manifold %s, oriented %s", yes_no(run.mesh.closed()), yes_no(run.mesh.manifold()),
                 yes_no(run.mesh.oriented())));
     row("points enclosed", fmt("%s of %s", grouped(run.inside).c_str(), grouped(run.points).c_str()));
@@ -111,10 +113,10 @@ void print_summary(std::ostream& out, const RunSummary& run) {
 std::vector<std::string> mesh_warnings(const snvr::MeshReport& m, std::size_t inside, std::size_t points,
                                        std::size_t clusters) {
     std::vector<std::string> out;
-    if (m.components > 2 * clusters)
-        out.push_back(fmt("the shell fell apart into %zu pieces, but the points form %zu cluster%s at twice the "
-                          "offset: raise --offset (or lower the resolution) to close the gaps",
-                          m.components, clusters, clusters == 1 ? "" : "s"));
+    if (m.solids > clusters)
+        out.push_back(fmt("the shell fell apart into %zu solid pieces, but the points form %zu cluster%s at twice "
+                          "the offset: raise --offset (or lower the resolution) to close the gaps",
+                          m.solids, clusters, clusters == 1 ? "" : "s"));
     if (!m.closed()) out.push_back(fmt("the mesh is not closed: %zu boundary edges", m.boundary_edges));
     if (!m.manifold())
         out.push_back(fmt("the mesh is not manifold: %zu non-manifold edges, %zu non-manifold vertices, "

@@ -21,6 +21,7 @@ void check_printable(const Mesh& mesh, const PointSet& points, std::size_t expec
     CHECK(rep.manifold());
     CHECK(rep.oriented());
     CHECK(rep.components == expected_components);
+    CHECK(rep.solids == 1);  // one printed part; a closed input's inner sheet bounds a cavity
     CHECK(inside == points.size());
 }
 

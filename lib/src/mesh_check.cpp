@@ -355,24 +355,34 @@ MeshReport check_mesh(const Mesh& mesh) {
             hi[d] = std::max(hi[d], p[d]);
         }
     const Vec3 o{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    // Six times the signed volume of the tetrahedron (o, triangle t).
+    const auto six_volume = [&](std::size_t t) {
+        const Vec3& A = mesh.vertices[T[t][0]];
+        const Vec3& B = mesh.vertices[T[t][1]];
+        const Vec3& C = mesh.vertices[T[t][2]];
+        const double a0 = A[0] - o[0], a1 = A[1] - o[1], a2 = A[2] - o[2];
+        const double b0 = B[0] - o[0], b1 = B[1] - o[1], b2 = B[2] - o[2];
+        const double c0 = C[0] - o[0], c1 = C[1] - o[1], c2 = C[2] - o[2];
+        return a0 * (b1 * c2 - b2 * c1) + a1 * (b2 * c0 - b0 * c2) + a2 * (b0 * c1 - b1 * c0);
+    };
     constexpr std::size_t kChunk = 1 << 16;
     std::vector<double> partial((nt + kChunk - 1) / kChunk, 0.0);
 #pragma omp parallel for schedule(static) if (parallel)
     for (std::ptrdiff_t c = 0; c < std::ptrdiff_t(partial.size()); ++c) {
         double sum = 0;
-        for (std::size_t t = std::size_t(c) * kChunk; t < std::min(nt, std::size_t(c + 1) * kChunk); ++t) {
-            const Vec3& A = mesh.vertices[T[t][0]];
-            const Vec3& B = mesh.vertices[T[t][1]];
-            const Vec3& C = mesh.vertices[T[t][2]];
-            const double a0 = A[0] - o[0], a1 = A[1] - o[1], a2 = A[2] - o[2];
-            const double b0 = B[0] - o[0], b1 = B[1] - o[1], b2 = B[2] - o[2];
-            const double c0 = C[0] - o[0], c1 = C[1] - o[1], c2 = C[2] - o[2];
-            sum += a0 * (b1 * c2 - b2 * c1) + a1 * (b2 * c0 - b0 * c2) + a2 * (b0 * c1 - b1 * c0);
-        }
+        for (std::size_t t = std::size_t(c) * kChunk; t < std::min(nt, std::size_t(c + 1) * kChunk); ++t)
+            sum += six_volume(t);
         partial[c] = sum;
     }
     for (double p : partial) r.volume += p;
     r.volume /= 6;
+
+    // Solid pieces: components enclosing positive volume (outer boundaries); the
+    // negative ones are cavities inside them.
+    std::vector<double> piece_volume(nt, 0.0);
+    for (std::size_t t = 0; t < nt; ++t)
+        if (!degenerate(T[t])) piece_volume[pieces.find(std::uint32_t(t))] += six_volume(t);
+    for (double v : piece_volume) r.solids += v > 0;
     return r;
 }
 

@@ -32,6 +32,8 @@ struct MeshReport {
     std::size_t nonmanifold_vertices = 0;  // vertices whose triangle fan is not a single disc
     std::size_t degenerate_triangles = 0;  // repeated vertex indices
     std::size_t components = 0;            // edge-connected pieces
+    std::size_t solids = 0;                // pieces enclosing positive volume: separate solid
+                                           // parts (the other pieces bound cavities in them)
     double volume = 0;  // signed enclosed volume (positive when outward oriented)
     bool closed() const { return triangles > 0 && boundary_edges == 0; }
     bool manifold() const { return nonmanifold_edges == 0 && nonmanifold_vertices == 0 && degenerate_triangles == 0; }

@@ -61,8 +61,9 @@ Result reconstruct(const PointSet& points, const Parameters& params,
                    const ProgressCallback& progress = {});
 
 // Clusters of points linked by distances below link_distance. A shell of offset l joins
-// points closer than 2l, so a result with more than twice count_point_clusters(points, 2 l)
-// pieces has broken apart (the offset is below half the gaps in the sampling).
+// points closer than 2l, so a result with more solid pieces (MeshReport::solids) than
+// count_point_clusters(points, 2 l) has broken apart (the offset is below half the gaps
+// in the sampling).
 std::size_t count_point_clusters(const PointSet& points, double link_distance);
 
 // The grid reconstruct() would use, and the offset and gap it would choose.
