@@ -3,6 +3,7 @@
 #include "snvr/reconstruct.hpp"
 #include "snvr/stopwatch.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -47,7 +48,9 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
     res.eps = plan.eps;
     res.xi = plan.xi;
     const double L = dom.length_scale();
-    const Band band{plan.offset / L, params.band_xi * plan.xi / L};
+    // At least a cell wide: d changes by at most h from cell to cell, so then no cell can
+    // jump across the band, and a brick without band cells is all +1 or all -1.
+    const Band band{plan.offset / L, std::max(params.band_xi * plan.xi, dom.h) / L};
 
     std::string notice;
     std::unique_ptr<Backend<Real>> backend = make_backend<Real>(params.device, notice);
