@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
     const DomainPlan plan = plan_domain(points, params, index);
     const Domain& dom = plan.domain;
     const double L = dom.length_scale();
-    const Band band{plan.offset / L, params.band_xi * plan.xi / L};
+    const Band band = band_of(plan, params.band_xi);
     BandDistance<double> dist = band_distance<double>(points, index, dom, band);
     classify_band(dist, dom, band);
     Hierarchy hier = make_levels(dom);

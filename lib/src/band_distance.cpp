@@ -47,6 +47,11 @@ double dist_sq(const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
+Band band_of(const DomainPlan& plan, double band_xi) {
+    const double L = plan.domain.length_scale();
+    return {plan.offset / L, std::max(band_xi * plan.xi, plan.domain.h) / L};
+}
+
 template <class Real>
 BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index, const Domain& d, const Band& band) {
     const double L = d.length_scale();

@@ -8,6 +8,7 @@
 
 #include "point_index.hpp"
 #include "snvr/domain.hpp"
+#include "snvr/reconstruct.hpp"
 
 namespace snvr {
 
@@ -16,6 +17,11 @@ struct Band {
     double offset;  // l
     double cut;     // |l - d| beyond this: phi0 = +-1, g = 0
 };
+
+// The band of a planned run: cut = band_xi * xi, but at least a cell, because d changes
+// by at most h from cell to cell: then no cell jumps across the band, and a brick
+// without band cells is all +1 or all -1.
+Band band_of(const DomainPlan& plan, double band_xi);
 
 template <class Real>
 struct BandDistance {

@@ -48,9 +48,7 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
     res.eps = plan.eps;
     res.xi = plan.xi;
     const double L = dom.length_scale();
-    // At least a cell wide: d changes by at most h from cell to cell, so then no cell can
-    // jump across the band, and a brick without band cells is all +1 or all -1.
-    const Band band{plan.offset / L, std::max(params.band_xi * plan.xi, dom.h) / L};
+    const Band band = band_of(plan, params.band_xi);
 
     std::string notice;
     std::unique_ptr<Backend<Real>> backend = make_backend<Real>(params.device, notice);
