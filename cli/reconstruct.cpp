@@ -64,13 +64,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
                               result.domain.nx, result.domain.ny, result.domain.nz, result.offset,
                               result.domain.h));
 
-    say("check: " + grouped(mesh.triangles.size()) + " triangles, " + grouped(points.size()) + " points");
-    const snvr::MeshReport report = snvr::check_mesh(mesh);
-    const std::size_t inside = snvr::count_points_inside(mesh, points);
-    const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
-    seconds.check = stage.lap();
-    for (const std::string& w : mesh_warnings(report, inside, points.size(), clusters)) warn(w);
-
+    // Written first, checked after: the checks only warn, and the file is there sooner.
     say("write: " + o.output);
     snvr::write_mesh(mesh, o.output);
     if (!o.volume.empty()) {
@@ -84,7 +78,15 @@ int run_reconstruct(const std::vector<std::string>& args) {
         }
     }
     seconds.write = stage.lap();
-    seconds.total = total.lap();
+    seconds.written = total.lap();
+
+    say("check: " + grouped(mesh.triangles.size()) + " triangles, " + grouped(points.size()) + " points");
+    const snvr::MeshReport report = snvr::check_mesh(mesh);
+    const std::size_t inside = snvr::count_points_inside(mesh, points);
+    const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
+    seconds.check = stage.lap();
+    for (const std::string& w : mesh_warnings(report, inside, points.size(), clusters)) warn(w);
+    seconds.total = seconds.written + total.lap();
 
     if (!o.quiet)
         print_summary(std::cerr, RunSummary{result, report, points.size(), inside, seconds, o.output, o.volume});

@@ -97,8 +97,8 @@ void print_summary(std::ostream& out, const RunSummary& run) {
     const snvr::StageSeconds& s = r.seconds;
     row("seconds", fmt("read %.2f, domain %.2f, distance %.2f, init %.2f, steps %.2f,", run.seconds.read,
                        s.domain, s.distance, s.init, s.steps));
-    row("", fmt("mesh %.2f, check %.2f, write %.2f; total %.2f", run.seconds.mesh, run.seconds.check,
-                run.seconds.write, run.seconds.total));
+    row("", fmt("mesh %.2f, write %.2f (written after %.2f), check %.2f; total %.2f", run.seconds.mesh,
+                run.seconds.write, run.seconds.written, run.seconds.check, run.seconds.total));
     row("mesh", fmt("%s triangles, %s vertices, %zu component%s", grouped(run.mesh.triangles).c_str(),
                     grouped(run.mesh.vertices).c_str(), run.mesh.components, run.mesh.components == 1 ? "" : "s"));
     row("", fmt("%zu solid piece%s (the other components bound cavities)", run.mesh.solids,

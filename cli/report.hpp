@@ -28,7 +28,9 @@ void warn(const std::string& message);
 void print_progress(std::ostream& out, const snvr::Progress& progress);
 
 struct Seconds {
-    double read = 0, mesh = 0, check = 0, write = 0, total = 0;  // measured by the CLI
+    double read = 0, mesh = 0, write = 0, check = 0;  // measured by the CLI
+    double written = 0;  // from the start to the mesh on disk
+    double total = 0;    // including the checks after writing
 };
 
 struct RunSummary {
