@@ -3,7 +3,6 @@
 #include "snvr/reconstruct.hpp"
 #include "snvr/stopwatch.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 

@@ -82,6 +82,14 @@ PointSet fibonacci(const Vec3& c, double r, double spacing, Keep keep) {
     return out;
 }
 
+// The arguments shared by the cylinder and the cone.
+void require_solid_of_revolution(const Vec3& c, double r, double ht, double spacing) {
+    require_finite(c);
+    require_positive("radius", r);
+    require_positive("height", ht);
+    require_positive("spacing", spacing);
+}
+
 }  // namespace
 
 PointSet sphere(const Vec3& c, double r, double spacing) {
@@ -116,10 +124,7 @@ PointSet cube(const Vec3& c, double s, double spacing) {
 }
 
 PointSet cylinder(const Vec3& c, double r, double ht, double spacing) {
-    require_finite(c);
-    require_positive("radius", r);
-    require_positive("height", ht);
-    require_positive("spacing", spacing);
+    require_solid_of_revolution(c, r, ht, spacing);
     require_count((2 * kPi * r * ht + 2 * kPi * r * r) / (spacing * spacing) * 2 + 16);
     const long nz = intervals(ht, spacing);
     const long nr = intervals(r, spacing);
@@ -134,10 +139,7 @@ PointSet cylinder(const Vec3& c, double r, double ht, double spacing) {
 }
 
 PointSet two_headed_cone(const Vec3& c, double r, double ht, double spacing) {
-    require_finite(c);
-    require_positive("radius", r);
-    require_positive("height", ht);
-    require_positive("spacing", spacing);
+    require_solid_of_revolution(c, r, ht, spacing);
     const double a = ht / 2;
     const double slant = std::hypot(r, a);
     require_count(2 * kPi * r * slant / (spacing * spacing) * 2 + 16);
