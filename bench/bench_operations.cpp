@@ -3,7 +3,7 @@
 // and the bandwidth that implies, next to a copy over the same bricks (load_rhs) and a
 // dense triad. Tells whether an operation is at its memory floor or far from it.
 //
-//   bench_operations FILE [--resolution N] [--repeat N]
+//   bench_operations FILE [--resolution N] [--repeat N] [--device D] [--precision float|double]
 #include <omp.h>
 
 #include <algorithm>
@@ -26,11 +26,15 @@ using namespace snvr;
 
 namespace {
 
-double best_seconds(int repeat, const std::function<void()>& f) {
+template <class Real>
+double best_seconds(Backend<Real>& backend, int repeat, const std::function<void()>& f) {
     double best = 1e30;
+    f();  // the first launch may compile (PoCL builds work-group functions lazily)
+    backend.finish();
     for (int r = 0; r < repeat; ++r) {
         const auto t0 = std::chrono::steady_clock::now();
         f();
+        backend.finish();
         best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     return best;
@@ -38,41 +42,30 @@ double best_seconds(int repeat, const std::function<void()>& f) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: %s FILE [--resolution N] [--repeat N]\n", argv[0]);
-        return 2;
-    }
-    Parameters params;
-    params.resolution = 256;
-    int repeat = 10;
-    for (int a = 2; a + 1 < argc; a += 2) {
-        const std::string opt = argv[a];
-        if (opt == "--resolution") params.resolution = std::atoi(argv[a + 1]);
-        else if (opt == "--repeat") repeat = std::atoi(argv[a + 1]);
-    }
-    const PointSet points = read_points(argv[1]);
+template <class Real>
+int run(const char* file, Parameters params, int repeat) {
+    const PointSet points = read_points(file);
     const PointIndex index(points);
     const DomainPlan plan = plan_domain(points, params, index);
     const Domain& dom = plan.domain;
     const double L = dom.length_scale();
     const Band band = band_of(plan, params.band_xi);
-    BandDistance<double> dist = band_distance<double>(points, index, dom, band);
+    BandDistance<Real> dist = band_distance<Real>(points, index, dom, band);
     classify_band(dist, dom, band);
     Hierarchy hier = make_levels(dom);
     set_active_bricks(hier, dist.brick_mask);
     std::string notice;
-    auto backend = make_backend<double>("openmp", notice);
+    auto backend = make_backend<Real>(params.device, notice);
     backend->setup(hier);
-    backend->init_phase(dist.distance.data(), band.offset, 1 / (std::sqrt(2.0) * plan.xi / L), band.cut);
+    backend->init_phase(dist.distance.data(), Real(band.offset), Real(1 / (std::sqrt(2.0) * plan.xi / L)), Real(band.cut));
     prepare_coarse_levels(*backend, hier);
     backend->load_rhs();
 
     const Level& lv = hier.levels[0];
-    const double cells = double(lv.brick_cells), bytes_per_stream = cells * sizeof(double);
-    const double c = params.dt / (lv.h * lv.h);
-    std::printf("grid %dx%dx%d, %zu active bricks (%.0f cells), %d threads, best of %d\n", dom.nx, dom.ny, dom.nz,
-                lv.bricks.size(), cells, omp_get_max_threads(), repeat);
+    const double cells = double(lv.brick_cells), bytes_per_stream = cells * sizeof(Real);
+    const Real c = Real(params.dt / (lv.h * lv.h)), omega = Real(params.omega);
+    std::printf("%s, %s: grid %dx%dx%d, %zu active bricks (%.0f cells), best of %d\n", backend->name().c_str(),
+                sizeof(Real) == 8 ? "double" : "float", dom.nx, dom.ny, dom.nz, lv.bricks.size(), cells, repeat);
 
     struct Op {
         const char* name;
@@ -81,19 +74,39 @@ int main(int argc, char** argv) {
     };
     const std::vector<Op> ops = {
         {"copy (load_rhs)", 2, [&] { backend->load_rhs(); }},
-        {"smooth, one colour", 4, [&] { backend->smooth(0, 0, c, params.omega); }},
+        {"smooth, one colour", 4, [&] { backend->smooth(0, 0, c, omega); }},
         {"residual norm", 3, [&] { backend->residual_sum_squares(0, c); }},
         {"restrict residual", 3, [&] { backend->restrict_residual(0, c); }},
         {"prolong + correct", 3, [&] { backend->prolong_correct(0, true); }},
-        {"nonlinear", 3, [&] { backend->nonlinear(1e-3); }},
+        {"nonlinear", 3, [&] { backend->nonlinear(Real(1e-3)); }},
     };
     double copy_rate = 0;
     std::printf("| operation | ms | GB moved | GB/s | of copy |\n|---|---|---|---|---|\n");
     for (const Op& op : ops) {
-        const double s = best_seconds(repeat, op.run);
+        const double s = best_seconds(*backend, repeat, op.run);
         const double gb = op.streams * bytes_per_stream / 1e9;
         if (copy_rate == 0) copy_rate = gb / s;
         std::printf("| %s | %.2f | %.3f | %.1f | %.0f%% |\n", op.name, s * 1e3, gb, gb / s, 100 * (gb / s) / copy_rate);
     }
     return 0;
+}
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: %s FILE [--resolution N] [--repeat N] [--device D] [--precision float|double]\n", argv[0]);
+        return 2;
+    }
+    Parameters params;
+    params.resolution = 256;
+    params.device = "openmp";
+    int repeat = 10;
+    std::string precision = "double";
+    for (int a = 2; a + 1 < argc; a += 2) {
+        const std::string opt = argv[a];
+        if (opt == "--resolution") params.resolution = std::atoi(argv[a + 1]);
+        else if (opt == "--repeat") repeat = std::atoi(argv[a + 1]);
+        else if (opt == "--device") params.device = argv[a + 1];
+        else if (opt == "--precision") precision = argv[a + 1];
+    }
+    return precision == "float" ? run<float>(argv[1], params, repeat) : run<double>(argv[1], params, repeat);
 }

@@ -86,12 +86,12 @@ TEST_CASE("solved fields satisfy the dense equation on odd grids with partial an
     backend->init_phase(dist.data(), l, 1 / (std::sqrt(2.0) * xi), cut);
     prepare_coarse_levels(*backend, hier);
     std::vector<double> rhs(d.cells()), phi(d.cells());
-    backend->download_phi(rhs.data());
+    backend->download(0, FieldKind::phi, rhs.data());
     MultigridSettings s;
     s.dt = dt;
     s.tol = 1e-13;
     const LinearSolveStats st = solve_linear(*backend, hier, s);
-    backend->download_phi(phi.data());
+    backend->download(0, FieldKind::phi, phi.data());
     CHECK(st.converged);
 
     // r = rhs - (phi - dt g Lap phi), mirror boundary, plain loops on the flat arrays.

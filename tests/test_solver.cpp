@@ -89,9 +89,9 @@ TEST_CASE("the nonlinear step matches a fine integration of phi_t = g (phi - phi
     const double l = 0.1, xi = 0.01, cut = 1.0, dt = 5e-5, eps = 0.02;
     backend->init_phase(dist.data(), l, 1 / (std::sqrt(2.0) * xi), cut);
     std::vector<double> before(d.cells()), after(d.cells());
-    backend->download_phi(before.data());
+    backend->download(0, FieldKind::phi, before.data());
     backend->nonlinear(2 * dt / (eps * eps));
-    backend->download_phi(after.data());
+    backend->download(0, FieldKind::phi, after.data());
     double worst = 0;
     for (std::size_t n = 0; n < dist.size(); ++n) {
         const double g = 1 - before[n] * before[n];

@@ -15,6 +15,8 @@
 
 namespace snvr {
 
+enum class FieldKind { phi, rhs, g };
+
 template <class Real>
 class Backend {
 public:
@@ -45,7 +47,14 @@ public:
     // Level 0: phi = phi / sqrt(e + phi^2 (1 - e)), e = exp(-k g), k = 2 dt / eps^2 (eq. 11).
     virtual void nonlinear(Real k) = 0;
 
-    virtual void download_phi(Real* out) = 0;
+    // Copies between the level's fields and dense x-fastest arrays of its shape. Upload
+    // writes the cells of active bricks only (the others hold constants); download reads all.
+    // Returns once every operation asked for so far has finished (devices run them
+    // asynchronously); for timings.
+    virtual void finish() {}
+
+    virtual void upload(int level, FieldKind field, const Real* dense) = 0;
+    virtual void download(int level, FieldKind field, Real* dense) = 0;
 };
 
 // "auto", "openmp", "opencl[:P:D]" or a device name substring. Throws ParameterError

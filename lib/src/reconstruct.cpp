@@ -131,7 +131,7 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
         else return res.phi.f32;
     }();
     out.resize(dom.cells());
-    backend->download_phi(out.data());
+    backend->download(0, FieldKind::phi, out.data());
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "openmp/openmp_backend.hpp"
-#include "openmp/brick_grid.hpp"
+#include "brick_grid.hpp"
+#include "reduction.hpp"
 
 #include <omp.h>
 
@@ -70,33 +71,18 @@ public:
         Real* phi = fields_[0].phi.data();
         Real* g = fields_[0].g.data();
         const Level& lv = hier_.levels[0];
-        BrickGrid& bg = grids_[0];
-        auto flat = [&](int i, int j, int k) {
-            return std::size_t(i) + std::size_t(lv.nx) * (std::size_t(j) + std::size_t(lv.ny) * std::size_t(k));
-        };
-        const std::ptrdiff_t nb = std::ptrdiff_t(lv.brick_count());
-#pragma omp parallel for schedule(static)
-        for (std::ptrdiff_t b = 0; b < nb; ++b) {
-            const CellRange r = lv.range(std::uint32_t(b));
-            if (bg.slot[std::size_t(b)] < kConstantSlots) {  // no band cell: one sign throughout
-                bg.slot[std::size_t(b)] = l - d[flat(r.i0, r.j0, r.k0)] > 0 ? kPlusSlot : kMinusSlot;
-                continue;
+        assign_constant_slots(grids_[0], lv, d, l);
+        for_cells(0, [&](std::size_t c, int i, int j, int k) {
+            const Real diff = l - d[std::size_t(i) + std::size_t(lv.nx) * (std::size_t(j) + std::size_t(lv.ny) * std::size_t(k))];
+            if (std::abs(diff) > cut) {
+                phi[c] = diff > 0 ? Real(1) : Real(-1);
+                g[c] = 0;
+            } else {
+                const Real p = std::tanh(diff * s);
+                phi[c] = p;
+                g[c] = Real(1) - p * p;
             }
-            for (int k = r.k0; k < r.k1; ++k)
-                for (int j = r.j0; j < r.j1; ++j)
-                    for (int i = r.i0; i < r.i1; ++i) {
-                        const std::size_t c = bg.at(i, j, k);
-                        const Real diff = l - d[flat(i, j, k)];
-                        if (std::abs(diff) > cut) {
-                            phi[c] = diff > 0 ? Real(1) : Real(-1);
-                            g[c] = 0;
-                        } else {
-                            const Real p = std::tanh(diff * s);
-                            phi[c] = p;
-                            g[c] = Real(1) - p * p;
-                        }
-                    }
-        }
+        });
     }
 
     void restrict_coefficient(int level) override {
@@ -151,9 +137,7 @@ public:
             for (int q = 0; q < st.cells; ++q) s += double(r[q]) * double(r[q]);
             partial[t] += s;
         });
-        double total = 0;
-        for (double p : partial) total += p;
-        return total;
+        return chunked_sum(partial);
     }
 
     // Each fine brick's children belong to a 4x4x4 block of one coarse brick, so fine
@@ -258,19 +242,20 @@ public:
         });
     }
 
-    void download_phi(Real* out) override {
-        const Level& lv = hier_.levels[0];
-        const BrickGrid& bg = grids_[0];
-        const Real* phi = fields_[0].phi.data();
-#pragma omp parallel for schedule(static)
-        for (int k = 0; k < lv.nz; ++k)
-            for (int j = 0; j < lv.ny; ++j)
-                for (int i = 0; i < lv.nx; ++i)
-                    out[std::size_t(i) + std::size_t(lv.nx) * (std::size_t(j) + std::size_t(lv.ny) * std::size_t(k))] =
-                        phi[bg.at(i, j, k)];
+    void upload(int level, FieldKind field, const Real* dense) override {
+        pack_active(grids_[std::size_t(level)], hier_.levels[std::size_t(level)], dense, storage(level, field).data());
+    }
+
+    void download(int level, FieldKind field, Real* dense) override {
+        unpack(grids_[std::size_t(level)], storage(level, field).data(), dense);
     }
 
 private:
+    std::vector<Real>& storage(int level, FieldKind field) {
+        LevelFields<Real>& f = fields_[std::size_t(level)];
+        return field == FieldKind::phi ? f.phi : field == FieldKind::rhs ? f.rhs : f.g;
+    }
+
     static int clamp_index(int i, int n) { return i < 0 ? 0 : (i >= n ? n - 1 : i); }
 
     template <class F>

@@ -47,4 +47,38 @@ struct BrickGrid {
     }
 };
 
+// Every inactive level-0 brick gets the constant it holds: +1 inside the shell
+// (offset > d), -1 outside. One value per brick decides it (see above).
+template <class Real>
+void assign_constant_slots(BrickGrid& bg, const Level& lv, const Real* distance, Real offset) {
+    for (std::uint32_t b = 0; b < bg.slot.size(); ++b) {
+        if (bg.slot[b] >= kConstantSlots) continue;
+        const CellRange r = lv.range(b);
+        const std::size_t first = std::size_t(r.i0) + std::size_t(lv.nx) * (std::size_t(r.j0) + std::size_t(lv.ny) * std::size_t(r.k0));
+        bg.slot[b] = offset - distance[first] > 0 ? kPlusSlot : kMinusSlot;
+    }
+}
+
+// Dense x-fastest field <-> brick storage. Packing writes the in-grid cells of active
+// bricks only; unpacking reads every cell (inactive ones from their constant brick).
+template <class Real>
+void pack_active(const BrickGrid& bg, const Level& lv, const Real* dense, Real* storage) {
+    for (std::uint32_t b : lv.bricks) {
+        const CellRange r = lv.range(b);
+        for (int k = r.k0; k < r.k1; ++k)
+            for (int j = r.j0; j < r.j1; ++j)
+                for (int i = r.i0; i < r.i1; ++i)
+                    storage[bg.at(i, j, k)] = dense[std::size_t(i) + std::size_t(lv.nx) * (std::size_t(j) + std::size_t(lv.ny) * std::size_t(k))];
+    }
+}
+
+template <class Real>
+void unpack(const BrickGrid& bg, const Real* storage, Real* dense) {
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < bg.nz; ++k)
+        for (int j = 0; j < bg.ny; ++j)
+            for (int i = 0; i < bg.nx; ++i)
+                dense[std::size_t(i) + std::size_t(bg.nx) * (std::size_t(j) + std::size_t(bg.ny) * std::size_t(k))] = storage[bg.at(i, j, k)];
+}
+
 }  // namespace snvr

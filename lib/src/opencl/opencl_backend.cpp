@@ -1,0 +1,252 @@
+#include "opencl/opencl_backend.hpp"
+
+#include <type_traits>
+#include <vector>
+
+#include "brick_grid.hpp"
+#include "opencl/runtime.hpp"
+
+namespace snvr {
+
+namespace {
+
+using opencl::guarded;
+
+// Work shapes (kernels/): row kernels run one work-group of 64 per brick, one work-item
+// per row; cell kernels one work-item per cell in groups of 256.
+constexpr std::size_t kRows = 64, kCellGroup = 256, kReduceGroup = 256;
+
+// The five ints kernels take as LEVEL_PARAMS.
+struct Shape {
+    cl_int nx, ny, nz, bx, by;
+};
+
+struct LevelBuffers {
+    cl::Buffer phi, rhs, g;  // brick storage (brick_grid.hpp), constant bricks first
+    cl::Buffer bricks, slot;  // active brick ids; slot of every brick
+    std::size_t cells = 0;    // storage cells of each field
+    std::size_t active = 0;   // active bricks
+};
+
+template <class Real>
+class OpenCLBackend final : public Backend<Real> {
+public:
+    explicit OpenCLBackend(const std::string& spec)
+        : rt_(opencl::choose_device(spec), std::is_same_v<Real, double> ? "double" : "float"),
+          init_(rt_.kernel("init_phase")),
+          restrict_coefficient_(rt_.kernel("restrict_coefficient")),
+          smooth_(rt_.kernel("smooth")),
+          residual_norm_(rt_.kernel("residual_norm")),
+          sum_partials_(rt_.kernel("sum_partials")),
+          restrict_residual_(rt_.kernel("restrict_residual")),
+          prolong_(rt_.kernel("prolong_correct")),
+          nonlinear_(rt_.kernel("nonlinear")) {}
+
+    std::string name() const override {
+        const opencl::DeviceEntry& d = rt_.device();
+        return "opencl:" + std::to_string(d.platform) + ":" + std::to_string(d.index) + " (" + d.name + ", " + d.platform_name + ")";
+    }
+
+    void setup(const Hierarchy& hier) override {
+        guarded("setup", [&] {
+            hier_ = hier;
+            grids_.clear();
+            levels_.assign(hier.levels.size(), {});
+            std::size_t most_bricks = 1;
+            for (std::size_t l = 0; l < hier.levels.size(); ++l) {
+                const Level& lv = hier.levels[l];
+                grids_.emplace_back(lv);
+                LevelBuffers& b = levels_[l];
+                b.cells = grids_[l].storage();
+                b.active = lv.bricks.size();
+                most_bricks = std::max(most_bricks, b.active);
+                for (cl::Buffer* f : {&b.phi, &b.rhs, &b.g}) {
+                    *f = rt_.buffer(b.cells * sizeof(Real), "a solver field");
+                    rt_.queue().enqueueFillBuffer(*f, Real(0), 0, b.cells * sizeof(Real));
+                }
+                const std::vector<Real> plus(kBrickCells, Real(1)), minus(kBrickCells, Real(-1));
+                rt_.queue().enqueueWriteBuffer(b.phi, CL_TRUE, kPlusSlot * kBrickCells * sizeof(Real), kBrickCells * sizeof(Real), plus.data());
+                rt_.queue().enqueueWriteBuffer(b.phi, CL_TRUE, kMinusSlot * kBrickCells * sizeof(Real), kBrickCells * sizeof(Real), minus.data());
+                b.bricks = rt_.buffer(lv.bricks.size() * sizeof(cl_uint), "the active brick list");
+                if (!lv.bricks.empty())
+                    rt_.queue().enqueueWriteBuffer(b.bricks, CL_TRUE, 0, lv.bricks.size() * sizeof(cl_uint), lv.bricks.data());
+                b.slot = rt_.buffer(grids_[l].slot.size() * sizeof(cl_uint), "the brick slot table");
+                write_slots(int(l));
+            }
+            partial_ = rt_.buffer(most_bricks * accumulator_size(), "residual partial sums");
+            total_ = rt_.buffer(accumulator_size(), "residual sum");
+        });
+    }
+
+    std::size_t bytes() const override {
+        std::size_t n = 0;
+        for (std::size_t l = 0; l < levels_.size(); ++l)
+            n += 3 * levels_[l].cells * sizeof(Real) + (levels_[l].active + grids_[l].slot.size()) * sizeof(cl_uint);
+        return n;
+    }
+
+    void init_phase(const Real* d, Real offset, Real s, Real cut) override {
+        guarded("init_phase", [&] {
+            const Level& lv = hier_.levels[0];
+            assign_constant_slots(grids_[0], lv, d, offset);
+            write_slots(0);
+            if (levels_[0].active == 0) return;
+            // The distance of the active bricks only, packed like the fields.
+            std::vector<Real> packed(levels_[0].cells, Real(0));
+            pack_active(grids_[0], lv, d, packed.data());
+            cl::Buffer distance = rt_.buffer(packed.size() * sizeof(Real), "the distance field");
+            rt_.queue().enqueueWriteBuffer(distance, CL_TRUE, 0, packed.size() * sizeof(Real), packed.data());
+            const LevelBuffers& b = levels_[0];
+            launch(init_, b.active * kBrickCells, kCellGroup, distance, b.phi, b.g, b.bricks, b.slot, shape(0), offset, s, cut);
+            rt_.queue().finish();
+        });
+    }
+
+    void restrict_coefficient(int level) override {
+        guarded("restrict_coefficient", [&] {
+            const LevelBuffers &f = levels_[std::size_t(level)], &c = levels_[std::size_t(level) + 1];
+            launch(restrict_coefficient_, c.active * kBrickCells, kCellGroup, f.g, f.slot, shape(level), c.g, c.bricks, c.slot,
+                   shape(level + 1));
+        });
+    }
+
+    void load_rhs() override {
+        guarded("load_rhs", [&] {
+            // The active bricks, which follow the constant ones (whose rhs stays 0).
+            const LevelBuffers& b = levels_[0];
+            const std::size_t skip = kConstantSlots * kBrickCells * sizeof(Real);
+            rt_.queue().enqueueCopyBuffer(b.phi, b.rhs, skip, skip, b.cells * sizeof(Real) - skip);
+        });
+    }
+
+    void smooth(int level, int color, Real c, Real omega) override {
+        guarded("smooth", [&] {
+            const LevelBuffers& b = levels_[std::size_t(level)];
+            launch(smooth_, b.active * kRows, kRows, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level), cl_int(color), c, omega);
+        });
+    }
+
+    double residual_sum_squares(int level, Real c) override {
+        return guarded("residual_sum_squares", [&] {
+            const LevelBuffers& b = levels_[std::size_t(level)];
+            if (b.active == 0) return 0.0;
+            launch(residual_norm_, b.active * kRows, kRows, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level), c, partial_);
+            launch(sum_partials_, kReduceGroup, kReduceGroup, partial_, cl_uint(b.active), total_);
+            if (rt_.double_accumulator()) return read_scalar<double>();
+            return double(read_scalar<float>());
+        });
+    }
+
+    void restrict_residual(int level, Real c) override {
+        guarded("restrict_residual", [&] {
+            const LevelBuffers &f = levels_[std::size_t(level)], &cb = levels_[std::size_t(level) + 1];
+            const Shape cs = shape(level + 1);
+            launch(restrict_residual_, f.active * kRows, kRows, f.phi, f.rhs, f.g, f.bricks, f.slot, shape(level), c, cb.phi, cb.rhs,
+                   cb.g, cb.slot, cs.bx, cs.by);
+        });
+    }
+
+    void prolong_correct(int level, bool trilinear) override {
+        guarded("prolong_correct", [&] {
+            const LevelBuffers &f = levels_[std::size_t(level)], &cb = levels_[std::size_t(level) + 1];
+            launch(prolong_, f.active * kRows, kRows, f.phi, f.g, f.bricks, f.slot, shape(level), cb.phi, cb.slot, shape(level + 1),
+                   cl_int(trilinear));
+        });
+    }
+
+    void nonlinear(Real k) override {
+        guarded("nonlinear", [&] {
+            const LevelBuffers& b = levels_[0];
+            launch(nonlinear_, b.active * kBrickCells, kCellGroup, b.phi, b.g, b.bricks, b.slot, k);
+        });
+    }
+
+    void upload(int level, FieldKind field, const Real* dense) override {
+        guarded("upload", [&] {
+            const LevelBuffers& b = levels_[std::size_t(level)];
+            std::vector<Real> storage(b.cells, Real(0));
+            pack_active(grids_[std::size_t(level)], hier_.levels[std::size_t(level)], dense, storage.data());
+            // Active bricks follow the constant ones; the constants stay as they are.
+            const std::size_t skip = kConstantSlots * kBrickCells;
+            if (b.cells > skip)
+                rt_.queue().enqueueWriteBuffer(buffer(level, field), CL_TRUE, skip * sizeof(Real), (b.cells - skip) * sizeof(Real),
+                                               storage.data() + skip);
+        });
+    }
+
+    void download(int level, FieldKind field, Real* dense) override {
+        guarded("download", [&] {
+            std::vector<Real> storage(levels_[std::size_t(level)].cells);
+            rt_.queue().enqueueReadBuffer(buffer(level, field), CL_TRUE, 0, storage.size() * sizeof(Real), storage.data());
+            unpack(grids_[std::size_t(level)], storage.data(), dense);
+        });
+    }
+
+    void finish() override {
+        guarded("finish", [&] { rt_.queue().finish(); });
+    }
+
+private:
+    std::size_t accumulator_size() const { return rt_.double_accumulator() ? sizeof(double) : sizeof(float); }
+
+    Shape shape(int level) const {
+        const Level& lv = hier_.levels[std::size_t(level)];
+        return {lv.nx, lv.ny, lv.nz, lv.bx, lv.by};
+    }
+
+    const cl::Buffer& buffer(int level, FieldKind field) const {
+        const LevelBuffers& b = levels_[std::size_t(level)];
+        return field == FieldKind::phi ? b.phi : field == FieldKind::rhs ? b.rhs : b.g;
+    }
+
+    void write_slots(int level) {
+        const std::vector<std::uint32_t>& slot = grids_[std::size_t(level)].slot;
+        rt_.queue().enqueueWriteBuffer(levels_[std::size_t(level)].slot, CL_TRUE, 0, slot.size() * sizeof(cl_uint), slot.data());
+    }
+
+    template <class T>
+    T read_scalar() {
+        T v{};
+        rt_.queue().enqueueReadBuffer(total_, CL_TRUE, 0, sizeof(T), &v);
+        return v;
+    }
+
+    static void set_args(cl::Kernel&, cl_uint) {}
+    template <class... Rest>
+    static void set_args(cl::Kernel& k, cl_uint i, const Shape& s, const Rest&... rest) {
+        for (cl_int v : {s.nx, s.ny, s.nz, s.bx, s.by}) k.setArg(i++, v);
+        set_args(k, i, rest...);
+    }
+    template <class T, class... Rest>
+    static void set_args(cl::Kernel& k, cl_uint i, const T& v, const Rest&... rest) {
+        k.setArg(i, v);
+        set_args(k, i + 1, rest...);
+    }
+
+    // Sets the arguments in order and enqueues `global` work-items in groups of `local`.
+    template <class... Args>
+    void launch(cl::Kernel& k, std::size_t global, std::size_t local, const Args&... args) {
+        if (global == 0) return;  // a level without active bricks
+        set_args(k, 0, args...);
+        rt_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(local));
+    }
+
+    opencl::Runtime rt_;
+    cl::Kernel init_, restrict_coefficient_, smooth_, residual_norm_, sum_partials_, restrict_residual_, prolong_, nonlinear_;
+    Hierarchy hier_;
+    std::vector<BrickGrid> grids_;
+    std::vector<LevelBuffers> levels_;
+    cl::Buffer partial_, total_;
+};
+
+}  // namespace
+
+template <class Real>
+std::unique_ptr<Backend<Real>> make_opencl_backend(const std::string& spec) {
+    return opencl::guarded("backend", [&] { return std::unique_ptr<Backend<Real>>(std::make_unique<OpenCLBackend<Real>>(spec)); });
+}
+
+template std::unique_ptr<Backend<double>> make_opencl_backend<double>(const std::string&);
+template std::unique_ptr<Backend<float>> make_opencl_backend<float>(const std::string&);
+
+}  // namespace snvr

@@ -1,0 +1,152 @@
+#include "opencl/runtime.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "opencl/kernel_sources.hpp"
+
+namespace snvr::opencl {
+
+std::string error_name(cl_int code) {
+    static const std::pair<cl_int, const char*> names[] = {
+        {CL_DEVICE_NOT_FOUND, "CL_DEVICE_NOT_FOUND"},
+        {CL_DEVICE_NOT_AVAILABLE, "CL_DEVICE_NOT_AVAILABLE"},
+        {CL_COMPILER_NOT_AVAILABLE, "CL_COMPILER_NOT_AVAILABLE"},
+        {CL_MEM_OBJECT_ALLOCATION_FAILURE, "CL_MEM_OBJECT_ALLOCATION_FAILURE"},
+        {CL_OUT_OF_RESOURCES, "CL_OUT_OF_RESOURCES"},
+        {CL_OUT_OF_HOST_MEMORY, "CL_OUT_OF_HOST_MEMORY"},
+        {CL_BUILD_PROGRAM_FAILURE, "CL_BUILD_PROGRAM_FAILURE"},
+        {CL_INVALID_VALUE, "CL_INVALID_VALUE"},
+        {CL_INVALID_PLATFORM, "CL_INVALID_PLATFORM"},
+        {CL_INVALID_DEVICE, "CL_INVALID_DEVICE"},
+        {CL_INVALID_CONTEXT, "CL_INVALID_CONTEXT"},
+        {CL_INVALID_COMMAND_QUEUE, "CL_INVALID_COMMAND_QUEUE"},
+        {CL_INVALID_MEM_OBJECT, "CL_INVALID_MEM_OBJECT"},
+        {CL_INVALID_BUILD_OPTIONS, "CL_INVALID_BUILD_OPTIONS"},
+        {CL_INVALID_PROGRAM, "CL_INVALID_PROGRAM"},
+        {CL_INVALID_PROGRAM_EXECUTABLE, "CL_INVALID_PROGRAM_EXECUTABLE"},
+        {CL_INVALID_KERNEL_NAME, "CL_INVALID_KERNEL_NAME"},
+        {CL_INVALID_KERNEL, "CL_INVALID_KERNEL"},
+        {CL_INVALID_ARG_INDEX, "CL_INVALID_ARG_INDEX"},
+        {CL_INVALID_ARG_VALUE, "CL_INVALID_ARG_VALUE"},
+        {CL_INVALID_ARG_SIZE, "CL_INVALID_ARG_SIZE"},
+        {CL_INVALID_KERNEL_ARGS, "CL_INVALID_KERNEL_ARGS"},
+        {CL_INVALID_WORK_GROUP_SIZE, "CL_INVALID_WORK_GROUP_SIZE"},
+        {CL_INVALID_WORK_ITEM_SIZE, "CL_INVALID_WORK_ITEM_SIZE"},
+        {CL_INVALID_GLOBAL_WORK_SIZE, "CL_INVALID_GLOBAL_WORK_SIZE"},
+        {CL_INVALID_BUFFER_SIZE, "CL_INVALID_BUFFER_SIZE"},
+        {CL_INVALID_OPERATION, "CL_INVALID_OPERATION"},
+        {-1001, "CL_PLATFORM_NOT_FOUND_KHR"},
+    };
+    for (const auto& [c, n] : names)
+        if (c == code) return std::string(n) + " (" + std::to_string(code) + ")";
+    return "OpenCL error " + std::to_string(code);
+}
+
+std::vector<DeviceEntry> devices() {
+    std::vector<cl::Platform> platforms;
+    // No ICD or no platform: the loader reports an error, which here means "none".
+    try {
+        cl::Platform::get(&platforms);
+    } catch (const cl::Error&) {
+        return {};
+    }
+    std::vector<DeviceEntry> out;
+    for (std::size_t p = 0; p < platforms.size(); ++p) {
+        std::vector<cl::Device> devs;
+        try {
+            platforms[p].getDevices(CL_DEVICE_TYPE_ALL, &devs);
+        } catch (const cl::Error&) {
+            continue;  // a platform with no device
+        }
+        for (std::size_t d = 0; d < devs.size(); ++d) {
+            DeviceEntry e;
+            e.platform = int(p);
+            e.index = int(d);
+            e.device = devs[d];
+            guarded("device query", [&] {
+                e.platform_name = platforms[p].getInfo<CL_PLATFORM_NAME>();
+                e.name = devs[d].getInfo<CL_DEVICE_NAME>();
+                e.vendor = devs[d].getInfo<CL_DEVICE_VENDOR>();
+                e.version = devs[d].getInfo<CL_DEVICE_VERSION>();
+                e.gpu = (devs[d].getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) != 0;
+                e.fp64 = devs[d].getInfo<CL_DEVICE_DOUBLE_FP_CONFIG>() != 0;
+                e.memory = std::size_t(devs[d].getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>());
+                e.max_alloc = std::size_t(devs[d].getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>());
+                e.max_group = devs[d].getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+                e.compute_units = int(devs[d].getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
+            });
+            // Strings from drivers often end in NULs or blanks.
+            for (std::string* s : {&e.platform_name, &e.name, &e.vendor, &e.version})
+                while (!s->empty() && (s->back() == '\0' || s->back() == ' ')) s->pop_back();
+            out.push_back(std::move(e));
+        }
+    }
+    return out;
+}
+
+DeviceEntry choose_device(const std::string& spec) {
+    const std::vector<DeviceEntry> all = devices();
+    if (all.empty()) throw ParameterError("device '" + spec + "': no OpenCL platform is installed on this machine");
+    if (spec == "opencl" || spec == "auto") {
+        for (const DeviceEntry& e : all)
+            if (e.gpu) return e;
+        return all.front();
+    }
+    if (spec.rfind("opencl:", 0) == 0) {
+        int p = -1, d = -1;
+        char tail = 0;
+        if (std::sscanf(spec.c_str() + 7, "%d:%d%c", &p, &d, &tail) != 2)
+            throw ParameterError("device '" + spec + "': expected opencl:<platform>:<device>, e.g. opencl:0:0");
+        for (const DeviceEntry& e : all)
+            if (e.platform == p && e.index == d) return e;
+        throw ParameterError("device '" + spec + "': no such OpenCL platform/device; run 'snvr-cl devices'");
+    }
+    for (const DeviceEntry& e : all)
+        if (e.name.find(spec) != std::string::npos || e.platform_name.find(spec) != std::string::npos) return e;
+    throw ParameterError("unknown device '" + spec + "'; run 'snvr-cl devices' to list what can run");
+}
+
+Runtime::Runtime(DeviceEntry device, const std::string& real_type) : device_(std::move(device)) {
+    if (real_type == "double" && !device_.fp64)
+        throw ParameterError("OpenCL device '" + device_.name + "' has no double precision (fp64); use --precision float");
+    if (device_.max_group < 256)
+        throw ResourceError("OpenCL device '" + device_.name + "' allows work-groups of " + std::to_string(device_.max_group) +
+                            " work-items; the kernels need 256");
+    guarded("set-up", [&] {
+        context_ = cl::Context(device_.device);
+        queue_ = cl::CommandQueue(context_, device_.device);
+    });
+    cl::Program::Sources sources;
+    for (const KernelSource& s : kernel_sources()) sources.emplace_back(s.text);
+    std::string options = "-cl-std=CL1.2 -DREAL=" + real_type + (real_type == "double" ? " -DSNVR_DOUBLE" : "") + (device_.fp64 ? " -DSNVR_FP64 -DACC=double" : " -DACC=float");
+    // Float division and sqrt are correctly rounded in C++; ask the same of the device.
+    const cl_device_fp_config single = guarded("device query", [&] { return device_.device.getInfo<CL_DEVICE_SINGLE_FP_CONFIG>(); });
+    if (single & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) options += " -cl-fp32-correctly-rounded-divide-sqrt";
+    guarded("program", [&] { program_ = cl::Program(context_, sources); });
+    try {
+        program_.build(std::vector<cl::Device>{device_.device}, options.c_str());
+    } catch (const cl::Error& e) {
+        std::string log;
+        try {
+            log = program_.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_.device);
+        } catch (const cl::Error&) {
+            log = "(no build log)";
+        }
+        throw ResourceError("OpenCL program build failed on '" + device_.name + "' (" + error_name(e.err()) + ", options " +
+                            options + "):\n" + log);
+    }
+}
+
+cl::Kernel Runtime::kernel(const char* name) const {
+    return guarded("kernel", [&] { return cl::Kernel(program_, name); });
+}
+
+cl::Buffer Runtime::buffer(std::size_t bytes, const char* what) {
+    if (bytes > device_.max_alloc)
+        throw ResourceError(std::string("OpenCL device '") + device_.name + "': " + what + " needs " + std::to_string(bytes >> 20) +
+                            " MiB in one buffer, more than its limit of " + std::to_string(device_.max_alloc >> 20) + " MiB");
+    return guarded(what, [&] { return cl::Buffer(context_, CL_MEM_READ_WRITE, std::max<std::size_t>(bytes, 1)); });
+}
+
+}  // namespace snvr::opencl

@@ -1,0 +1,72 @@
+// The thin OpenCL runtime: device discovery and choice, context and in-order queue, the
+// program built once per context (with the scalar type as a build option), and errors
+// that name the call and the OpenCL error. Uses the Khronos C++ bindings with their
+// exceptions on; `guarded` turns them into snvr errors at the backend's edge.
+#pragma once
+#define CL_HPP_TARGET_OPENCL_VERSION 120
+#define CL_HPP_MINIMUM_OPENCL_VERSION 120
+#define CL_HPP_ENABLE_EXCEPTIONS
+#include <CL/opencl.hpp>
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "snvr/error.hpp"
+
+namespace snvr::opencl {
+
+// Name of an OpenCL error code, e.g. "CL_OUT_OF_RESOURCES (-5)".
+std::string error_name(cl_int code);
+
+// Runs f; an OpenCL failure becomes a ResourceError naming `what`, the call and the code.
+template <class F>
+auto guarded(const char* what, F&& f) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const cl::Error& e) {
+        throw ResourceError(std::string("OpenCL ") + what + ": " + e.what() + " failed with " + error_name(e.err()));
+    }
+}
+
+struct DeviceEntry {
+    int platform = 0, index = 0;  // as in --device opencl:P:D
+    std::string platform_name, name, vendor, version;
+    cl::Device device;
+    bool gpu = false, fp64 = false;
+    std::size_t memory = 0, max_alloc = 0, max_group = 0;
+    int compute_units = 0;
+};
+
+// Every device of every platform; empty when there is no OpenCL platform at all.
+std::vector<DeviceEntry> devices();
+
+// The device a --device spec names: "opencl" (first GPU, else first device), "opencl:P:D",
+// or a substring of the device or platform name. Throws ParameterError when none matches.
+DeviceEntry choose_device(const std::string& spec);
+
+// A context, a queue and the program for one precision on one device.
+class Runtime {
+public:
+    // real_type: "double" or "float". Throws ResourceError with the build log on failure,
+    // ParameterError when double is asked of a device without fp64.
+    Runtime(DeviceEntry device, const std::string& real_type);
+
+    const DeviceEntry& device() const { return device_; }
+    cl::Context& context() { return context_; }
+    cl::CommandQueue& queue() { return queue_; }
+    cl::Kernel kernel(const char* name) const;
+    bool double_accumulator() const { return device_.fp64; }
+
+    // A device buffer of `bytes`, checked against the device's allocation limit first.
+    cl::Buffer buffer(std::size_t bytes, const char* what);
+
+private:
+    DeviceEntry device_;
+    cl::Context context_;
+    cl::CommandQueue queue_;
+    cl::Program program_;
+};
+
+}  // namespace snvr::opencl
