@@ -8,7 +8,8 @@ set(body "")
 foreach(src ${sources})
   get_filename_component(name ${src} NAME)
   file(READ ${src} text)
-  string(APPEND body "    {\"${name}\", R\"snvr_cl(${text})snvr_cl\"},\n")
+  # #line: compiler messages name the kernel file and its line.
+  string(APPEND body "    {\"${name}\", R\"snvr_cl(#line 1 \"${name}\"\n${text})snvr_cl\"},\n")
 endforeach()
 file(WRITE "${OUTPUT}.tmp"
 "// Generated from kernels/*.cl by cmake/embed_kernels.cmake: do not edit.

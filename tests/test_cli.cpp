@@ -17,8 +17,9 @@ struct Run {
     std::string output;  // stdout and stderr together
 };
 
-Run run(const std::string& args) {
-    const std::string cmd = std::string(SNVR_CLI) + " " + args + " 2>&1";
+// `env`: variable assignments for the command, e.g. "OCL_ICD_VENDORS=/x".
+Run run(const std::string& args, const std::string& env = "") {
+    const std::string cmd = env + " " + std::string(SNVR_CLI) + " " + args + " 2>&1";
     Run r{-1, {}};
     FILE* p = popen(cmd.c_str(), "r");
     REQUIRE(p != nullptr);
@@ -47,9 +48,11 @@ std::string binary_ply_header(int count) {
            "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
 }
 
-void expect_failure(const std::string& args, int code, const std::string& words, const TempDir& t) {
+void expect_failure(const std::string& args, int code, const std::string& words, const TempDir& t,
+                    const std::string& env = "") {
     CAPTURE(args);
-    const Run r = run(args);
+    CAPTURE(env);
+    const Run r = run(args, env);
     CAPTURE(r.output);
     CHECK(r.code == code);
     CHECK(r.output.find(words) != std::string::npos);
@@ -108,4 +111,40 @@ TEST_CASE("degenerate but sane input gets a printable result") {
     CHECK(r.output.find("points enclosed  441 of 441") != std::string::npos);
     CHECK(fs::file_size(t.out()) > 84);
     CHECK(fs::file_size(t.path / "phi.vti") > 48 * 48 * 8);
+}
+
+TEST_CASE("devices: both backends listed; without a usable OpenCL device auto falls back, opencl fails") {
+    Run r = run("devices");
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("openmp ") != std::string::npos);
+    CHECK(r.output.find("opencl:0:0") != std::string::npos);  // PoCL, which the set-up installs
+    CHECK(r.output.find("FP64") != std::string::npos);
+
+    TempDir t;
+    const std::string cloud = t.file("cloud.xyz", "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n");
+    const std::string o = " -o " + t.out() + " --resolution 32 --quiet";
+    // No OpenCL platform: the ICD loader reads vendors from an empty folder.
+    const std::string none = "OCL_ICD_VENDORS=" + t.path.string();
+    r = run("devices", none);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("opencl:") == std::string::npos);
+    r = run("reconstruct " + cloud + o, none);
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("no OpenCL platform") != std::string::npos);
+    CHECK(r.output.find("running on the OpenMP reference backend") != std::string::npos);
+    fs::remove(t.out());
+    expect_failure("reconstruct " + cloud + o + " --device opencl", 1, "no OpenCL platform", t, none);
+    // A device that cannot build the program (a bad type forced into the build).
+    const std::string broken = "SNVR_OPENCL_OPTIONS=-DREAL=no_such_type";
+    r = run("reconstruct " + cloud + o, broken);
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("program build failed") != std::string::npos);
+    CHECK(r.output.find("running on the OpenMP reference backend") != std::string::npos);
+    fs::remove(t.out());
+    expect_failure("reconstruct " + cloud + o + " --device opencl", 1, "unknown type name 'no_such_type'", t, broken);
+    expect_failure("reconstruct " + cloud + o + " --device opencl:3:7", 1, "no such OpenCL platform/device", t);
+    expect_failure("reconstruct " + cloud + o + " --device quantum", 1, "unknown device 'quantum'", t);
 }

@@ -18,7 +18,8 @@ std::unique_ptr<Backend<Real>> make_backend(const std::string& device, std::stri
         try {
             return make_opencl_backend<Real>("auto");
         } catch (const Error& e) {
-            notice = std::string("OpenCL not usable (") + e.what() + "); running on the OpenMP reference backend";
+            const std::string why = e.what();  // its first line: a build log can be long
+            notice = "OpenCL not usable (" + why.substr(0, why.find('\n')) + "); running on the OpenMP reference backend";
             return make_openmp_backend<Real>();
         }
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 
 #include "opencl/kernel_sources.hpp"
 
@@ -123,6 +124,8 @@ Runtime::Runtime(DeviceEntry device, const std::string& real_type) : device_(std
     // Float division and sqrt are correctly rounded in C++; ask the same of the device.
     const cl_device_fp_config single = guarded("device query", [&] { return device_.device.getInfo<CL_DEVICE_SINGLE_FP_CONFIG>(); });
     if (single & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) options += " -cl-fp32-correctly-rounded-divide-sqrt";
+    // Extra compiler options for experiments (and for testing the failure path).
+    if (const char* extra = std::getenv("SNVR_OPENCL_OPTIONS")) options += std::string(" ") + extra;
     guarded("program", [&] { program_ = cl::Program(context_, sources); });
     try {
         program_.build(std::vector<cl::Device>{device_.device}, options.c_str());
