@@ -1,14 +1,13 @@
 // phi += prolongation of the coarse correction, only where g > 0. Cell-centred
 // trilinear: 3/4 on the parent, 1/4 on the next coarse cell towards the child, coarse
 // indices clamped at the grid edge (mirror), applied x first, then y, then z; or
-// injection. One work-item per fine row, 64 per brick.
+// injection. One work-group of 64 per fine brick: the brick's 4x4x4 coarse parents
+// and a one-cell halo go to local memory, then one work-item per fine row.
+#define HALO 6  // coarse cells per axis around a fine brick
 
-// A fine row's x interpolation from coarse row (J, K): its 4 parents and one coarse cell
-// of halo on each side, clamped.
-inline row_t along_x(global const real* pc, global const uint* slot, int cnx, int cbx, int cby, int I0, int J, int K,
-                     int trilinear) {
-    real c[6];
-    for (int t = 0; t < 6; ++t) c[t] = pc[cell_index(slot, cbx, cby, clamp(I0 - 1 + t, 0, cnx - 1), J, K)];
+// A fine row's x interpolation from halo row (jj, kk).
+inline row_t along_x(local const real* cv, int jj, int kk, int trilinear) {
+    local const real* c = cv + HALO * (jj + HALO * kk);
     const row_t parent = (row_t)(c[1], c[1], c[2], c[2], c[3], c[3], c[4], c[4]);
     if (!trilinear) return parent;
     const row_t next = (row_t)(c[0], c[2], c[1], c[3], c[2], c[4], c[3], c[5]);
@@ -19,20 +18,25 @@ kernel void prolong_correct(global real* phi, global const real* g, global const
                             global const uint* slot, LEVEL_PARAMS, global const real* phi_coarse,
                             global const uint* slot_coarse, int cnx, int cny, int cnz, int cbx, int cby,
                             int trilinear) {
-    const Row w = brick_row(slot, bx, by, bricks[get_group_id(0)], (int)get_local_id(0));
+    local real cv[HALO * HALO * HALO];
+    const int lid = (int)get_local_id(0);
+    const Row w = brick_row(slot, bx, by, bricks[get_group_id(0)], lid);
+    // Halo origin in coarse cells: one before the brick's first parent.
+    const int I0 = w.i0 / 2 - 1, J0 = (w.j - w.lj) / 2 - 1, K0 = (w.k - w.lk) / 2 - 1;
+    for (int t = lid; t < HALO * HALO * HALO; t += ROWS_PER_BRICK)
+        cv[t] = phi_coarse[cell_index(slot_coarse, cbx, cby, clamp(I0 + t % HALO, 0, cnx - 1),
+                                      clamp(J0 + t / HALO % HALO, 0, cny - 1), clamp(K0 + t / (HALO * HALO), 0, cnz - 1))];
+    barrier(CLK_LOCAL_MEM_FENCE);
     if (w.j >= ny || w.k >= nz) return;
-    const int I0 = w.i0 / 2, J = w.j >> 1, K = w.k >> 1;
+    const int J = (w.j >> 1) - J0, K = (w.k >> 1) - K0;
     row_t correction;
     if (!trilinear) {
-        correction = along_x(phi_coarse, slot_coarse, cnx, cbx, cby, I0, J, K, 0);
+        correction = along_x(cv, J, K, 0);
     } else {
-        const int J2 = clamp(J + ((w.j & 1) ? 1 : -1), 0, cny - 1);
-        const int K2 = clamp(K + ((w.k & 1) ? 1 : -1), 0, cnz - 1);
+        const int J2 = J + ((w.j & 1) ? 1 : -1), K2 = K + ((w.k & 1) ? 1 : -1);
         const real w0 = (real)0.75, w1 = (real)0.25;
-        const row_t plane_k = w0 * along_x(phi_coarse, slot_coarse, cnx, cbx, cby, I0, J, K, 1) +
-                              w1 * along_x(phi_coarse, slot_coarse, cnx, cbx, cby, I0, J2, K, 1);
-        const row_t plane_k2 = w0 * along_x(phi_coarse, slot_coarse, cnx, cbx, cby, I0, J, K2, 1) +
-                               w1 * along_x(phi_coarse, slot_coarse, cnx, cbx, cby, I0, J2, K2, 1);
+        const row_t plane_k = w0 * along_x(cv, J, K, 1) + w1 * along_x(cv, J2, K, 1);
+        const row_t plane_k2 = w0 * along_x(cv, J, K2, 1) + w1 * along_x(cv, J2, K2, 1);
         correction = w0 * plane_k + w1 * plane_k2;
     }
     const row_t p = load_row(phi, w.at);
