@@ -15,55 +15,19 @@
 #include <string>
 #include <vector>
 
-#include "backend.hpp"
-#include "band_distance.hpp"
-#include "domain_plan.hpp"
-#include "hierarchy.hpp"
-#include "multigrid.hpp"
-#include "snvr/snvr.hpp"
+#include "prepared_solver.hpp"
 
 using namespace snvr;
 
-namespace {
-
-template <class Real>
-double best_seconds(Backend<Real>& backend, int repeat, const std::function<void()>& f) {
-    double best = 1e30;
-    f();  // the first launch may compile (PoCL builds work-group functions lazily)
-    backend.finish();
-    for (int r = 0; r < repeat; ++r) {
-        const auto t0 = std::chrono::steady_clock::now();
-        f();
-        backend.finish();
-        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    return best;
-}
-
-}  // namespace
-
 template <class Real>
 int run(const char* file, Parameters params, int repeat) {
-    const PointSet points = read_points(file);
-    const PointIndex index(points);
-    const DomainPlan plan = plan_domain(points, params, index);
-    const Domain& dom = plan.domain;
-    const double L = dom.length_scale();
-    const Band band = band_of(plan, params.band_xi);
-    BandDistance<Real> dist = band_distance<Real>(points, index, dom, band);
-    classify_band(dist, dom, band);
-    Hierarchy hier = make_levels(dom);
-    set_active_bricks(hier, dist.brick_mask);
-    std::string notice;
-    auto backend = make_backend<Real>(params.device, notice);
-    backend->setup(hier);
-    backend->init_phase(dist.distance.data(), Real(band.offset), Real(1 / (std::sqrt(2.0) * plan.xi / L)), Real(band.cut));
-    prepare_coarse_levels(*backend, hier);
-    backend->load_rhs();
-
+    bench::PreparedSolver<Real> solver(read_points(file), params);
+    Backend<Real>* backend = solver.backend.get();
+    const Domain& dom = solver.domain;
+    const Hierarchy& hier = solver.hierarchy;
     const Level& lv = hier.levels[0];
     const double cells = double(lv.brick_cells), bytes_per_stream = cells * sizeof(Real);
-    const Real c = Real(params.dt / (lv.h * lv.h)), omega = Real(params.omega);
+    const Real c = solver.coefficient, omega = Real(params.omega);
     std::printf("%s, %s: grid %dx%dx%d, %zu active bricks (%.0f cells), best of %d\n", backend->name().c_str(),
                 sizeof(Real) == 8 ? "double" : "float", dom.nx, dom.ny, dom.nz, lv.bricks.size(), cells, repeat);
 
@@ -83,7 +47,7 @@ int run(const char* file, Parameters params, int repeat) {
     double copy_rate = 0;
     std::printf("| operation | ms | GB moved | GB/s | of copy |\n|---|---|---|---|---|\n");
     for (const Op& op : ops) {
-        const double s = best_seconds(*backend, repeat, op.run);
+        const double s = solver.best_seconds(repeat, op.run);
         const double gb = op.streams * bytes_per_stream / 1e9;
         if (copy_rate == 0) copy_rate = gb / s;
         std::printf("| %s | %.2f | %.3f | %.1f | %.0f%% |\n", op.name, s * 1e3, gb, gb / s, 100 * (gb / s) / copy_rate);

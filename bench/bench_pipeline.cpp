@@ -68,6 +68,8 @@ int main(int argc, char** argv) {
         else if (opt == "--prolong") params.trilinear = val != "constant";
         else if (opt == "--band") params.band_xi = std::atof(val.c_str());
         else if (opt == "--omega") params.omega = std::atof(val.c_str());
+        else if (opt == "--coarse") params.exact_coarse = val != "sweeps";
+        else if (opt == "--device") params.device = val;
         else {
             std::fprintf(stderr, "unknown option %s\n", opt.c_str());
             return 2;

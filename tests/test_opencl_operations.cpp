@@ -12,6 +12,7 @@
 
 #include "backend.hpp"
 #include "backend_compare.hpp"
+#include "coarse_inverse.hpp"
 #include "hierarchy.hpp"
 #include "opencl/opencl_backend.hpp"
 #include "openmp/openmp_backend.hpp"
@@ -67,10 +68,10 @@ struct Pair {
     }
 
     // The same random phi and rhs on both backends, on every level, and a random g on
-    // level 0 (a fifth of it zero) restricted to the others as the solver does.
-    void randomize() {
+    // level 0 (by default a fifth of it zero) restricted to the others as the solver does.
+    void randomize(double g_zeros = 0.2) {
         for (int l = 0; l < int(hier.levels.size()); ++l) {
-            const std::vector<Real> phi = random(l, -1, 1, 0), rhs = random(l, -1, 1, 0), g = random(l, 0, 1, 0.2);
+            const std::vector<Real> phi = random(l, -1, 1, 0), rhs = random(l, -1, 1, 0), g = random(l, 0, 1, g_zeros);
             for (Backend<Real>* b : {ref.get(), dev.get()}) {
                 b->upload(l, FieldKind::phi, phi.data());
                 b->upload(l, FieldKind::rhs, rhs.data());
@@ -99,6 +100,7 @@ const Case kCases[] = {
 template <class Real>
 void compare_operations() {
     const char* type = sizeof(Real) == 8 ? "double" : "float";
+    int coarse_solves = 0;
     for (const Case& c : kCases) {
         CAPTURE(c.nx);
         CAPTURE(c.ny);
@@ -159,6 +161,25 @@ void compare_operations() {
                 CHECK(uc == kExactUlps);
             }
         }
+        if (coarsest > 0) {
+            p.randomize(0);  // else nearly every coarsest cell has a child with g = 0
+            std::vector<Real> g(p.hier.levels[std::size_t(coarsest)].cells());
+            p.ref->download(coarsest, FieldKind::g, g.data());
+            const double h = p.hier.levels[std::size_t(coarsest)].h;
+            const CoarseInverse inv = coarse_inverse(p.hier.levels[std::size_t(coarsest)], std::vector<double>(g.begin(), g.end()), 2e-4 / (h * h));
+            if (inv.size() == 0) {  // more coupled cells than kMaxCoarseInverse
+                std::printf("  coarse_solve          level %d: too many coupled cells for an inverse\n", coarsest);
+            } else {
+            ++coarse_solves;
+            p.ref->set_coarse_inverse(coarsest, inv);
+            p.dev->set_coarse_inverse(coarsest, inv);
+            p.ref->coarse_solve(coarsest);
+            p.dev->coarse_solve(coarsest);
+            const double u = p.ulps(coarsest, FieldKind::phi);
+            std::printf("  coarse_solve          level %d, %zu cells: %g ULP\n", coarsest, inv.size(), u);
+            CHECK(u == kExactUlps);
+            }
+        }
         p.randomize();
         p.ref->nonlinear(Real(7.5));
         p.dev->nonlinear(Real(7.5));
@@ -166,6 +187,7 @@ void compare_operations() {
         std::printf("  nonlinear             %g ULP\n", un);
         CHECK(un <= kNonlinearUlps);
     }
+    CHECK(coarse_solves >= 3);
 }
 
 }  // namespace

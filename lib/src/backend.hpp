@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 
+#include "coarse_inverse.hpp"
 #include "hierarchy.hpp"
 
 namespace snvr {
@@ -44,6 +45,12 @@ public:
     virtual void restrict_residual(int level, Real dt_over_h2) = 0;
     // phi(level) += prolongation of phi(level+1), only where g(level) > 0.
     virtual void prolong_correct(int level, bool trilinear) = 0;
+    // The coarsest level's exact solve (coarse_inverse.hpp): the inverse is handed over
+    // once per run; each solve sets phi = M rhs on its cells, in the order r, then c
+    // ascending (the other cells keep phi = 0).
+    virtual void set_coarse_inverse(int level, const CoarseInverse& inverse) = 0;
+    virtual void coarse_solve(int level) = 0;
+
     // Level 0: phi = phi / sqrt(e + phi^2 (1 - e)), e = exp(-k g), k = 2 dt / eps^2 (eq. 11).
     virtual void nonlinear(Real k) = 0;
 

@@ -59,6 +59,18 @@ void assign_constant_slots(BrickGrid& bg, const Level& lv, const Real* distance,
     }
 }
 
+// Storage positions of cells given by x-fastest index.
+inline std::vector<std::uint32_t> storage_positions(const BrickGrid& bg, const std::vector<std::uint32_t>& cells) {
+    std::vector<std::uint32_t> at;
+    at.reserve(cells.size());
+    for (std::uint32_t n : cells) {
+        const int i = int(n % std::uint32_t(bg.nx)), j = int(n / std::uint32_t(bg.nx) % std::uint32_t(bg.ny)),
+                  k = int(n / (std::uint32_t(bg.nx) * std::uint32_t(bg.ny)));
+        at.push_back(std::uint32_t(bg.at(i, j, k)));
+    }
+    return at;
+}
+
 // Dense x-fastest field <-> brick storage. Packing writes the in-grid cells of active
 // bricks only; unpacking reads every cell (inactive ones from their constant brick).
 template <class Real>

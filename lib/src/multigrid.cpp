@@ -36,8 +36,12 @@ public:
     }
 
     void run(int level) {
-        const int coarsest = int(h_.levels.size()) - 1;
-        if (level == coarsest) {
+        if (level == s_.exact_level) {
+            b_.coarse_solve(level);
+            count(level, kCopyStreams);  // rhs in, phi out; the matrix stays in cache
+            return;
+        }
+        if (level == int(h_.levels.size()) - 1) {
             solve_coarsest(level);
             return;
         }
@@ -84,8 +88,28 @@ private:
 }  // namespace
 
 template <class Real>
-void prepare_coarse_levels(Backend<Real>& backend, const Hierarchy& hierarchy) {
-    for (int l = 0; l + 1 < int(hierarchy.levels.size()); ++l) backend.restrict_coefficient(l);
+int prepare_coarse_levels(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s) {
+    const int coarsest = int(hierarchy.levels.size()) - 1;
+    for (int l = 0; l < coarsest; ++l) backend.restrict_coefficient(l);
+    if (!s.exact_coarse) return -1;
+    // From the coarsest up, while the coupled cells stay few. Level 0 has rhs != 0
+    // where g = 0, which the inverse leaves out: coarse levels only.
+    std::vector<double> chosen_g;
+    int chosen = -1;
+    for (int l = coarsest; l >= 1; --l) {
+        const Level& lv = hierarchy.levels[std::size_t(l)];
+        std::vector<Real> g(lv.cells());
+        backend.download(l, FieldKind::g, g.data());
+        std::size_t coupled = 0;
+        for (Real v : g) coupled += v > 0;
+        if (coupled > kMaxCoarseInverse) break;
+        chosen = l;
+        chosen_g.assign(g.begin(), g.end());
+    }
+    if (chosen < 0) return -1;
+    const Level& lv = hierarchy.levels[std::size_t(chosen)];
+    backend.set_coarse_inverse(chosen, coarse_inverse(lv, chosen_g, s.dt / (lv.h * lv.h)));
+    return chosen;
 }
 
 template <class Real>
@@ -113,8 +137,8 @@ double nonlinear_bytes(const Hierarchy& hierarchy, std::size_t real_size) {
     return 3.0 * double(hierarchy.levels[0].brick_cells) * double(real_size);
 }
 
-template void prepare_coarse_levels<double>(Backend<double>&, const Hierarchy&);
-template void prepare_coarse_levels<float>(Backend<float>&, const Hierarchy&);
+template int prepare_coarse_levels<double>(Backend<double>&, const Hierarchy&, const MultigridSettings&);
+template int prepare_coarse_levels<float>(Backend<float>&, const Hierarchy&, const MultigridSettings&);
 template LinearSolveStats solve_linear<double>(Backend<double>&, const Hierarchy&, const MultigridSettings&);
 template LinearSolveStats solve_linear<float>(Backend<float>&, const Hierarchy&, const MultigridSettings&);
 

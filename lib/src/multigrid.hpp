@@ -16,6 +16,8 @@ struct MultigridSettings {
     int pre_smooth = 2, post_smooth = 2;
     double omega = 1.2;     // over-relaxation of the smoother
     bool trilinear = true;
+    bool exact_coarse = false;  // solve a small coarse level exactly (prepare_coarse_levels)
+    int exact_level = -1;       // the level the backend holds the inverse of; -1: none
 };
 
 struct LinearSolveStats {
@@ -26,9 +28,13 @@ struct LinearSolveStats {
     double bytes_moved = 0;         // least memory traffic of the operations run (see multigrid.cpp)
 };
 
-// Coarse coefficients for every level (once per run: g never changes).
+// Coarse coefficients for every level (once per run: g never changes) and, when
+// s.exact_coarse, the inverse of the finest coarse level with at most
+// kMaxCoarseInverse coupled cells: V-cycles stop there and solve it exactly. The band
+// thins out with depth (bunny at 256: 275k, 28k, 2040, 4, 0 coupled cells on levels
+// 1-5), so the coarsest levels often hold nothing to solve. Returns that level, or -1.
 template <class Real>
-void prepare_coarse_levels(Backend<Real>& backend, const Hierarchy& hierarchy);
+int prepare_coarse_levels(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s);
 
 // Solves with phi (level 0) as both the right-hand side and the initial guess.
 // Least bytes the nonlinear step must move: read phi and g, write phi, on active bricks.

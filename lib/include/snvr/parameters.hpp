@@ -36,6 +36,10 @@ struct Parameters {
     int pre_smooth = 2;            // red-black Gauss-Seidel sweeps before coarse correction
     int post_smooth = 2;           // ...and after
     bool trilinear = true;         // trilinear prolongation (else piecewise constant)
+    // V-cycles stop at the finest coarse level with at most 512 coupled cells (g > 0) and
+    // solve it exactly (a dense inverse, one matrix-vector product); when false, or when
+    // no level is that small, they go down to the coarsest and sweep there.
+    bool exact_coarse = true;
     // Over-relaxation of the red-black Gauss-Seidel smoother. On the bunny at 256^3
     // (6 steps) 1.2 cut the V-cycles per step from 5 to 3 (contraction 0.07 -> 0.011);
     // 1.15 and 1.25 needed 4, 1.3 needed 4 and was slower.

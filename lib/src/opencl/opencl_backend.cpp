@@ -41,7 +41,8 @@ public:
           restrict_residual_(rt_.kernel("restrict_residual")),
           prolong_(rt_.kernel("prolong_correct")),
           nonlinear_(rt_.kernel("nonlinear")),
-          copy_(rt_.kernel("copy_bricks")) {}
+          copy_(rt_.kernel("copy_bricks")),
+          coarse_solve_(rt_.kernel("coarse_solve")) {}
 
     std::string name() const override {
         const opencl::DeviceEntry& d = rt_.device();
@@ -154,6 +155,26 @@ public:
         });
     }
 
+    void set_coarse_inverse(int level, const CoarseInverse& inv) override {
+        guarded("set_coarse_inverse", [&] {
+            const std::vector<std::uint32_t> at = storage_positions(grids_[std::size_t(level)], inv.cells);
+            const std::vector<Real> m(inv.matrix.begin(), inv.matrix.end());
+            coarse_n_ = at.size();
+            coarse_cells_ = rt_.buffer(at.size() * sizeof(cl_uint), "the coarse cell list");
+            coarse_matrix_ = rt_.buffer(m.size() * sizeof(Real), "the coarse inverse");
+            rt_.queue().enqueueWriteBuffer(coarse_cells_, CL_TRUE, 0, at.size() * sizeof(cl_uint), at.data());
+            rt_.queue().enqueueWriteBuffer(coarse_matrix_, CL_TRUE, 0, m.size() * sizeof(Real), m.data());
+        });
+    }
+
+    void coarse_solve(int level) override {
+        guarded("coarse_solve", [&] {
+            const LevelBuffers& b = levels_[std::size_t(level)];
+            launch(coarse_solve_, (coarse_n_ + kRows - 1) / kRows * kRows, kRows, coarse_matrix_, coarse_cells_,
+                   cl_uint(coarse_n_), b.rhs, b.phi);
+        });
+    }
+
     void nonlinear(Real k) override {
         guarded("nonlinear", [&] {
             const LevelBuffers& b = levels_[0];
@@ -232,11 +253,14 @@ private:
     }
 
     opencl::Runtime rt_;
-    cl::Kernel init_, restrict_coefficient_, smooth_, residual_norm_, sum_partials_, restrict_residual_, prolong_, nonlinear_, copy_;
+    cl::Kernel init_, restrict_coefficient_, smooth_, residual_norm_, sum_partials_, restrict_residual_, prolong_, nonlinear_, copy_,
+        coarse_solve_;
     Hierarchy hier_;
     std::vector<BrickGrid> grids_;
     std::vector<LevelBuffers> levels_;
     cl::Buffer partial_, total_;
+    cl::Buffer coarse_matrix_, coarse_cells_;
+    std::size_t coarse_n_ = 0;
 };
 
 }  // namespace

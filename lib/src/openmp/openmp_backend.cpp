@@ -228,6 +228,24 @@ public:
         });
     }
 
+    void set_coarse_inverse(int level, const CoarseInverse& inv) override {
+        coarse_cells_ = storage_positions(grids_[std::size_t(level)], inv.cells);
+        coarse_matrix_.assign(inv.matrix.begin(), inv.matrix.end());
+        coarse_rhs_.resize(inv.size());
+    }
+
+    void coarse_solve(int level) override {
+        LevelFields<Real>& f = fields_[std::size_t(level)];
+        const std::ptrdiff_t n = std::ptrdiff_t(coarse_cells_.size());
+        for (std::ptrdiff_t c = 0; c < n; ++c) coarse_rhs_[std::size_t(c)] = f.rhs[coarse_cells_[std::size_t(c)]];
+#pragma omp parallel for schedule(static) if (n > 256)
+        for (std::ptrdiff_t r = 0; r < n; ++r) {
+            Real s = 0;
+            for (std::ptrdiff_t c = 0; c < n; ++c) s += coarse_matrix_[std::size_t(c * n + r)] * coarse_rhs_[std::size_t(c)];
+            f.phi[coarse_cells_[std::size_t(r)]] = s;
+        }
+    }
+
     void nonlinear(Real k) override {
         Real* phi = fields_[0].phi.data();
         const Real* g = fields_[0].g.data();
@@ -360,6 +378,8 @@ private:
     Hierarchy hier_;
     std::vector<BrickGrid> grids_;
     std::vector<LevelFields<Real>> fields_;
+    std::vector<std::uint32_t> coarse_cells_;  // storage positions of the coarsest level's coupled cells
+    std::vector<Real> coarse_matrix_, coarse_rhs_;
 };
 
 }  // namespace

@@ -1,0 +1,68 @@
+// A solver ready to run, for the operation benchmarks: a point cloud's domain, band
+// and hierarchy, and a backend set up and initialised on it (coarse levels prepared,
+// rhs loaded), plus a best-of-N timer that waits for the device.
+#pragma once
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "backend.hpp"
+#include "band_distance.hpp"
+#include "domain_plan.hpp"
+#include "hierarchy.hpp"
+#include "multigrid.hpp"
+#include "snvr/snvr.hpp"
+
+namespace snvr::bench {
+
+template <class Real>
+struct PreparedSolver {
+    Domain domain;
+    Hierarchy hierarchy;
+    std::unique_ptr<Backend<Real>> backend;
+    Real coefficient = 0;  // dt / h^2 on level 0
+    int exact_level = -1;  // the coarse level solved exactly, if any
+
+    PreparedSolver(const PointSet& points, const Parameters& params) {
+        const PointIndex index(points);
+        const DomainPlan plan = plan_domain(points, params, index);
+        domain = plan.domain;
+        const double L = domain.length_scale();
+        const Band band = band_of(plan, params.band_xi);
+        BandDistance<Real> dist = band_distance<Real>(points, index, domain, band);
+        classify_band(dist, domain, band);
+        hierarchy = make_levels(domain);
+        set_active_bricks(hierarchy, dist.brick_mask);
+        std::string notice;
+        backend = make_backend<Real>(params.device, notice);
+        backend->setup(hierarchy);
+        backend->init_phase(dist.distance.data(), Real(band.offset), Real(1 / (std::sqrt(2.0) * plan.xi / L)), Real(band.cut));
+        MultigridSettings ms;
+        ms.dt = params.dt;
+        ms.exact_coarse = params.exact_coarse;
+        exact_level = prepare_coarse_levels(*backend, hierarchy, ms);
+        backend->load_rhs();
+        const double h = hierarchy.levels[0].h;
+        coefficient = Real(params.dt / (h * h));
+    }
+
+    // Best of `repeat` runs of f, each waited for; one run first (PoCL compiles a kernel's
+    // work-group function at its first launch).
+    double best_seconds(int repeat, const std::function<void()>& f) {
+        f();
+        backend->finish();
+        double best = 1e30;
+        for (int r = 0; r < repeat; ++r) {
+            const auto t0 = std::chrono::steady_clock::now();
+            f();
+            backend->finish();
+            best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        }
+        return best;
+    }
+};
+
+}  // namespace snvr::bench
