@@ -30,11 +30,13 @@ std::vector<int> int_list(const std::string& s) {
 int main(int argc, char** argv) {
     std::vector<int> resolutions{128, 256}, steps{4, 8};
     bool scale_dt = false;
+    std::string device = "auto";
     for (int a = 1; a + 1 < argc; a += 2) {
         const std::string opt = argv[a], val = argv[a + 1];
         if (opt == "--resolutions") resolutions = int_list(val);
         else if (opt == "--steps") steps = int_list(val);
         else if (opt == "--dt-scaling") scale_dt = val == "h2";
+        else if (opt == "--device") device = val;
         else {
             std::fprintf(stderr, "unknown option %s\n", opt.c_str());
             return 2;
@@ -50,6 +52,7 @@ int main(int argc, char** argv) {
                 const snvr::PointSet points = snvr::shapes::by_name(shape.name, 0.5 / n);
                 snvr::Parameters p = snvr::table2::parameters(n, nt);
                 if (scale_dt) p.dt = 5e-5 * (128.0 / n) * (128.0 / n);
+                p.device = device;
                 const snvr::Result r = snvr::reconstruct(points, p);
                 const snvr::Mesh mesh = snvr::extract_isosurface(r.phi, r.domain, 0.0, snvr::Interpolation::PhaseField);
                 const snvr::table2::Errors e = snvr::table2::surface_errors(mesh, shape, 0.05);

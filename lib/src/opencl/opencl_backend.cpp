@@ -160,6 +160,7 @@ public:
             const std::vector<std::uint32_t> at = storage_positions(grids_[std::size_t(level)], inv.cells);
             const std::vector<Real> m(inv.matrix.begin(), inv.matrix.end());
             coarse_n_ = at.size();
+            if (coarse_n_ == 0) return;  // nothing couples there: the solve leaves phi = 0
             coarse_cells_ = rt_.buffer(at.size() * sizeof(cl_uint), "the coarse cell list");
             coarse_matrix_ = rt_.buffer(m.size() * sizeof(Real), "the coarse inverse");
             rt_.queue().enqueueWriteBuffer(coarse_cells_, CL_TRUE, 0, at.size() * sizeof(cl_uint), at.data());
