@@ -3,7 +3,8 @@
 // the exact surface minus l) beside the paper's, at the given resolutions and step
 // counts, with the observed order of convergence between consecutive resolutions.
 //
-//   bench_table2 [--resolutions 128,256] [--steps 4,8] [--dt-scaling fixed|h2]
+//   bench_table2 [--resolutions 128,256] [--steps 4,8] [--dt-scaling fixed|h2] [--device D]
+//                [--coarse exact|sweeps]
 //   --dt-scaling h2 keeps dt / h^2 at its 128^3 value (dt = 5e-5 (128 / N)^2).
 #include <cmath>
 #include <cstdio>
@@ -31,12 +32,14 @@ int main(int argc, char** argv) {
     std::vector<int> resolutions{128, 256}, steps{4, 8};
     bool scale_dt = false;
     std::string device = "auto";
+    bool exact_coarse = true;
     for (int a = 1; a + 1 < argc; a += 2) {
         const std::string opt = argv[a], val = argv[a + 1];
         if (opt == "--resolutions") resolutions = int_list(val);
         else if (opt == "--steps") steps = int_list(val);
         else if (opt == "--dt-scaling") scale_dt = val == "h2";
         else if (opt == "--device") device = val;
+        else if (opt == "--coarse") exact_coarse = val != "sweeps";
         else {
             std::fprintf(stderr, "unknown option %s\n", opt.c_str());
             return 2;
@@ -53,6 +56,7 @@ int main(int argc, char** argv) {
                 snvr::Parameters p = snvr::table2::parameters(n, nt);
                 if (scale_dt) p.dt = 5e-5 * (128.0 / n) * (128.0 / n);
                 p.device = device;
+                p.exact_coarse = exact_coarse;
                 const snvr::Result r = snvr::reconstruct(points, p);
                 const snvr::Mesh mesh = snvr::extract_isosurface(r.phi, r.domain, 0.0, snvr::Interpolation::PhaseField);
                 const snvr::table2::Errors e = snvr::table2::surface_errors(mesh, shape, 0.05);
