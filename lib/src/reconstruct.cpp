@@ -70,7 +70,16 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
     set_active_bricks(hier, dist.brick_mask);
     res.active_bricks = hier.levels[0].bricks.size();
     res.total_bricks = hier.levels[0].brick_count();
-    backend->setup(hier);
+    try {
+        backend->setup(hier);
+    } catch (const ResourceError& e) {
+        // Under auto, a device too small for this grid is not the end: the host may hold it.
+        if (params.device != "auto" || backend->name().rfind("opencl", 0) != 0) throw;
+        res.warnings.push_back(std::string(e.what()) + "; running on the OpenMP reference backend");
+        backend = make_backend<Real>("openmp", notice);
+        res.backend = backend->name();
+        backend->setup(hier);
+    }
     backend->init_phase(dist.distance.data(), Real(band.offset), Real(1 / (std::sqrt(2.0) * plan.xi / L)),
                         Real(band.cut));
     MultigridSettings ms;

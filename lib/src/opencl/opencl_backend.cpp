@@ -53,11 +53,18 @@ public:
         guarded("setup", [&] {
             hier_ = hier;
             grids_.clear();
+            for (const Level& lv : hier.levels) grids_.emplace_back(lv);
+            // Fail before allocating, with the sizes, rather than at the first launch.
+            std::size_t need = 0;
+            for (std::size_t l = 0; l < grids_.size(); ++l) need += 3 * grids_[l].storage() * sizeof(Real);
+            const opencl::DeviceEntry& d = rt_.device();
+            if (need > d.memory)
+                throw ResourceError("the solver's fields need " + std::to_string(need >> 20) + " MiB on OpenCL device '" + d.name +
+                                    "', which has " + std::to_string(d.memory >> 20) + " MiB; use a coarser --resolution or --device openmp");
             levels_.assign(hier.levels.size(), {});
             std::size_t most_bricks = 1;
             for (std::size_t l = 0; l < hier.levels.size(); ++l) {
                 const Level& lv = hier.levels[l];
-                grids_.emplace_back(lv);
                 LevelBuffers& b = levels_[l];
                 b.cells = grids_[l].storage();
                 b.active = lv.bricks.size();
