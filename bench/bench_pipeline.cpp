@@ -14,36 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "host_measures.hpp"
 #include "snvr/snvr.hpp"
 
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// STREAM-like triad a = b + s c over arrays far larger than the caches: the rate a
-// memory-bound sweep can reach with plain OpenMP loops. Best of several repetitions.
-double triad_bandwidth() {
-    const std::size_t n = std::size_t(1) << 25;  // 3 x 256 MiB
-    std::vector<double> a(n), b(n), c(n);
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) a[i] = 0, b[i] = 1, c[i] = 2;
-    double best = 0;
-    for (int rep = 0; rep < 5; ++rep) {
-        const auto t0 = std::chrono::steady_clock::now();
-#pragma omp parallel for schedule(static)
-        for (std::size_t i = 0; i < n; ++i) a[i] = b[i] + 3.0 * c[i];
-        best = std::max(best, 3.0 * double(n) * sizeof(double) / seconds_since(t0));
-    }
-    if (a[n / 2] != 7.0) std::fprintf(stderr, "triad check failed\n");
-    return best;
-}
-
-double peak_rss_mib() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return double(u.ru_maxrss) / 1024.0;
 }
 
 }  // namespace
@@ -91,8 +68,8 @@ int main(int argc, char** argv) {
 
         const snvr::MeshReport rep = snvr::check_mesh(mesh);
         const std::size_t inside = snvr::count_points_inside(mesh, points);
-        const double peak_mib = peak_rss_mib();  // before the triad's own arrays
-        const double bandwidth = triad_bandwidth();
+        const double peak_mib = snvr::bench::peak_rss_mib();  // before the triad's own arrays
+        const double bandwidth = snvr::bench::triad_bandwidth();
 
         std::printf("file %s, %zu points, grid %dx%dx%d, %s, %s precision, %d threads\n", argv[1], points.size(),
                     r.domain.nx, r.domain.ny, r.domain.nz, r.backend.c_str(),

@@ -1,0 +1,41 @@
+# PNG plots of snvr-bench's .dat files (scripts/bench.sh runs this):
+#   gnuplot -e "dir='bench/latest'" bench/plots.gp
+if (!exists("dir")) dir = "bench/latest"
+set terminal pngcairo size 960,620 noenhanced font ",11"
+set grid
+set key outside right top
+
+# One line per series (first column: device/precision or shape/device/precision).
+series(file) = system("awk '!/^#/ {print $1}' " . file . " | sort -u | tr '\n' ' '")
+rows(file, s) = "< awk '$1 == \"" . s . "\"' " . file
+
+f = dir . "/scaling.dat"
+set output dir . "/scaling.png"
+set title "Scaling: bunny at 128-512 cells on the longest axis"
+set logscale xy
+set xlabel "cells in the band"
+set ylabel "seconds, file to mesh (median)"
+plot for [s in series(f)] rows(f, s) using 3:4 with linespoints pt 7 title s
+
+set output dir . "/scaling_memory.png"
+set title "Peak memory against cells in the band"
+set ylabel "peak resident memory, MiB"
+plot for [s in series(f)] rows(f, s) using 3:6 with linespoints pt 7 title s
+
+f = dir . "/table2.dat"
+set output dir . "/table2.png"
+set title "Table 2: grown-sheet error against grid size (lines: ours; points: the paper)"
+set xlabel "cells per axis"
+set ylabel "RMS error of the grown sheet"
+plot for [s in series(f)] rows(f, s) using 2:3 with linespoints pt 7 title s, \
+     for [s in series(f)] rows(f, s) using 2:5 with points pt 4 ps 2 notitle
+
+unset logscale
+f = dir . "/roofline.dat"
+set output dir . "/roofline.png"
+set title "Achieved bandwidth as a fraction of a copy on the same device"
+set xlabel ""
+set ylabel "fraction of copy bandwidth"
+set yrange [0:1.1]
+set xtics rotate by -20
+plot for [s in series(f)] rows(f, s) using 0:4:xtic(2) with linespoints pt 7 title s

@@ -1,0 +1,133 @@
+#include "report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <stdexcept>
+
+namespace snvr::bench {
+
+namespace {
+
+std::string fmt(const char* f, double v) {
+    if (!std::isfinite(v)) return "-";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+std::vector<const Record*> section(const std::vector<Record>& all, const std::string& name) {
+    std::vector<const Record*> out;
+    for (const Record& r : all)
+        if (r.text("section") == name && !r.has("error")) out.push_back(&r);
+    return out;
+}
+
+std::string who(const Record& r) { return r.text("device") + " | " + r.text("precision"); }
+
+std::string seconds_with_spread(const Record& r) {
+    return fmt("%.2f", r.number("total_s")) + " (" + fmt("%.2f", r.number("total_min_s")) + "-" + fmt("%.2f", r.number("total_max_s")) + ")";
+}
+
+// Observed order between this record and the previous one of the same shape, device
+// and precision at a coarser grid: log(e_coarse / e_fine) / log(n_fine / n_coarse).
+std::string order(const Record& fine, const Record* coarse, const char* key) {
+    if (!coarse) return "-";
+    return fmt("%.2f", std::log(coarse->number(key) / fine.number(key)) / std::log(fine.number("nx") / coarse->number("nx")));
+}
+
+}  // namespace
+
+std::string markdown(const std::vector<Record>& all, const std::string& heading) {
+    std::string md = heading + "\n";
+    const auto t1 = section(all, "table1");
+    if (!t1.empty()) {
+        md += "\n### Paper's Table 1: CPU seconds\n\n"
+              "| case | device | precision | grid | points | steps | total s, median (min-max) | distance | init | steps | mesh | "
+              "V-cycles | peak MiB | paper s | ours / paper |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        for (const Record* r : t1)
+            md += "| " + r->text("case") + " | " + who(*r) + " | " + r->text("grid") + " | " + r->text("points") + " | " + r->text("steps") +
+                  " | " + seconds_with_spread(*r) + " | " + fmt("%.2f", r->number("distance_s")) + " | " + fmt("%.2f", r->number("init_s")) +
+                  " | " + fmt("%.2f", r->number("steps_s")) + " | " + fmt("%.2f", r->number("mesh_s")) + " | " + r->text("vcycles") + " | " +
+                  fmt("%.0f", r->number("peak_rss_mib")) + " | " + fmt("%.2f", r->number("paper_s")) + " | " +
+                  fmt("%.4f", r->number("total_s") / r->number("paper_s")) + " |\n";
+    }
+    const auto t2 = section(all, "table2");
+    if (!t2.empty()) {
+        md += "\n### Paper's Table 2: surface errors (RMS of distance - l over each sheet)\n\n"
+              "| shape | device | precision | grid | steps | grown | paper | shrunk | paper | order (grown, shrunk) | total s |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|\n";
+        std::map<std::string, const Record*> previous;  // shape, device, precision -> coarser result
+        for (const Record* r : t2) {
+            const std::string key = r->text("case") + "|" + who(*r);
+            const Record* coarse = previous.count(key) ? previous[key] : nullptr;
+            md += "| " + r->text("case") + " | " + who(*r) + " | " + r->text("grid") + " | " + r->text("steps") + " | " +
+                  fmt("%.3e", r->number("grown")) + " | " + fmt("%.3e", r->number("paper_grown")) + " | " + fmt("%.3e", r->number("shrunk")) +
+                  " | " + fmt("%.3e", r->number("paper_shrunk")) + " | " + order(*r, coarse, "grown") + ", " + order(*r, coarse, "shrunk") +
+                  " | " + fmt("%.2f", r->number("total_s")) + " |\n";
+            previous[key] = r;
+        }
+    }
+    const auto rl = section(all, "roofline");
+    if (!rl.empty()) {
+        md += "\n### Roofline: achieved bandwidth against a copy on the same device\n\n"
+              "| case | device | precision | kernel | ms, median (min-max) | GB moved | GB/s | of copy |\n|---|---|---|---|---|---|---|---|\n";
+        for (const Record* r : rl) {
+            if (r->has("floor_s"))
+                md += "| " + r->text("case") + " | " + who(*r) + " | " + r->text("kernel") + " | " + fmt("%.3f s", r->number("steps_s")) +
+                      " (floor " + fmt("%.3f s", r->number("floor_s")) + ") | " + fmt("%.2f", r->number("gb")) + " | | " +
+                      fmt("%.0f%% of floor rate", 100 * r->number("of_floor")) + " |\n";
+            else if (!r->has("ms"))
+                md += "| " + r->text("case") + " | host | - | " + r->text("kernel") + " | | | " + fmt("%.1f", r->number("gbps")) + " | |\n";
+            else
+                md += "| " + r->text("case") + " | " + who(*r) + " | " + r->text("kernel") + " | " + fmt("%.2f", r->number("ms")) + " (" +
+                      fmt("%.2f", r->number("ms_min")) + "-" + fmt("%.2f", r->number("ms_max")) + ") | " + fmt("%.3f", r->number("gb")) +
+                      " | " + fmt("%.1f", r->number("gbps")) + " | " + fmt("%.0f%%", 100 * r->number("of_copy")) + " |\n";
+        }
+    }
+    const auto sc = section(all, "scaling");
+    if (!sc.empty()) {
+        md += "\n### Scaling with resolution\n\n"
+              "| case | device | precision | grid | cells | band cells | total s, median (min-max) | steps s | peak MiB | "
+              "us per band cell |\n|---|---|---|---|---|---|---|---|---|---|\n";
+        for (const Record* r : sc)
+            md += "| " + r->text("case") + " | " + who(*r) + " | " + r->text("grid") + " | " + fmt("%.3g", r->number("cells")) + " | " +
+                  fmt("%.3g", r->number("band_cells")) + " | " + seconds_with_spread(*r) + " | " + fmt("%.2f", r->number("steps_s")) + " | " +
+                  fmt("%.0f", r->number("peak_rss_mib")) + " | " + fmt("%.2f", 1e6 * r->number("total_s") / r->number("band_cells")) + " |\n";
+    }
+    std::string errors;
+    for (const Record& r : all)
+        if (r.has("error")) errors += "- " + r.text("section") + " " + r.text("case") + " on " + r.text("device") + " " + r.text("precision") + ": " + r.text("error") + "\n";
+    if (!errors.empty()) md += "\n### Not measured\n\n" + errors;
+    return md;
+}
+
+void write_plot_data(const std::vector<Record>& all, const std::string& dir) {
+    const auto open = [&](const std::string& name) {
+        std::ofstream f(dir + "/" + name);
+        if (!f) throw std::runtime_error("cannot write " + dir + "/" + name);
+        return f;
+    };
+    std::ofstream sc = open("scaling.dat");
+    sc << "# series cells band_cells total_s steps_s peak_mib\n";
+    for (const Record* r : section(all, "scaling"))
+        sc << r->text("device") << "/" << r->text("precision") << ' ' << r->text("cells") << ' ' << r->text("band_cells") << ' '
+           << r->text("total_s") << ' ' << r->text("steps_s") << ' ' << r->text("peak_rss_mib") << '\n';
+    std::ofstream rl = open("roofline.dat");
+    rl << "# series kernel gbps of_copy\n";
+    for (const Record* r : section(all, "roofline"))
+        if (r->has("of_copy")) {
+            std::string kernel = r->text("kernel");
+            for (char& c : kernel)
+                if (c == ' ') c = '_';
+            rl << r->text("device") << "/" << r->text("precision") << ' ' << kernel << ' ' << r->text("gbps") << ' ' << r->text("of_copy") << '\n';
+        }
+    std::ofstream t2 = open("table2.dat");
+    t2 << "# series n grown shrunk paper_grown paper_shrunk\n";
+    for (const Record* r : section(all, "table2"))
+        t2 << r->text("case") << "/" << r->text("device") << "/" << r->text("precision") << ' ' << r->text("nx") << ' ' << r->text("grown")
+           << ' ' << r->text("shrunk") << ' ' << r->text("paper_grown") << ' ' << r->text("paper_shrunk") << '\n';
+}
+
+}  // namespace snvr::bench

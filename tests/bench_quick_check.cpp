@@ -1,0 +1,74 @@
+// snvr-bench --quick as CI runs it, so the suite cannot rot: it finishes, covers every
+// device with every section, reports no failed case, and prints the tables it writes.
+#include <doctest/doctest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string field(const std::string& line, const std::string& key) {
+    const std::string tag = "\"" + key + "\": \"";
+    const std::size_t a = line.find(tag);
+    if (a == std::string::npos) return "";
+    const std::size_t b = line.find('"', a + tag.size());
+    return line.substr(a + tag.size(), b - a - tag.size());
+}
+
+}  // namespace
+
+TEST_CASE("snvr-bench --quick covers every device and section and prints its tables") {
+    const fs::path out = fs::temp_directory_path() / ("snvr-bench-quick-" + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const std::string cmd = std::string(SNVR_BENCH) + " --quick --out " + out.string() + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    REQUIRE(p != nullptr);
+    std::string printed;
+    char buf[4096];
+    std::size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) printed.append(buf, n);
+    const int status = pclose(p);
+    CAPTURE(printed);
+    REQUIRE(WIFEXITED(status));
+    REQUIRE(WEXITSTATUS(status) == 0);
+
+    std::ifstream jsonl(out / "results.jsonl");
+    std::set<std::string> devices, seen;
+    std::string line;
+    int records = 0;
+    while (std::getline(jsonl, line)) {
+        ++records;
+        CAPTURE(line);
+        CHECK(line.find("\"error\"") == std::string::npos);
+        const std::string device = field(line, "device");
+        if (field(line, "backend") != "host") devices.insert(device);
+        seen.insert(field(line, "section") + " on " + device);
+    }
+    CHECK(records > 20);
+    CHECK(devices.count("openmp") == 1);
+    CHECK(devices.count("opencl:0:0") == 1);  // PoCL, which the set-up installs
+    for (const std::string& d : devices)
+        for (const char* s : {"table1", "table2", "roofline", "scaling"}) {
+            CAPTURE(d);
+            CAPTURE(s);
+            CHECK(seen.count(std::string(s) + " on " + d) == 1);
+        }
+    std::ifstream md_file(out / "results.md");
+    std::stringstream md;
+    md << md_file.rdbuf();
+    for (const char* heading : {"### Paper's Table 1", "### Paper's Table 2", "### Roofline", "### Scaling"}) {
+        CHECK(md.str().find(heading) != std::string::npos);
+        CHECK(printed.find(heading) != std::string::npos);
+    }
+    CHECK(md.str().find("### Not measured") == std::string::npos);
+    for (const char* dat : {"scaling.dat", "roofline.dat", "table2.dat"}) CHECK(fs::file_size(out / dat) > 40);
+    fs::remove_all(out);
+}
