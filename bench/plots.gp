@@ -17,7 +17,13 @@ set xlabel "cells in the band"
 set ylabel "seconds, file to mesh (median)"
 plot for [s in series(f)] rows(f, s) using 3:4 with linespoints pt 7 title s
 
+set output dir . "/scaling_cells.png"
+set title "Scaling against all cells of the grid"
+set xlabel "cells in the grid"
+plot for [s in series(f)] rows(f, s) using 2:4 with linespoints pt 7 title s
+
 set output dir . "/scaling_memory.png"
+set xlabel "cells in the band"
 set title "Peak memory against cells in the band"
 set ylabel "peak resident memory, MiB"
 plot for [s in series(f)] rows(f, s) using 3:6 with linespoints pt 7 title s
