@@ -9,7 +9,9 @@ set key outside right top
 series(file) = system("awk '!/^#/ {print $1}' " . file . " | sort -u | tr '\n' ' '")
 rows(file, s) = "< awk '$1 == \"" . s . "\"' " . file
 
+# A section that was not run has an empty .dat file: no plot for it.
 f = dir . "/scaling.dat"
+if (strlen(series(f)) > 0) {
 set output dir . "/scaling.png"
 set title "Scaling: bunny at 128-512 cells on the longest axis"
 set logscale xy
@@ -27,17 +29,23 @@ set xlabel "cells in the band"
 set title "Peak memory against cells in the band"
 set ylabel "peak resident memory, MiB"
 plot for [s in series(f)] rows(f, s) using 3:6 with linespoints pt 7 title s
+unset logscale
+}
 
 f = dir . "/table2.dat"
+if (strlen(series(f)) > 0) {
+set logscale xy
 set output dir . "/table2.png"
 set title "Table 2: grown-sheet error against grid size (lines: ours; points: the paper)"
 set xlabel "cells per axis"
 set ylabel "RMS error of the grown sheet"
 plot for [s in series(f)] rows(f, s) using 2:3 with linespoints pt 7 title s, \
      for [s in series(f)] rows(f, s) using 2:5 with points pt 4 ps 2 notitle
-
 unset logscale
+}
+
 f = dir . "/roofline.dat"
+if (strlen(series(f)) > 0) {
 set output dir . "/roofline.png"
 set title "Achieved bandwidth as a fraction of a copy on the same device"
 set xlabel ""
@@ -45,3 +53,4 @@ set ylabel "fraction of copy bandwidth"
 set yrange [0:1.1]
 set xtics rotate by -20
 plot for [s in series(f)] rows(f, s) using 0:4:xtic(2) with linespoints pt 7 title s
+}
