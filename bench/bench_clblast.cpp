@@ -3,7 +3,7 @@
 // reductions of the residual norm. Sizes are those of a real run (FILE at the given
 // resolution); best of N, each call waited for.
 //
-//   bench_clblast FILE [--resolution N] [--repeat N] [--precision float|double] [--device D]
+//   bench_clblast FILE [--resolution N] [--repeat N] [--device D] [--precision float|double]
 #include <clblast.h>
 
 #include <cstdio>
@@ -62,7 +62,6 @@ int run(const char* file, Parameters params, int repeat) {
     std::mt19937 rng(7);
     const cl::Buffer matrix = random_buffer<Real>(rt, n * n, rng), x = random_buffer<Real>(rt, n, rng);
     const cl::Buffer y = random_buffer<Real>(rt, n, rng), field = random_buffer<Real>(rt, cells, rng);
-    using Acc = Real;  // our partial sums are in double where the device has fp64
     const cl::Buffer partial_acc = rt.buffer(bricks * (rt.double_accumulator() ? 8 : 4), "partials");
     {
         std::vector<double> pd(bricks, 0.5);
@@ -97,7 +96,7 @@ int run(const char* file, Parameters params, int repeat) {
         sum.setArg(2, out);
         q.enqueueNDRangeKernel(sum, cl::NullRange, cl::NDRange(256), cl::NDRange(256));
     });
-    const double blas_sum = timed([&] { check(clblast::Sum<Acc>(bricks, out(), 0, partial_real(), 0, 1, &queue), "Sum"); });
+    const double blas_sum = timed([&] { check(clblast::Sum<Real>(bricks, out(), 0, partial_real(), 0, 1, &queue), "Sum"); });
     const double ours_norm = solver.best_seconds(repeat, [&] { backend.residual_sum_squares(0, solver.coefficient); }) * 1e3;
     const double blas_nrm2 = timed([&] { check(clblast::Nrm2<Real>(cells, out(), 0, field(), 0, 1, &queue), "Nrm2"); });
     const double blas_dot = timed([&] { check(clblast::Dot<Real>(cells, out(), 0, field(), 0, 1, field(), 0, 1, &queue), "Dot"); });
@@ -118,24 +117,13 @@ int run(const char* file, Parameters params, int repeat) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: %s FILE [--resolution N] [--repeat N] [--precision float|double] [--device D]\n", argv[0]);
-        return 2;
-    }
-    Parameters params;
-    params.resolution = 256;
-    params.device = "opencl";
-    int repeat = 20;
-    std::string precision = "double";
-    for (int a = 2; a + 1 < argc; a += 2) {
-        const std::string opt = argv[a];
-        if (opt == "--resolution") params.resolution = std::atoi(argv[a + 1]);
-        else if (opt == "--repeat") repeat = std::atoi(argv[a + 1]);
-        else if (opt == "--device") params.device = argv[a + 1];
-        else if (opt == "--precision") precision = argv[a + 1];
-    }
+    bench::SolverBenchArgs args;
+    args.params.resolution = 256;
+    args.params.device = "opencl";
+    args.repeat = 20;
+    if (!bench::parse_solver_bench_args(argc, argv, args)) return 2;
     try {
-        return precision == "float" ? run<float>(argv[1], params, repeat) : run<double>(argv[1], params, repeat);
+        return args.single ? run<float>(args.file, args.params, args.repeat) : run<double>(args.file, args.params, args.repeat);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_clblast: %s\n", e.what());
         return 1;

@@ -56,21 +56,9 @@ int run(const char* file, Parameters params, int repeat) {
 }
 
 int main(int argc, char** argv) {
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: %s FILE [--resolution N] [--repeat N] [--device D] [--precision float|double]\n", argv[0]);
-        return 2;
-    }
-    Parameters params;
-    params.resolution = 256;
-    params.device = "openmp";
-    int repeat = 10;
-    std::string precision = "double";
-    for (int a = 2; a + 1 < argc; a += 2) {
-        const std::string opt = argv[a];
-        if (opt == "--resolution") params.resolution = std::atoi(argv[a + 1]);
-        else if (opt == "--repeat") repeat = std::atoi(argv[a + 1]);
-        else if (opt == "--device") params.device = argv[a + 1];
-        else if (opt == "--precision") precision = argv[a + 1];
-    }
-    return precision == "float" ? run<float>(argv[1], params, repeat) : run<double>(argv[1], params, repeat);
+    bench::SolverBenchArgs args;
+    args.params.resolution = 256;
+    args.params.device = "openmp";
+    if (!bench::parse_solver_bench_args(argc, argv, args)) return 2;
+    return args.single ? run<float>(args.file, args.params, args.repeat) : run<double>(args.file, args.params, args.repeat);
 }

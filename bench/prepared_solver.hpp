@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "backend.hpp"
 #include "band_distance.hpp"
@@ -15,6 +17,8 @@
 #include "hierarchy.hpp"
 #include "multigrid.hpp"
 #include "snvr/snvr.hpp"
+
+#include <cstdio>
 
 namespace snvr::bench {
 
@@ -49,20 +53,50 @@ struct PreparedSolver {
         coefficient = Real(params.dt / (h * h));
     }
 
-    // Best of `repeat` runs of f, each waited for; one run first (PoCL compiles a kernel's
-    // work-group function at its first launch).
-    double best_seconds(int repeat, const std::function<void()>& f) {
+    // Seconds of `repeat` runs of f, each waited for, after one run that is not counted
+    // (PoCL compiles a kernel's work-group function at its first launch).
+    std::vector<double> samples(int repeat, const std::function<void()>& f) {
         f();
         backend->finish();
-        double best = 1e30;
+        std::vector<double> t;
         for (int r = 0; r < repeat; ++r) {
             const auto t0 = std::chrono::steady_clock::now();
             f();
             backend->finish();
-            best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
-        return best;
+        return t;
+    }
+
+    double best_seconds(int repeat, const std::function<void()>& f) {
+        const std::vector<double> t = samples(repeat, f);
+        return *std::min_element(t.begin(), t.end());
     }
 };
+
+// The command line the per-operation benchmarks share:
+//   FILE [--resolution N] [--repeat N] [--device D] [--precision float|double]
+struct SolverBenchArgs {
+    const char* file = nullptr;
+    Parameters params;
+    int repeat = 10;
+    bool single = false;
+};
+
+inline bool parse_solver_bench_args(int argc, char** argv, SolverBenchArgs& args) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: %s FILE [--resolution N] [--repeat N] [--device D] [--precision float|double]\n", argv[0]);
+        return false;
+    }
+    args.file = argv[1];
+    for (int a = 2; a + 1 < argc; a += 2) {
+        const std::string opt = argv[a];
+        if (opt == "--resolution") args.params.resolution = std::atoi(argv[a + 1]);
+        else if (opt == "--repeat") args.repeat = std::atoi(argv[a + 1]);
+        else if (opt == "--device") args.params.device = argv[a + 1];
+        else if (opt == "--precision") args.single = std::string(argv[a + 1]) == "float";
+    }
+    return true;
+}
 
 }  // namespace snvr::bench

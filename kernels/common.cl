@@ -17,7 +17,6 @@ typedef ACC acc;
 
 #define BRICK 8
 #define BRICK_CELLS 512
-#define CONSTANT_SLOTS 3u
 
 // A level's shape: cells per axis and bricks along x and y.
 #define LEVEL_PARAMS int nx, int ny, int nz, int bx, int by
@@ -25,7 +24,6 @@ typedef ACC acc;
 
 typedef struct {
     int i, j, k;  // grid position
-    int q;        // position inside its brick, x fastest
     size_t at;    // storage index
 } Cell;
 
@@ -37,7 +35,6 @@ ALWAYS_INLINE size_t cell_index(global const uint* slot, int bx, int by, int i, 
 // Cell q of brick b.
 ALWAYS_INLINE Cell brick_cell(global const uint* slot, int bx, int by, uint b, int q) {
     Cell c;
-    c.q = q;
     c.i = (int)(b % (uint)bx) * BRICK + q % BRICK;
     c.j = (int)(b / (uint)bx % (uint)by) * BRICK + q / BRICK % BRICK;
     c.k = (int)(b / ((uint)bx * (uint)by)) * BRICK + q / (BRICK * BRICK);

@@ -38,18 +38,6 @@ std::vector<Record> roofline(const std::string& label, const PointSet& points, c
     Backend<Real>& b = *solver.backend;
     const Level& lv = solver.hierarchy.levels[0];
     const double stream_gb = double(lv.brick_cells) * sizeof(Real) / 1e9;
-    const auto timed = [&](const std::function<void()>& f) {
-        f();
-        b.finish();
-        std::vector<double> t;
-        for (int r = 0; r < repeat; ++r) {
-            const double t0 = now_seconds();
-            f();
-            b.finish();
-            t.push_back(now_seconds() - t0);
-        }
-        return spread_of(t);
-    };
     const Real omega = Real(params.omega);
     struct Kernel {
         const char* name;
@@ -65,7 +53,7 @@ std::vector<Record> roofline(const std::string& label, const PointSet& points, c
     std::vector<Record> out;
     double copy_gbs = 0;
     for (const Kernel& k : kernels) {
-        const Spread s = timed(k.run);
+        const Spread s = spread_of(solver.samples(repeat, k.run));
         const double gb = k.streams * stream_gb, gbs = gb / s.median;
         if (copy_gbs == 0) copy_gbs = gbs;
         Record r;
