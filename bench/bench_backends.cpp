@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
             rows.push_back(measure<double>(points, params, repeat));
             rows.push_back(measure<float>(points, params, repeat));
         }
-        std::printf("%s, %d cells on the longest axis, %d steps\n\n", argv[1], params.resolution, params.steps);
+        std::printf("%s, %d cells on the longest axis, %d steps\n\n", argv[1], params.resolution, *params.steps);
         std::printf("| backend | precision | distance s | init s | steps s | mesh s | V-cycles | steps at floor rate | smooth GB/s | copy GB/s | smooth / copy |\n");
         std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
         for (const Row& r : rows)

@@ -49,7 +49,7 @@ int run(const char* file, Parameters params, int repeat) {
         const Level& coarse = hier.levels[std::size_t(solved)];
         std::vector<Real> g(coarse.cells());
         backend.download(solved, FieldKind::g, g.data());
-        n = coarse_inverse(coarse, std::vector<double>(g.begin(), g.end()), params.dt / (coarse.h * coarse.h)).size();
+        n = coarse_inverse(coarse, std::vector<double>(g.begin(), g.end()), solver.dt / (coarse.h * coarse.h)).size();
     }
     const std::size_t cells = fine.brick_cells, bricks = fine.bricks.size();
     std::printf("%s, %s: coarse inverse %zu x %zu, %zu active bricks, %zu cells, best of %d\n\n", backend.name().c_str(),

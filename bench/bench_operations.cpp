@@ -42,7 +42,7 @@ int run(const char* file, Parameters params, int repeat) {
         {"residual norm", 3, [&] { backend->residual_sum_squares(0, c); }},
         {"restrict residual", 3, [&] { backend->restrict_residual(0, c); }},
         {"prolong + correct", 3, [&] { backend->prolong_correct(0, true); }},
-        {"nonlinear", 3, [&] { backend->nonlinear(Real(1e-3)); }},
+        {"nonlinear", 4, [&] { backend->nonlinear(Real(1e-3), solver.tube); }},
     };
     double copy_rate = 0;
     std::printf("| operation | ms | GB moved | GB/s | of copy |\n|---|---|---|---|---|\n");

@@ -29,6 +29,8 @@ struct PreparedSolver {
     std::unique_ptr<Backend<Real>> backend;
     Real coefficient = 0;  // dt / h^2 on level 0
     int exact_level = -1;  // the coarse level solved exactly, if any
+    Tube<Real> tube;       // the run's tube
+    double dt = 0;         // normalised
 
     PreparedSolver(const PointSet& points, const Parameters& params) {
         const PointIndex index(points);
@@ -45,12 +47,14 @@ struct PreparedSolver {
         backend->setup(hierarchy);
         backend->init_phase(dist.distance.data(), Real(band.offset), Real(1 / (std::sqrt(2.0) * plan.xi / L)), Real(band.cut));
         MultigridSettings ms;
-        ms.dt = params.dt;
+        ms.dt = plan.dt;
+        tube = tube_of<Real>(plan);
+        dt = plan.dt;
         ms.exact_coarse = params.exact_coarse;
         exact_level = prepare_coarse_levels(*backend, hierarchy, ms);
         backend->load_rhs();
         const double h = hierarchy.levels[0].h;
-        coefficient = Real(params.dt / (h * h));
+        coefficient = Real(plan.dt / (h * h));
     }
 
     // Seconds of `repeat` runs of f, each waited for, after one run that is not counted

@@ -207,9 +207,20 @@ Command reconstruct_command(ReconstructOptions& o) {
          fmt("cells on the longest axis of the padded box (default %d)", defaults.resolution), store(p.resolution),
          "Grid"},
         {"--voxel", "", "H", "voxel size instead of --resolution, world units", store(p.voxel)},
-        {"--steps", "", "N", fmt("time steps (default %d)", defaults.steps), store(p.steps), "Solver"},
-        {"--dt", "", "X", fmt("time step, normalised units: longest side = 1 (default %g)", defaults.dt),
-         store(p.dt)},
+        {"--smoothing", "", "T",
+         fmt("flow time in voxels squared: how much the surface is smoothed\n(default %g)", defaults.smoothing_cells),
+         store(p.smoothing_cells), "Solver"},
+        {"--dt-cells", "", "X", fmt("time step as dt / h^2 (default %g)", defaults.dt_cells), store(p.dt_cells)},
+        {"--dt", "", "X", "time step in normalised units (longest side = 1) instead of\n--dt-cells", store(p.dt)},
+        {"--steps", "", "N", "time steps (default: the flow time over the time step)", store(p.steps)},
+        {"--tube-inner", "", "F",
+         fmt("the flow keeps the surface at least (1 - F) x offset from the\npoints (default %g)", defaults.tube_inner),
+         store(p.tube_inner)},
+        {"--tube-outer", "", "F",
+         fmt("...and at most (1 + F) x offset from them (default %g)", defaults.tube_outer), store(p.tube_outer)},
+        {"--free-flow", "", "", "no tube: the paper's unconstrained flow", [&p](const std::string&, const std::string&) {
+             p.keep_offset = false;
+         }},
         {"--eps-cells", "", "M", fmt("Allen-Cahn epsilon: the interface spans about M cells\n(default %g)", defaults.eps_cells),
          store(p.eps_cells)},
         {"--eps", "", "E", "Allen-Cahn epsilon instead of --eps-cells, world units", store(p.eps)},
@@ -233,7 +244,7 @@ Command reconstruct_command(ReconstructOptions& o) {
         help_option(),
     };
     c.exclusive = {{"--offset", "--thickness"}, {"--resolution", "--voxel"}, {"--eps-cells", "--eps"},
-                   {"--xi-cells", "--xi"}};
+                   {"--xi-cells", "--xi"}, {"--dt-cells", "--dt"}, {"--tube-inner", "--free-flow"}, {"--tube-outer", "--free-flow"}};
     c.epilogue = std::string(
                      "Options take '--opt value' or '--opt=value'. Progress, warnings and the summary\n"
                      "go to stderr. A mesh that is not closed, manifold and oriented, or that does\n"
@@ -246,9 +257,21 @@ Command sample_command(SampleOptions& o) {
     Command c;
     c.usage = "snvr-cl sample SHAPE -o OUTPUT [--spacing S]";
     c.description =
-        "Writes points sampled exactly on an analytic test shape centred in the unit box:\n"
-        "sphere, half-sphere (radius 0.35), cube (side 0.35), cylinder (radius and height\n"
-        "0.35), cone (two cones joined at their base, radius 0.35, height 0.7).\n";
+        "Writes points sampled on an analytic test shape centred in the unit box, about\n"
+        "S apart (exactly on the surface unless noisy):\n"
+        "  sphere, half-sphere   radius 0.35 (half-sphere: open, z >= 0.5)\n"
+        "  cube                  side 0.35\n"
+        "  cylinder              radius and height 0.35, with caps\n"
+        "  cone                  two cones joined at their base, radius 0.35, height 0.7\n"
+        "  sheets                two parallel open squares, side 0.7, 0.06 apart in z\n"
+        "  mobius                Moebius band, centre radius 0.3, width 0.25\n"
+        "  helicoid              open helicoid, radius 0.35, pitch 0.2, 3 turns\n"
+        "  noisy-sphere          the sphere plus Gaussian noise, sigma 0.3 S per axis (seed 1)\n"
+        "  varying-sphere        the sphere, points per area falling 10x from the top pole\n"
+        "                        (spacing S) to the bottom (spacing 3.16 S)\n"
+        "  torus                 R 0.3, tube 0.12; give a large S to undersample it\n"
+        "  lidar                 open bumpy terrain 0.7 x 0.7 scanned along lines of constant\n"
+        "                        y 4 S apart, points S apart on a line, range noise 0.1 S\n";
     c.options = {
         {"--output", "-o", "FILE", "points to write (required): .ply (binary float) or .xyz (text)",
          store(o.output), "Options"},
@@ -342,7 +365,7 @@ std::optional<SampleOptions> parse_sample(const std::vector<std::string>& args, 
         print_help(command, help_out);
         return std::nullopt;
     }
-    o.shape = only_positional(parse(command, args), "shape name (sphere, half-sphere, cube, cylinder, cone)");
+    o.shape = only_positional(parse(command, args), "shape name (see snvr-cl sample --help)");
     if (o.output.empty()) throw UsageError("missing output: give -o FILE");
     require_extension("output", o.output, {".ply", ".xyz"});
     if (!(o.spacing > 0)) throw UsageError(fmt("--spacing must be positive, got %g", o.spacing));

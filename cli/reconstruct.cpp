@@ -56,7 +56,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
     for (const std::string& w : result.warnings) warn(w);
 
     say("mesh: extracting the zero level set");
-    const snvr::Mesh mesh = snvr::extract_isosurface(result.phi, result.domain, 0.0, snvr::Interpolation::PhaseField);
+    const snvr::Mesh mesh = snvr::shell_mesh(result);
     seconds.mesh = stage.lap();
     if (mesh.triangles.empty())
         throw snvr::Error(fmt("the reconstructed shell is empty (no triangles on the %d x %d x %d grid, offset "
@@ -82,14 +82,16 @@ int run_reconstruct(const std::vector<std::string>& args) {
 
     say("check: " + grouped(mesh.triangles.size()) + " triangles, " + grouped(points.size()) + " points");
     const snvr::MeshReport report = snvr::check_mesh(mesh);
-    const std::size_t inside = snvr::count_points_inside(mesh, points);
+    // Points inside, their depth, the walls and the surface's roughness, for the summary.
+    const snvr::MeshQuality quality = snvr::measure_quality(mesh, points, result.offset, result.domain.h);
+    const std::size_t inside = quality.points_inside;
     const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
     seconds.check = stage.lap();
     for (const std::string& w : mesh_warnings(report, inside, points.size(), clusters)) warn(w);
     seconds.total = seconds.written + total.lap();
 
     if (!o.quiet)
-        print_summary(std::cerr, RunSummary{result, report, points.size(), inside, seconds, o.output, o.volume});
+        print_summary(std::cerr, RunSummary{result, report, quality, points.size(), inside, seconds, o.output, o.volume});
     return 0;
 }
 

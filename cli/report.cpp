@@ -88,6 +88,12 @@ void print_summary(std::ostream& out, const RunSummary& run) {
     // In the cells of --eps-cells/--xi-cells, whichever way they were given.
     const double per_cell = snvr::eps_of_cells(1, d.h);
     row("eps, xi", fmt("%.6g (%.3g cells), %.6g (%.3g cells)", r.eps, r.eps / per_cell, r.xi, r.xi / per_cell));
+    const double L = d.length_scale(), dt_cells = r.dt * (L / d.h) * (L / d.h);
+    row("flow", fmt("%zu steps of dt %.3g (%.3g h^2): time %.3g h^2; %s", r.steps.size(), r.dt, dt_cells,
+                    dt_cells * double(r.steps.size()),
+                    r.tube_inner > 0 ? fmt("surface kept between %.3g and %.3g voxels from the points", (r.offset - r.tube_inner) / d.h,
+                                           (r.offset + r.tube_outer) / d.h).c_str()
+                                     : "free flow"));
     row("backend", r.backend);
     row("active cells", fmt("%s (%.1f%% of the grid)", grouped(r.active_cells).c_str(),
                             cells > 0 ? 100.0 * double(r.active_cells) / cells : 0.0));
@@ -105,7 +111,14 @@ void print_summary(std::ostream& out, const RunSummary& run) {
                 run.mesh.solids == 1 ? "" : "s"));
     row("", fmt("closed %s, manifold %s, oriented %s", yes_no(run.mesh.closed()), yes_no(run.mesh.manifold()),
                 yes_no(run.mesh.oriented())));
-    row("points enclosed", fmt("%s of %s", grouped(run.inside).c_str(), grouped(run.points).c_str()));
+    const snvr::MeshQuality& q = run.quality;
+    row("points enclosed", fmt("%s of %s; the nearest to the surface %.3g x offset deep (1st percentile %.3g)",
+                               grouped(run.inside).c_str(), grouped(run.points).c_str(), q.depth_min, q.depth_p01));
+    row("walls", fmt("thinnest 1%% at %.3g voxels = %.3g x 2 offset (thinnest of all %.3g voxels)", q.wall_p01,
+                     q.wall_p01_2l, q.wall_min));
+    row("surface", fmt("distance to the points - offset: RMS %.3g voxels, mean %+.3g; dihedral RMS %.3g deg, "
+                       "normal noise %.3g deg; genus %ld",
+                       q.offset_rms, q.offset_mean, q.dihedral_rms, q.normal_noise, q.genus));
     row("wrote", run.output + (run.volume.empty() ? "" : ", " + run.volume));
     out.flush();
 }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "snvr/mesh.hpp"
+#include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"
 
 namespace cli {
@@ -36,6 +37,7 @@ struct Seconds {
 struct RunSummary {
     const snvr::Result& result;
     const snvr::MeshReport& mesh;
+    const snvr::MeshQuality& quality;
     std::size_t points = 0, inside = 0;
     Seconds seconds;
     std::string output, volume;

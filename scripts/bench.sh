@@ -5,7 +5,7 @@
 # a --quick run goes to build/bench-quick, leaving the published figures alone.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh gnuplot-nox
+bash scripts/setup.sh gnuplot-nox libopenvdb-dev libboost-dev  # OpenVDB peer (its headers need Boost)
 bash scripts/build.sh
 export OMP_WAIT_POLICY=passive
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages libsnvr builds and tests with, only those missing;
-# extra package names given as arguments too (scripts/bench.sh adds gnuplot-nox).
+# extra package names given as arguments too (scripts/bench.sh adds gnuplot-nox and OpenVDB).
 set -euo pipefail
 packages=(build-essential cmake libomp-dev ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers
-          pocl-opencl-icd libclblast-dev libnanoflann-dev doctest-dev "$@")
+          pocl-opencl-icd libclblast-dev libnanoflann-dev doctest-dev libpng-dev "$@")
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,5 +1,6 @@
 // snvr-bench --quick as CI runs it, so the suite cannot rot: it finishes, covers every
-// device with every section, reports no failed case, and prints the tables it writes.
+// device with every section, reports no failed case, measures the quality section's
+// cases with both tools (or notes the peer is not built), and prints the tables it writes.
 #include <doctest/doctest.h>
 #include <sys/wait.h>
 
@@ -41,13 +42,24 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
     REQUIRE(WEXITSTATUS(status) == 0);
 
     std::ifstream jsonl(out / "results.jsonl");
-    std::set<std::string> devices, seen;
+    std::set<std::string> devices, seen, quality;
     std::string line;
     int records = 0;
     while (std::getline(jsonl, line)) {
         ++records;
         CAPTURE(line);
         CHECK(line.find("\"error\"") == std::string::npos);
+        if (field(line, "section") == "quality") {
+            // Runs once, not per device: a measured mesh or the peer's "not built" note.
+            const bool measured = line.find("\"triangles\": ") != std::string::npos && line.find("\"inside_pct\": ") != std::string::npos;
+            CHECK((measured || (field(line, "tool") == "openvdb" && field(line, "note").rfind("not built", 0) == 0)));
+            if (!field(line, "png").empty()) {
+                CHECK(fs::file_size(out / field(line, "png")) > 1000);
+                CHECK(fs::file_size(out / field(line, "png_zoom")) > 1000);
+            }
+            quality.insert(field(line, "case") + " " + field(line, "tool"));
+            continue;
+        }
         const std::string device = field(line, "device");
         if (field(line, "backend") != "host") devices.insert(device);
         seen.insert(field(line, "section") + " on " + device);
@@ -61,10 +73,14 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
             CAPTURE(s);
             CHECK(seen.count(std::string(s) + " on " + d) == 1);
         }
+    for (const char* c : {"bunny snvr", "bunny openvdb", "sheets snvr", "sheets openvdb"}) {
+        CAPTURE(c);
+        CHECK(quality.count(c) == 1);
+    }
     std::ifstream md_file(out / "results.md");
     std::stringstream md;
     md << md_file.rdbuf();
-    for (const char* heading : {"### Paper's Table 1", "### Paper's Table 2", "### Roofline", "### Scaling"}) {
+    for (const char* heading : {"### Paper's Table 1", "### Paper's Table 2", "### Roofline", "### Scaling", "### Quality"}) {
         CHECK(md.str().find(heading) != std::string::npos);
         CHECK(printed.find(heading) != std::string::npos);
     }

@@ -35,13 +35,14 @@ inline std::vector<Shape> shapes() {
     };
 }
 
-inline Parameters parameters(int resolution, int steps) {
+// steps < 0: the default flow (Parameters::smoothing_cells in steps of dt_cells).
+inline Parameters parameters(int resolution, int steps = -1) {
     Parameters p;
     p.box = std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{1, 1, 1}};
     p.resolution = resolution;
     p.offset = 0.05;
     p.eps = 0.005;
-    p.steps = steps;
+    if (steps >= 0) p.steps = steps;
     return p;
 }
 

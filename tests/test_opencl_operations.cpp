@@ -37,6 +37,7 @@ struct Pair {
     std::unique_ptr<Backend<Real>> ref = make_openmp_backend<Real>();
     std::unique_ptr<Backend<Real>> dev = make_opencl_backend<Real>("opencl");
     std::mt19937 rng{12345};
+    std::vector<Real> distance;  // level 0, in [0, 1)
 
     explicit Pair(const Case& c) {
         Domain d;
@@ -54,9 +55,10 @@ struct Pair {
         ref->setup(hier);
         dev->setup(hier);
         // Level 0's inactive bricks take the sign of l - d at their first cell.
-        std::vector<Real> distance = random(0, Real(0), Real(2), 0);
+        const std::vector<Real> distance = random(0, Real(0), Real(2), 0);
         ref->init_phase(distance.data(), Real(1), Real(3), Real(0.8));
         dev->init_phase(distance.data(), Real(1), Real(3), Real(0.8));
+        this->distance = random(0, Real(0), Real(1), 0);
     }
 
     std::vector<Real> random(int level, Real lo, Real hi, double zeros) {
@@ -187,12 +189,19 @@ void compare_operations() {
             CHECK(u == kExactUlps);
             }
         }
-        p.randomize();
-        p.ref->nonlinear(Real(7.5));
-        p.dev->nonlinear(Real(7.5));
-        const double un = p.ulps(0, FieldKind::phi);
-        std::printf("  nonlinear             %g ULP\n", un);
-        CHECK(un <= kNonlinearUlps);
+        for (bool tube : {false, true}) {
+            p.randomize();
+            // Distances in [0, 1) around a tube [0.3, 0.5]: cells below, inside and above it.
+            Tube<Real> t;
+            if (tube) t = Tube<Real>{Real(0.3), Real(0.5), Real(4)};
+            for (Backend<Real>* b : {p.ref.get(), p.dev.get()}) {
+                b->upload(0, FieldKind::distance, p.distance.data());
+                b->nonlinear(Real(7.5), t);
+            }
+            const double un = p.ulps(0, FieldKind::phi);
+            std::printf("  nonlinear, tube %-3s   %g ULP\n", tube ? "on" : "off", un);
+            CHECK(un <= kNonlinearUlps);
+        }
     }
     CHECK(coarse_solves >= 3);
 }

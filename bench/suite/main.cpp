@@ -1,13 +1,17 @@
 // snvr-bench: the benchmark suite. Runs the paper's Table 1 and Table 2 cases, a
 // roofline per device and a scaling series on every available device and precision
 // (or a chosen subset), each case in its own process with a warm-up and repetitions,
-// and writes results.jsonl, results.md and the data for bench/plots.gp.
+// then the quality comparison with the OpenVDB peer (quality.hpp: once, on the default
+// device or the first of --devices), and writes results.jsonl, results.md, the data for bench/plots.gp and the
+// quality section's PNG previews.
 //
-//   snvr-bench [--quick] [--sections table1,table2,roofline,scaling] [--devices D1,D2]
+//   snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality] [--devices D1,D2]
 //              [--precisions double,float] [--repeat N] [--table2 128,256,512] [--data DIR] [--out DIR]
+//              [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]
 // Cases above 256 cells on the longest axis run once, without a warm-up (minutes each).
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -19,6 +23,7 @@
 
 #include "isolated.hpp"
 #include "measure.hpp"
+#include "quality.hpp"
 #include "report.hpp"
 
 using namespace snvr;
@@ -28,11 +33,14 @@ namespace {
 
 struct Options {
     bool quick = false;
-    std::set<std::string> sections{"table1", "table2", "roofline", "scaling"};
+    std::set<std::string> sections{"table1", "table2", "roofline", "scaling", "quality"};
     std::vector<std::string> devices, precisions;  // empty: all available / by mode
     int repeat = 3;
     std::vector<int> table2{128, 256, 512};  // 512^3 where memory allows (else "not measured")
     std::string data = SNVR_DATA_DIR, out = "snvr-bench-results";
+    std::vector<int> quality_resolutions{128, 256, 512};
+    std::vector<std::string> quality_cases;  // empty: all (--quick: bunny and sheets)
+    int quality_reference = 256;             // the grid a case's offset is given in (--quick: 64)
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -46,8 +54,9 @@ std::vector<std::string> split(const std::string& s) {
 
 int usage(const char* why) {
     std::fprintf(stderr,
-                 "snvr-bench: %s\nusage: snvr-bench [--quick] [--sections table1,table2,roofline,scaling] [--devices D1,D2]\n"
-                 "                  [--precisions double,float] [--repeat N] [--table2 128,256,512] [--data DIR] [--out DIR]\n",
+                 "snvr-bench: %s\nusage: snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality] [--devices D1,D2]\n"
+                 "                  [--precisions double,float] [--repeat N] [--table2 128,256,512] [--data DIR] [--out DIR]\n"
+                 "                  [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]\n",
                  why);
     return 2;
 }
@@ -112,6 +121,64 @@ Plan plan_cases(const Options& o) {
     return plan;
 }
 
+// The quality section: every case at every resolution, ours and the OpenVDB peer,
+// each in its own process; previews at the middle resolution.
+void run_quality(const Options& o, const std::string& device, std::ofstream& jsonl, std::vector<Record>& records) {
+    const std::vector<std::string> known_shapes = shapes::names();
+    std::vector<std::string> wanted = o.quality_cases;
+    if (wanted.empty() && o.quick) wanted = {"bunny", "sheets"};
+    std::vector<QualityCase> cases;
+    for (const QualityCase& c : quality_cases(o.data, !o.quick)) {
+        if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), c.name) == wanted.end()) continue;
+        if (!c.shape.empty() && std::find(known_shapes.begin(), known_shapes.end(), c.shape) == known_shapes.end()) {
+            std::fprintf(stderr, "snvr-bench: quality: shape '%s' is not in shapes::by_name yet; skipped\n", c.shape.c_str());
+            continue;
+        }
+        cases.push_back(c);
+    }
+    for (const std::string& w : wanted) {
+        bool found = false;
+        for (const QualityCase& c : cases) found |= c.name == w;
+        if (!found) std::fprintf(stderr, "snvr-bench: quality: no case '%s' (a scan in %s or a shape); skipped\n", w.c_str(), o.data.c_str());
+    }
+    std::vector<int> resolutions = o.quick ? std::vector<int>{64, 80} : o.quality_resolutions;
+    std::sort(resolutions.begin(), resolutions.end());
+    const int middle = resolutions[resolutions.size() / 2];
+    const std::size_t total = cases.size() * resolutions.size() * 2;
+    std::size_t done = 0;
+    for (const QualityCase& c : cases)
+        for (int n : resolutions)
+            for (const char* tool : {"snvr", "openvdb"}) {
+                ++done;
+                const auto base = [&] { return Record().set("section", "quality").set("case", c.name).set("resolution", n).set("tool", tool); };
+                std::vector<Record> rs;
+                if (std::string(tool) == "openvdb" && !quality_has_openvdb()) {
+                    rs = {base().set("note", "not built (needs libopenvdb-dev and libboost-dev at configure time)")};
+                } else {
+                    QualityRun run;
+                    run.c = c;
+                    run.resolution = n;
+                    run.reference = o.quick ? 64 : o.quality_reference;
+                    run.tool = tool;
+                    run.device = device;
+                    if (n == middle && quality_has_render()) run.png_dir = o.out;
+                    run.png_size = o.quick ? 512 : 1024;
+                    std::fprintf(stderr, "[quality %zu/%zu] %s at %d cells, %s\n", done, total, c.name.c_str(), n, tool);
+                    rs = run_isolated([&] { return std::vector<Record>{measure_quality_run(run, o.data)}; });
+                    for (Record& r : rs)
+                        if (r.has("error")) {
+                            const std::string why = r.text("error");
+                            r = base().set("error", why);
+                        }
+                }
+                for (const Record& r : rs) {
+                    jsonl << r.json() << '\n';
+                    jsonl.flush();
+                    records.push_back(r);
+                }
+            }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -137,9 +204,19 @@ int main(int argc, char** argv) {
             for (const std::string& n : split(val)) o.table2.push_back(std::atoi(n.c_str()));
         }
         else if (opt == "--out") o.out = val;
+        else if (opt == "--quality-resolutions") {
+            o.quality_resolutions.clear();
+            for (const std::string& n : split(val)) o.quality_resolutions.push_back(std::atoi(n.c_str()));
+        }
+        else if (opt == "--quality-cases") o.quality_cases = split(val);
+        else if (opt == "--quality-reference") o.quality_reference = std::atoi(val.c_str());
         else return usage(("unknown option " + opt).c_str());
     }
     if (o.repeat < 1) return usage("--repeat must be at least 1");
+    for (int n : o.quality_resolutions)
+        if (n < 8) return usage("--quality-resolutions must be at least 8 cells");
+    if (o.quality_resolutions.empty()) return usage("--quality-resolutions is empty");
+    if (o.quality_reference < 8) return usage("--quality-reference must be at least 8 cells");
     if (o.quick) o.repeat = 1;
     if (o.precisions.empty()) o.precisions = o.quick ? std::vector<std::string>{"double"} : std::vector<std::string>{"double", "float"};
 
@@ -199,6 +276,8 @@ int main(int argc, char** argv) {
                      precision);
             }
         }
+    if (o.sections.count("quality")) run_quality(o, o.devices.empty() ? "auto" : devices.front().first, jsonl, records);
+
     // Table 1: the paper's seconds where known.
     for (Record& r : records)
         if (r.text("section") == "table1" && r.text("case") == "bunny, every other point" && r.text("grid") == "256x256x224")

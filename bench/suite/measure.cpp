@@ -48,7 +48,7 @@ std::vector<Record> roofline(const std::string& label, const PointSet& points, c
         {"copy", 2, [&] { b.load_rhs(); }},
         {"smooth (one colour)", 4, [&] { b.smooth(0, 0, solver.coefficient, omega); }},
         {"residual norm", 3, [&] { b.residual_sum_squares(0, solver.coefficient); }},
-        {"nonlinear", 3, [&] { b.nonlinear(Real(1e-3)); }},
+        {"nonlinear", 4, [&] { b.nonlinear(Real(1e-3), solver.tube); }},
     };
     std::vector<Record> out;
     double copy_gbs = 0;
@@ -102,7 +102,7 @@ Record measure_run(const RunCase& c, int repeat, bool warm_up) {
     rec.set("backend", res.backend).set("nx", d.nx).set("ny", d.ny).set("nz", d.nz);
     rec.set("grid", std::to_string(d.nx) + "x" + std::to_string(d.ny) + "x" + std::to_string(d.nz));
     rec.set("cells", double(d.cells())).set("band_cells", double(res.active_cells)).set("points", double(points.size()));
-    rec.set("steps", c.params.steps).set("repeat", repeat).set("warm_up", warm_up ? "yes" : "no");
+    rec.set("steps", int(res.steps.size())).set("repeat", repeat).set("warm_up", warm_up ? "yes" : "no");
     const Spread st = spread_of(total);
     rec.set("distance_s", spread_of(distance).median).set("init_s", spread_of(init).median).set("steps_s", spread_of(steps).median);
     rec.set("mesh_s", spread_of(mesh).median).set("total_s", st.median).set("total_min_s", st.min).set("total_max_s", st.max);

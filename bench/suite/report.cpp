@@ -37,6 +37,51 @@ std::string order(const Record& fine, const Record* coarse, const char* key) {
     return fmt("%.2f", std::log(coarse->number(key) / fine.number(key)) / std::log(fine.number("nx") / coarse->number("nx")));
 }
 
+std::string pair(const char* f, double a, double b) { return fmt(f, a) + ", " + fmt(f, b); }
+
+// The quality section, errors and notes included: rows in run order (case,
+// resolution, tool), then the previews.
+std::string quality_table(const std::vector<Record>& all) {
+    std::vector<const Record*> rows;
+    for (const Record& r : all)
+        if (r.text("section") == "quality") rows.push_back(&r);
+    if (rows.empty()) return "";
+    std::string md =
+        "\n### Quality: libsnvr (snvr) and the OpenVDB peer at the same voxel h and offset l, judged by measure_quality\n\n"
+        "Pieces: solids; genus over closed pieces; depth: points' depth inside the shell over l (min, 1st percentile); "
+        "offset error: distance to the nearest point minus l, over h; dihedral and normal noise in degrees; wall: "
+        "thickness over 2l (min, 1st percentile); exact: distance to the exact offset surface over h; s: reconstruction "
+        "and meshing, seconds, one run (ours after a tiny run that loads the device's kernels).\n\n"
+        "| case | cells | tool | grid | l (h) | pieces | cavities | genus | inside % | depth min, p1 (l) | offset error RMS, mean (h) | "
+        "dihedral | normal noise | wall min, p1 (2l) | exact RMS, max (h) | triangles | s | note |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    std::string previews;
+    for (const Record* r : rows) {
+        md += "| " + r->text("case") + " | " + r->text("resolution") + " | " + r->text("tool") + " | ";
+        if (r->has("error") || r->has("note")) {
+            md += "| | | | | | | | | | | | | | | " + (r->has("error") ? "not measured: " + r->text("error") : r->text("note")) + " |\n";
+            continue;
+        }
+        std::string note;
+        if (r->text("closed") != "yes") note += "open; ";
+        if (r->text("manifold") != "yes") note += "non-manifold; ";
+        if (r->text("oriented") != "yes") note += "not oriented; ";
+        if (r->number("open_components") > 0) note += r->text("open_components") + " open pieces; ";
+        if (note.size() > 2) note.resize(note.size() - 2);
+        md += r->text("grid") + " | " + fmt("%.2f", r->number("offset_h")) + " | " + r->text("solids") + " | " + r->text("cavities") + " | " +
+              r->text("genus") + " | " + fmt("%.2f", r->number("inside_pct")) + " | " + pair("%.3f", r->number("depth_min_l"), r->number("depth_p01_l")) +
+              " | " + pair("%.3f", r->number("offset_rms_h"), r->number("offset_mean_h")) + " | " + fmt("%.2f", r->number("dihedral_deg")) +
+              " | " + fmt("%.2f", r->number("normal_noise_deg")) + " | " + pair("%.3f", r->number("wall_min_2l"), r->number("wall_p01_2l")) +
+              " | " + (r->has("exact_rms_h") ? pair("%.3f", r->number("exact_rms_h"), r->number("exact_max_h")) : "-") + " | " +
+              fmt("%.0f", r->number("triangles")) + " | " + fmt("%.2f", r->number("seconds")) + " | " + note + " |\n";
+        if (r->has("png"))
+            previews += "- " + r->text("case") + " at " + r->text("resolution") + " cells, " + r->text("tool") + ": [full](" + r->text("png") +
+                        "), [3x zoom](" + r->text("png_zoom") + ")\n";
+    }
+    if (!previews.empty()) md += "\nPreviews (in this directory):\n\n" + previews;
+    return md;
+}
+
 }  // namespace
 
 std::string markdown(const std::vector<Record>& all, const std::string& heading) {
@@ -96,9 +141,14 @@ std::string markdown(const std::vector<Record>& all, const std::string& heading)
                   fmt("%.3g", r->number("band_cells")) + " | " + seconds_with_spread(*r) + " | " + fmt("%.2f", r->number("steps_s")) + " | " +
                   fmt("%.0f", r->number("peak_rss_mib")) + " | " + fmt("%.2f", 1e6 * r->number("total_s") / r->number("band_cells")) + " |\n";
     }
+    md += quality_table(all);
     std::string errors;
     for (const Record& r : all)
-        if (r.has("error")) errors += "- " + r.text("section") + " " + r.text("case") + " on " + r.text("device") + " " + r.text("precision") + ": " + r.text("error") + "\n";
+        if (r.has("error"))
+            errors += "- " + r.text("section") + " " + r.text("case") +
+                      (r.has("tool") ? " at " + r.text("resolution") + " cells, " + r.text("tool")
+                                     : " on " + r.text("device") + " " + r.text("precision")) +
+                      ": " + r.text("error") + "\n";
     if (!errors.empty()) md += "\n### Not measured\n\n" + errors;
     return md;
 }

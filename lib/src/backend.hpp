@@ -16,7 +16,18 @@
 
 namespace snvr {
 
-enum class FieldKind { phi, rhs, g };
+enum class FieldKind { phi, rhs, g, distance };
+
+// Keeps the surface within a tube around the exact offset surface d = l: after each
+// nonlinear step tanh((inner - d) s) <= phi <= tanh((outer - d) s) (normalised), i.e. phi
+// lies between the initial profiles (s = 1 / (sqrt(2) xi)) of the surfaces d = inner and
+// d = outer. Bounding every cell, not just the sign, is what holds the mesher's
+// crossings (interpolated in atanh(phi)) on the right side of the tube's walls.
+// The defaults (walls at -+1e30) switch it off.
+template <class Real>
+struct Tube {
+    Real inner = -1e30f, outer = 1e30f, s = 1;
+};
 
 template <class Real>
 class Backend {
@@ -29,7 +40,8 @@ public:
     virtual std::size_t bytes() const = 0;
 
     // Level 0, whole grid: phi = tanh((l - d) / (sqrt(2) xi)), g = 1 - phi^2 (eqs. 4-5),
-    // and phi = sign(l - d), g = 0 where |l - d| > cut. `distance` is normalised.
+    // and phi = sign(l - d), g = 0 where |l - d| > cut. `distance` is normalised; the
+    // backend keeps it (FieldKind::distance, level 0) for the tube.
     virtual void init_phase(const Real* distance, Real offset, Real inv_sqrt2_xi, Real cut) = 0;
     // g on level+1: harmonic mean of the 8 children's g (0 if any child is 0).
     virtual void restrict_coefficient(int level) = 0;
@@ -51,8 +63,9 @@ public:
     virtual void set_coarse_inverse(int level, const CoarseInverse& inverse) = 0;
     virtual void coarse_solve(int level) = 0;
 
-    // Level 0: phi = phi / sqrt(e + phi^2 (1 - e)), e = exp(-k g), k = 2 dt / eps^2 (eq. 11).
-    virtual void nonlinear(Real k) = 0;
+    // Level 0: phi = phi / sqrt(e + phi^2 (1 - e)), e = exp(-k g), k = 2 dt / eps^2 (eq. 11),
+    // then held within the tube (where g > 0).
+    virtual void nonlinear(Real k, const Tube<Real>& tube) = 0;
 
     // Copies between the level's fields and dense x-fastest arrays of its shape. Upload
     // writes the cells of active bricks only (the others hold constants); download reads all.

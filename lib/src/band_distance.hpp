@@ -2,10 +2,12 @@
 // within l + band of some point. Other cells get a stand-in value beyond the band
 // and are never queried one by one.
 #pragma once
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "backend.hpp"
 #include "point_index.hpp"
 #include "snvr/domain.hpp"
 #include "snvr/reconstruct.hpp"
@@ -22,6 +24,18 @@ struct Band {
 // by at most h from cell to cell: then no cell jumps across the band, and a brick
 // without band cells is all +1 or all -1.
 Band band_of(const DomainPlan& plan, double band_xi);
+
+// The tube of a planned run (backend.hpp), normalised; off for a free flow.
+template <class Real>
+Tube<Real> tube_of(const DomainPlan& plan) {
+    Tube<Real> t;
+    if (plan.tube_inner <= 0) return t;
+    const double L = plan.domain.length_scale();
+    t.inner = Real((plan.offset - plan.tube_inner) / L);
+    t.outer = Real((plan.offset + plan.tube_outer) / L);
+    t.s = Real(L / (std::sqrt(2.0) * plan.xi));
+    return t;
+}
 
 template <class Real>
 struct BandDistance {

@@ -145,6 +145,15 @@ DomainPlan plan_domain(const PointSet& points, const Parameters& params, const P
     d.ny = n[1];
     d.nz = n[2];
 
+    const double L = d.length_scale();
+    plan.dt = params.dt ? *params.dt : params.dt_cells * (h / L) * (h / L);
+    plan.steps = params.steps ? *params.steps
+                              : int(std::ceil(params.smoothing_cells * (h / L) * (h / L) / plan.dt - 1e-9));
+    if (params.keep_offset) {
+        plan.tube_inner = params.tube_inner * plan.offset;
+        plan.tube_outer = params.tube_outer * plan.offset;
+    }
+
     plan.estimated_bytes = estimate_solver_bytes(d, params.precision);
     const std::size_t avail = available_memory();
     if (plan.estimated_bytes > avail / 10 * 9)

@@ -32,6 +32,7 @@
 #include <utility>
 #include <vector>
 
+#include "isosurface_grid.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 
@@ -145,73 +146,11 @@ const Tables& tables() {
     return t;
 }
 
-// Fraction of the way from a to b where the interpolant crosses iso.  Exact
-// ties and rounding keep it in [0, 1]; NaN or infinite values fall back to 0.5.
-double crossing(double fa, double fb, double iso) {
-    const double t = (iso - fa) / (fb - fa);
-    return t >= 0 && t <= 1 ? t : 0.5;
-}
-
-// A phase field is tanh of a signed distance: its atanh is linear where the distance is.
-double unfold(double v) {
-    constexpr double edge = 1 - 1e-12;
-    return std::atanh(std::clamp(v, -edge, edge));
-}
-
-double crossing(double fa, double fb, double iso, Interpolation mode) {
-    return mode == Interpolation::PhaseField ? crossing(unfold(fa), unfold(fb), unfold(iso)) : crossing(fa, fb, iso);
-}
-
-// Read access to either storage precision without copying the field.
-struct Samples {
-    const double* f64 = nullptr;
-    const float* f32 = nullptr;
-    double operator[](std::size_t n) const { return f64 ? f64[n] : double(f32[n]); }
-};
-
-struct Grid {
-    int nx, ny, nz;
-    int words;  // 64-bit words per row of sign bits
-    std::size_t at(int i, int j, int k) const {
-        return std::size_t(i) + std::size_t(nx) * (std::size_t(j) + std::size_t(ny) * std::size_t(k));
-    }
-};
-
-// One bit per sample (value > iso), rows of `words` words, so that whole runs
-// of uniform samples are tested and skipped 64 at a time.
-class SignBits {
-public:
-    SignBits(const Grid& g, const Samples& s, double iso, [[maybe_unused]] bool parallel)
-        : g_(g), bits_(std::size_t(g.ny) * g.nz * g.words, 0) {
-#pragma omp parallel for schedule(static) if (parallel)
-        for (int k = 0; k < g.nz; ++k)
-            for (int j = 0; j < g.ny; ++j) {
-                std::uint64_t* row = &bits_[row_start(j, k)];
-                const std::size_t base = g.at(0, j, k);
-                for (int i = 0; i < g.nx; ++i)
-                    if (s[base + i] > iso) row[i >> 6] |= std::uint64_t(1) << (i & 63);
-            }
-    }
-    // Word w of row (j, k), read from column offset dx (0 or 1).
-    std::uint64_t word(int j, int k, int w, int dx) const {
-        const std::uint64_t* row = &bits_[row_start(j, k)];
-        if (!dx) return row[w];
-        return row[w] >> 1 | (w + 1 < g_.words ? row[w + 1] << 63 : 0);
-    }
-    // Bits of word w whose column i still has i + dx inside the grid.
-    std::uint64_t valid(int w, int dx) const {
-        const int limit = g_.nx - dx - 64 * w;
-        if (limit >= 64) return ~std::uint64_t(0);
-        return limit <= 0 ? 0 : (std::uint64_t(1) << limit) - 1;
-    }
-
-private:
-    std::size_t row_start(int j, int k) const { return (std::size_t(j) + std::size_t(g_.ny) * k) * g_.words; }
-    const Grid& g_;
-    std::vector<std::uint64_t> bits_;
-};
-
-int ctz(std::uint64_t x) { return __builtin_ctzll(x); }
+using contour::crossing;
+using contour::ctz;
+using contour::Grid;
+using contour::Samples;
+using contour::SignBits;
 
 // Keys (i + nx*j) * 7 + dir - 1 of the sign-changing edges leaving the samples
 // of plane k, in increasing order; a vertex's index is its plane's base plus

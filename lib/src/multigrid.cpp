@@ -134,7 +134,7 @@ LinearSolveStats solve_linear(Backend<Real>& backend, const Hierarchy& hierarchy
 }
 
 double nonlinear_bytes(const Hierarchy& hierarchy, std::size_t real_size) {
-    return 3.0 * double(hierarchy.levels[0].brick_cells) * double(real_size);
+    return 4.0 * double(hierarchy.levels[0].brick_cells) * double(real_size);
 }
 
 template int prepare_coarse_levels<double>(Backend<double>&, const Hierarchy&, const MultigridSettings&);

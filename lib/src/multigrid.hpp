@@ -37,7 +37,7 @@ template <class Real>
 int prepare_coarse_levels(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s);
 
 // Solves with phi (level 0) as both the right-hand side and the initial guess.
-// Least bytes the nonlinear step must move: read phi and g, write phi, on active bricks.
+// Least bytes the nonlinear step must move: read phi, g and the distance, write phi, on active bricks.
 double nonlinear_bytes(const Hierarchy& hierarchy, std::size_t real_size);
 
 template <class Real>

@@ -38,8 +38,15 @@ void Parameters::validate() const {
     require_positive(xi, "xi");
     require(resolution >= 16 && resolution <= 16384,
             "resolution must be between 16 and 16384 cells, got " + std::to_string(resolution));
-    require(steps >= 0 && steps <= 100000, "steps must be between 0 and 100000, got " + std::to_string(steps));
-    require(std::isfinite(dt) && dt > 0, "dt must be positive and finite, got " + show(dt));
+    if (steps) require(*steps >= 0 && *steps <= 100000, "steps must be between 0 and 100000, got " + std::to_string(*steps));
+    if (dt) require(std::isfinite(*dt) && *dt > 0, "dt must be positive and finite, got " + show(*dt));
+    require(std::isfinite(dt_cells) && dt_cells > 0, "dt-cells must be positive, got " + show(dt_cells));
+    require(std::isfinite(smoothing_cells) && smoothing_cells >= 0 && smoothing_cells <= 1e5,
+            "smoothing must be between 0 and 1e5 cells^2, got " + show(smoothing_cells));
+    require(std::isfinite(tube_inner) && tube_inner > 0 && tube_inner < 1,
+            "the tube's inner side must be a share of the offset in (0, 1), got " + show(tube_inner));
+    require(std::isfinite(tube_outer) && tube_outer > 0 && tube_outer <= 10,
+            "the tube's outer side must be a share of the offset in (0, 10], got " + show(tube_outer));
     require(std::isfinite(eps_cells) && eps_cells > 0, "eps-cells must be positive, got " + show(eps_cells));
     require(std::isfinite(xi_cells) && xi_cells > 0, "xi-cells must be positive, got " + show(xi_cells));
     require(std::isfinite(tol) && tol > 0, "tol must be positive, got " + show(tol));

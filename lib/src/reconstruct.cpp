@@ -46,6 +46,9 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
     res.gap = plan.gap;
     res.eps = plan.eps;
     res.xi = plan.xi;
+    res.dt = plan.dt;
+    res.tube_inner = plan.tube_inner;
+    res.tube_outer = plan.tube_outer;
     const double L = dom.length_scale();
     const Band band = band_of(plan, params.band_xi);
 
@@ -83,7 +86,7 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
     backend->init_phase(dist.distance.data(), Real(band.offset), Real(1 / (std::sqrt(2.0) * plan.xi / L)),
                         Real(band.cut));
     MultigridSettings ms;
-    ms.dt = params.dt;
+    ms.dt = plan.dt;
     ms.tol = params.tol;
     ms.max_cycles = params.max_cycles;
     ms.pre_smooth = params.pre_smooth;
@@ -100,13 +103,14 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
                " bricks, " + std::to_string(res.solver_bytes >> 20) + " MiB of fields");
 
     const double eps_n = plan.eps / L;
-    const Real k = Real(2 * params.dt / (eps_n * eps_n));
-    for (int step = 1; step <= params.steps; ++step) {
+    const Real k = Real(2 * plan.dt / (eps_n * eps_n));
+    const Tube<Real> tube = tube_of<Real>(plan);
+    for (int step = 1; step <= plan.steps; ++step) {
         StepStats st;
         st.step = step;
         const LinearSolveStats ls = solve_linear(*backend, hier, ms);
         st.seconds_linear = clock.lap();
-        backend->nonlinear(k);
+        backend->nonlinear(k, tube);
         backend->finish();  // devices run asynchronously: charge the step its own time
         st.seconds_nonlinear = clock.lap();
         st.cycles = ls.cycles;
@@ -127,7 +131,7 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
             Progress p;
             p.stage = "step";
             p.step = step;
-            p.steps = params.steps;
+            p.steps = plan.steps;
             p.stats = &res.steps.back();
             progress(p);
         }

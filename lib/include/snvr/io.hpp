@@ -17,6 +17,13 @@ namespace snvr {
 // non-finite coordinates and empty sets are InputErrors.
 PointSet read_points(const std::string& path);
 
+// Reads a triangle mesh, choosing the parser from the extension: .stl (binary or
+// ASCII; corners with identical coordinates become one vertex), .ply (ASCII or
+// binary, a vertex element with x/y/z and a face element with a vertex_indices
+// list), .obj ("v" and "f" lines). Polygons become fans of triangles. Throws
+// IoError (cannot open or read) or InputError (malformed, names file and place).
+Mesh read_mesh(const std::string& path);
+
 // Chooses the format from the extension: .stl (binary), .ply (binary little endian), .obj.
 void write_mesh(const Mesh& mesh, const std::string& path);
 

@@ -24,6 +24,17 @@ enum class Interpolation {
 Mesh extract_isosurface(const Field& field, const Domain& domain, double iso = 0.0,
                         Interpolation interpolation = Interpolation::Linear);
 
+// Dual marching cubes on the same grid: one vertex per surface patch of each grid cube
+// (the mean of the patch's edge crossings), one quad (two triangles) across each
+// sign-changing grid edge, about a third of extract_isosurface's triangles.  Ambiguous
+// cube faces follow the asymptotic decider, evaluated on the field as interpolated
+// (on atanh of it for PhaseField).  Triangles face from `field > iso` towards
+// `field <= iso`.  Always closed, 2-manifold and consistently oriented.
+// Precondition: no grid edge on the boundary of the grid changes sign (e.g. the field
+// is <= iso on the whole grid boundary); otherwise throws InputError.
+Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double iso = 0.0,
+                             Interpolation interpolation = Interpolation::PhaseField);
+
 struct MeshReport {
     std::size_t vertices = 0, triangles = 0;
     std::size_t boundary_edges = 0;     // edges with one incident triangle

@@ -24,8 +24,23 @@ struct Parameters {
     int resolution = 128;          // cells on the longest axis (used when voxel is unset)
     std::optional<double> voxel;   // voxel size h in world units
 
-    int steps = 8;                 // time steps Nt
-    double dt = 5e-5;              // time step in normalised units (longest side = 1)
+    // The flow is set in cells, so that a run means the same at every resolution: the
+    // total time T = smoothing_cells h^2 (a diffusion length of about sqrt(2 T) = 1.4
+    // voxels), in steps of at most dt_cells h^2. Steps much longer than h^2 turn the
+    // split scheme into thresholding that pins the surface to the grid (terraces).
+    std::optional<int> steps;      // time steps Nt; unset: ceil(smoothing_cells / dt_cells)
+    std::optional<double> dt;      // time step in normalised units (longest side = 1); unset: dt_cells h^2
+    double dt_cells = 0.25;        // dt / h^2 when dt is unset
+    double smoothing_cells = 1.5;  // T / h^2 when steps is unset
+    // The flow moves the surface only within a tube around the exact offset surface
+    // d = l (d: distance to the nearest point): never closer to the points than
+    // (1 - tube_inner) l, so every point stays inside at depth (1 - tube_inner) l, and
+    // never farther than (1 + tube_outer) l, so sheets 3l apart never fuse and no cavity
+    // forms where the points enclose none. Curvature flow shrinks what is small against
+    // the interface width (beads around single points, thin strands): the tube keeps them.
+    double tube_inner = 0.2;       // share of l
+    double tube_outer = 0.4;       // share of l
+    bool keep_offset = true;       // false: the paper's free flow (no tube)
     double eps_cells = 12;         // epsilon of the Allen-Cahn equation, in cells (eps_m)
     std::optional<double> eps;     // ...or in world units
     double xi_cells = 4;           // xi of the initial profile, in cells

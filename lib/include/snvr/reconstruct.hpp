@@ -38,6 +38,8 @@ struct Result {
     std::string offset_reason;    // why this offset (given, 2.5 voxels, sampling gap)
     double gap = 0;               // estimated sampling gap of the points (world)
     double eps = 0, xi = 0;       // world units
+    double dt = 0;                // normalised
+    double tube_inner = 0, tube_outer = 0;  // the tube's sides, world units from the offset (0: free flow)
     std::string backend;          // which backend ran
     std::size_t active_cells = 0; // cells with g > 0
     std::size_t active_bricks = 0, total_bricks = 0;
@@ -60,6 +62,10 @@ using ProgressCallback = std::function<void(const Progress&)>;
 Result reconstruct(const PointSet& points, const Parameters& params,
                    const ProgressCallback& progress = {});
 
+// The shell's surface: the zero level set of result.phi, meshed the way snvr-cl does
+// (closed, manifold, outward). One place for the default mesher.
+Mesh shell_mesh(const Result& result);
+
 // Clusters of points linked by distances below link_distance. A shell of offset l joins
 // points closer than 2l, so a result with more solid pieces (MeshReport::solids) than
 // count_point_clusters(points, 2 l) has broken apart (the offset is below half the gaps
@@ -73,6 +79,9 @@ struct DomainPlan {
     std::string offset_reason;
     double gap = 0;
     double eps = 0, xi = 0;       // world units
+    double dt = 0;                // normalised
+    int steps = 0;
+    double tube_inner = 0, tube_outer = 0;  // world units from the offset; 0: free flow
     std::size_t estimated_bytes = 0;
 };
 DomainPlan plan_domain(const PointSet& points, const Parameters& params);

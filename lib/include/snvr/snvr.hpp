@@ -7,6 +7,7 @@
 #include "snvr/io.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/parameters.hpp"
+#include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"
 #include "snvr/devices.hpp"

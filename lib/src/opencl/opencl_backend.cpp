@@ -23,6 +23,7 @@ struct Shape {
 
 struct LevelBuffers {
     cl::Buffer phi, rhs, g;  // brick storage (brick_grid.hpp), constant bricks first
+    cl::Buffer distance;     // level 0 only: the normalised distance (for the tube)
     cl::Buffer bricks, slot;  // active brick ids; slot of every brick
     std::size_t cells = 0;    // storage cells of each field
     std::size_t active = 0;   // active bricks
@@ -56,7 +57,7 @@ public:
             for (const Level& lv : hier.levels) grids_.emplace_back(lv);
             // Fail before allocating, with the sizes, rather than at the first launch.
             std::size_t need = 0;
-            for (std::size_t l = 0; l < grids_.size(); ++l) need += 3 * grids_[l].storage() * sizeof(Real);
+            for (std::size_t l = 0; l < grids_.size(); ++l) need += (l == 0 ? 4 : 3) * grids_[l].storage() * sizeof(Real);
             const opencl::DeviceEntry& d = rt_.device();
             if (need > d.memory)
                 throw ResourceError("the solver's fields need " + std::to_string(need >> 20) + " MiB on OpenCL device '" + d.name +
@@ -69,7 +70,8 @@ public:
                 b.cells = grids_[l].storage();
                 b.active = lv.bricks.size();
                 most_bricks = std::max(most_bricks, b.active);
-                for (cl::Buffer* f : {&b.phi, &b.rhs, &b.g}) {
+                for (cl::Buffer* f : {&b.phi, &b.rhs, &b.g, &b.distance}) {
+                    if (f == &b.distance && l > 0) continue;
                     *f = rt_.buffer(b.cells * sizeof(Real), "a solver field");
                     rt_.queue().enqueueFillBuffer(*f, Real(0), 0, b.cells * sizeof(Real));
                 }
@@ -90,7 +92,7 @@ public:
     std::size_t bytes() const override {
         std::size_t n = 0;
         for (std::size_t l = 0; l < levels_.size(); ++l)
-            n += 3 * levels_[l].cells * sizeof(Real) + (levels_[l].active + grids_[l].slot.size()) * sizeof(cl_uint);
+            n += (l == 0 ? 4 : 3) * levels_[l].cells * sizeof(Real) + (levels_[l].active + grids_[l].slot.size()) * sizeof(cl_uint);
         return n;
     }
 
@@ -103,10 +105,9 @@ public:
             // The distance of the active bricks only, packed like the fields.
             std::vector<Real> packed(levels_[0].cells, Real(0));
             pack_active(grids_[0], lv, d, packed.data());
-            cl::Buffer distance = rt_.buffer(packed.size() * sizeof(Real), "the distance field");
-            rt_.queue().enqueueWriteBuffer(distance, CL_TRUE, 0, packed.size() * sizeof(Real), packed.data());
             const LevelBuffers& b = levels_[0];
-            launch(init_, b.active * kBrickCells, kCellGroup, distance, b.phi, b.g, b.bricks, b.slot, shape(0), offset, s, cut);
+            rt_.queue().enqueueWriteBuffer(b.distance, CL_TRUE, 0, packed.size() * sizeof(Real), packed.data());
+            launch(init_, b.active * kBrickCells, kCellGroup, b.distance, b.phi, b.g, b.bricks, b.slot, shape(0), offset, s, cut);
             rt_.queue().finish();
         });
     }
@@ -183,10 +184,11 @@ public:
         });
     }
 
-    void nonlinear(Real k) override {
+    void nonlinear(Real k, const Tube<Real>& tube) override {
         guarded("nonlinear", [&] {
             const LevelBuffers& b = levels_[0];
-            launch(nonlinear_, b.active * kBrickCells, kCellGroup, b.phi, b.g, b.bricks, b.slot, k);
+            launch(nonlinear_, b.active * kBrickCells, kCellGroup, b.phi, b.g, b.distance, b.bricks, b.slot, k, tube.inner,
+                   tube.outer, tube.s);
         });
     }
 
@@ -225,7 +227,13 @@ private:
 
     const cl::Buffer& buffer(int level, FieldKind field) const {
         const LevelBuffers& b = levels_[std::size_t(level)];
-        return field == FieldKind::phi ? b.phi : field == FieldKind::rhs ? b.rhs : b.g;
+        switch (field) {
+            case FieldKind::phi: return b.phi;
+            case FieldKind::rhs: return b.rhs;
+            case FieldKind::g: return b.g;
+            case FieldKind::distance: break;
+        }
+        return b.distance;
     }
 
     void write_slots(int level) {

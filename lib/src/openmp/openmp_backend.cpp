@@ -18,6 +18,7 @@ namespace {
 template <class Real>
 struct LevelFields {
     std::vector<Real> phi, rhs, g;  // brick-major (brick_grid.hpp)
+    std::vector<Real> distance;     // level 0 only: the normalised distance (for the tube)
 };
 
 // The neighbours of the 8 cells of one brick row: the row itself for -x/+x (and the
@@ -59,11 +60,12 @@ public:
             std::fill_n(fields_[l].phi.begin() + kPlusSlot * kBrickCells, kBrickCells, Real(1));
             std::fill_n(fields_[l].phi.begin() + kMinusSlot * kBrickCells, kBrickCells, Real(-1));
         }
+        fields_[0].distance.assign(grids_[0].storage(), Real(0));
     }
 
     std::size_t bytes() const override {
         std::size_t b = 0;
-        for (const auto& f : fields_) b += (f.phi.size() + f.rhs.size() + f.g.size()) * sizeof(Real);
+        for (const auto& f : fields_) b += (f.phi.size() + f.rhs.size() + f.g.size() + f.distance.size()) * sizeof(Real);
         return b;
     }
 
@@ -72,6 +74,7 @@ public:
         Real* g = fields_[0].g.data();
         const Level& lv = hier_.levels[0];
         assign_constant_slots(grids_[0], lv, d, l);
+        pack_active(grids_[0], lv, d, fields_[0].distance.data());
         for_cells(0, [&](std::size_t c, int i, int j, int k) {
             const Real diff = l - d[std::size_t(i) + std::size_t(lv.nx) * (std::size_t(j) + std::size_t(lv.ny) * std::size_t(k))];
             if (std::abs(diff) > cut) {
@@ -246,16 +249,19 @@ public:
         }
     }
 
-    void nonlinear(Real k) override {
+    void nonlinear(Real k, const Tube<Real>& tube) override {
         Real* phi = fields_[0].phi.data();
         const Real* g = fields_[0].g.data();
+        const Real* d = fields_[0].distance.data();
         const BrickGrid& bg = grids_[0];
         each_brick(0, [&](std::uint32_t b, std::size_t) {
             for (std::size_t n = bg.base(b); n < bg.base(b) + kBrickCells; ++n) {
-                if (g[n] == Real(0)) continue;  // e = 1: phi unchanged
+                if (g[n] == Real(0)) continue;  // e = 1: phi unchanged, and +-1 is inside the tube
                 const Real e = std::exp(-k * g[n]);
                 const Real p = phi[n];
-                phi[n] = p / std::sqrt(e + p * p * (Real(1) - e));
+                Real q = p / std::sqrt(e + p * p * (Real(1) - e));
+                q = std::min(std::max(q, std::tanh((tube.inner - d[n]) * tube.s)), std::tanh((tube.outer - d[n]) * tube.s));
+                phi[n] = q;
             }
         });
     }
@@ -271,7 +277,13 @@ public:
 private:
     std::vector<Real>& storage(int level, FieldKind field) {
         LevelFields<Real>& f = fields_[std::size_t(level)];
-        return field == FieldKind::phi ? f.phi : field == FieldKind::rhs ? f.rhs : f.g;
+        switch (field) {
+            case FieldKind::phi: return f.phi;
+            case FieldKind::rhs: return f.rhs;
+            case FieldKind::g: return f.g;
+            case FieldKind::distance: break;
+        }
+        return f.distance;
     }
 
     static int clamp_index(int i, int n) { return i < 0 ? 0 : (i >= n ? n - 1 : i); }

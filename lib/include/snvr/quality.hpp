@@ -1,0 +1,74 @@
+// Figures that judge a reconstructed shell against its input points, the offset l
+// and the voxel size h: pieces and genus, how deep the points sit inside, how far
+// the surface is from l, how smooth it is and how thin its walls get.
+#pragma once
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "snvr/geometry.hpp"
+
+namespace snvr {
+
+// Lengths are in the units named by each field: "h" (voxel), "l" (offset),
+// "2l" (the shell's intended thickness) or degrees. NaN marks a figure with no
+// data (say, depth when no point is inside).
+struct MeshQuality {
+    std::size_t vertices = 0, triangles = 0, points = 0;
+    double offset = 0, voxel = 0;  // l and h as given, world units
+
+    std::size_t components = 0;  // edge-connected pieces of the mesh (check_mesh)
+    std::size_t solids = 0;      // pieces enclosing positive volume (check_mesh)
+    std::size_t cavities = 0;    // components - solids: pieces bounding holes inside solids
+    bool closed = false, manifold = false, oriented = false;  // check_mesh's verdicts
+    long genus = 0;                    // sum over closed components of (2 - V + E - F) / 2
+    std::size_t open_components = 0;  // components with boundary edges (left out of genus)
+
+    std::size_t points_inside = 0;   // input points strictly inside the solid (count_points_inside)
+    std::size_t points_outside = 0;  // points - points_inside
+    double inside_fraction = 0;      // points_inside / points
+    double depth_min = 0;  // over l: smallest distance to the surface of a point inside
+    double depth_p01 = 0;  // over l: 1st percentile over all points of the signed depth (outside < 0)
+    std::size_t inside_disagreements = 0;  // |inside by ray parity (which picks the points for
+                                           // depth_min) - points_inside|: should be 0
+
+    double offset_rms = 0;   // over vertices, RMS of e = (distance to nearest point) - l, in h
+    double offset_mean = 0;  // mean of e, in h
+    double offset_max = 0;   // max |e|, in h
+
+    double dihedral_rms = 0;  // degrees; area-weighted RMS of the normals' angle over interior edges
+    std::size_t interior_edges = 0;  // edges with exactly two triangles
+    double normal_noise = 0;  // degrees; RMS over vertices of the angle between the vertex
+                              // normal and the mean of its 1-ring neighbours' normals
+
+    double wall_min = 0, wall_p01 = 0;        // thickness along the inward normal, in h
+    double wall_min_2l = 0, wall_p01_2l = 0;  // the same over 2l
+    std::size_t wall_misses = 0;              // vertices whose inward ray meets nothing (at a saddle-like
+                                              // crease -normal can point out of the solid)
+
+    bool has_exact = false;  // the exact figures below were computed
+    double exact_rms = 0;    // RMS over vertices of |exact(v)|, in h
+    double exact_max = 0;    // max over vertices of |exact(v)|, in h
+
+    double seconds = 0;  // time measure_quality took
+};
+
+// Measures `mesh` (closed, triangles counter-clockwise seen from outside) against the
+// points it was built from, the offset l and the voxel size h (both world units).
+// `exact`, if given, is the distance from a point to the exact offset surface (0 on
+// it); it is called from several threads at once. Throws InputError for triangles
+// with out-of-range indices, ParameterError for offset or voxel <= 0.
+MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double offset, double voxel,
+                            const std::function<double(const Vec3&)>& exact = {});
+
+// Smallest wall thickness of the mesh in world units: from each vertex along its
+// inward normal to the first surface met (infinity if no ray meets anything).
+// The cheap part of measure_quality, for a closing summary.
+double thinnest_wall(const Mesh& mesh);
+
+// One readable block, several lines, ending with a newline.
+std::string format_quality(const MeshQuality& q);
+// The same figures as one line of JSON (no newline); NaN and infinity become null.
+std::string quality_json(const MeshQuality& q);
+
+}  // namespace snvr

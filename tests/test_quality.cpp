@@ -1,0 +1,354 @@
+// Mesh quality measures on shapes whose answers are known, the triangle grid
+// against brute force, and read_mesh.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "snvr/error.hpp"
+#include "snvr/io.hpp"
+#include "snvr/mesh.hpp"
+#include "snvr/quality.hpp"
+#include "snvr/shapes.hpp"
+#include "triangle_grid.hpp"
+
+using namespace snvr;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double dist(const Vec3& a, const Vec3& b) {
+    return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+// The zero level of f (positive inside) on an n^3 grid of spacing h from origin.
+template <class F>
+Mesh isosurface(F f, Vec3 origin, double h, int n) {
+    Domain domain;
+    domain.origin = origin;
+    domain.h = h;
+    domain.nx = domain.ny = domain.nz = n;
+    Field field;
+    field.nx = field.ny = field.nz = n;
+    field.f64.resize(field.size());
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) field.f64[domain.index(i, j, k)] = f(domain.cell_center(i, j, k));
+    return extract_isosurface(field, domain);
+}
+
+// Icosahedron split `levels` times, its vertices pushed onto the sphere (c, r);
+// each vertex moved radially by up to `noise` r at random when noise > 0.
+Mesh icosphere(const Vec3& c, double r, int levels, double noise = 0) {
+    const double t = (1 + std::sqrt(5.0)) / 2;
+    std::vector<Vec3> v{{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                        {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<std::array<std::uint32_t, 3>> f{{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                                {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                                {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                                {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+    for (int level = 0; level < levels; ++level) {
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> middle;
+        const auto mid = [&](std::uint32_t a, std::uint32_t b) {
+            const auto key = std::minmax(a, b);
+            const auto found = middle.find(key);
+            if (found != middle.end()) return found->second;
+            v.push_back({(v[a][0] + v[b][0]) / 2, (v[a][1] + v[b][1]) / 2, (v[a][2] + v[b][2]) / 2});
+            return middle[key] = std::uint32_t(v.size() - 1);
+        };
+        std::vector<std::array<std::uint32_t, 3>> next;
+        for (const auto& tri : f) {
+            const std::uint32_t ab = mid(tri[0], tri[1]), bc = mid(tri[1], tri[2]), ca = mid(tri[2], tri[0]);
+            next.push_back({tri[0], ab, ca});
+            next.push_back({tri[1], bc, ab});
+            next.push_back({tri[2], ca, bc});
+            next.push_back({ab, bc, ca});
+        }
+        f = next;
+    }
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> jitter(-noise, noise);
+    Mesh m;
+    m.triangles = f;
+    for (const Vec3& p : v) {
+        const double s = r * (1 + (noise > 0 ? jitter(rng) : 0)) / dist(p, {0, 0, 0});
+        m.vertices.push_back({c[0] + s * p[0], c[1] + s * p[1], c[2] + s * p[2]});
+    }
+    return m;
+}
+
+const Vec3 kCentre{0.5, 0.5, 0.5};
+
+// A spherical shell between radii R - l and R + l around kCentre, and its points.
+constexpr double kR = 0.3, kL = 0.05, kH = 0.01;
+const Mesh& shell() {
+    static const Mesh mesh = isosurface(
+        [](const Vec3& p) { return kL - std::fabs(dist(p, kCentre) - kR); }, {0.1, 0.1, 0.1}, kH, 80);
+    return mesh;
+}
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        static std::atomic<unsigned> counter{0};
+        std::random_device entropy;
+        path = fs::temp_directory_path() /
+               ("snvr-test-quality-" + std::to_string(entropy()) + "-" + std::to_string(counter++));
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ignored;
+        fs::remove_all(path, ignored);
+    }
+    std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
+void write_text(const std::string& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+}
+
+double ray_triangle(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c) {
+    // Solve o + t d = a + u (b - a) + v (c - a) by Cramer's rule.
+    const Vec3 e1{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const Vec3 s{o[0] - a[0], o[1] - a[1], o[2] - a[2]};
+    const auto det3 = [](const Vec3& x, const Vec3& y, const Vec3& z) {
+        return x[0] * (y[1] * z[2] - y[2] * z[1]) - y[0] * (x[1] * z[2] - x[2] * z[1]) + z[0] * (x[1] * y[2] - x[2] * y[1]);
+    };
+    const Vec3 nd{-d[0], -d[1], -d[2]};
+    const double det = det3(e1, e2, nd);
+    if (det == 0) return kInf;
+    const double u = det3(s, e2, nd) / det, v = det3(e1, s, nd) / det, t = det3(e1, e2, s) / det;
+    return u >= 0 && v >= 0 && u + v <= 1 ? t : kInf;
+}
+
+}  // namespace
+
+TEST_CASE("quality: a sphere has genus 0, a torus genus 1") {
+    const Mesh sphere = isosurface([](const Vec3& p) { return 0.3 - dist(p, kCentre); }, {0.1, 0.1, 0.1}, 0.02, 40);
+    const MeshQuality s = measure_quality(sphere, {kCentre}, 0.3, 0.02);
+    CHECK(s.closed);
+    CHECK(s.manifold);
+    CHECK(s.oriented);
+    CHECK(s.components == 1);
+    CHECK(s.solids == 1);
+    CHECK(s.cavities == 0);
+    CHECK(s.genus == 0);
+    CHECK(s.open_components == 0);
+    CHECK(s.points_inside == 1);
+
+    const Mesh torus = isosurface(
+        [](const Vec3& p) {
+            const double ring = std::hypot(p[0] - 0.5, p[1] - 0.5) - 0.3;
+            return 0.1 - std::hypot(ring, p[2] - 0.5);
+        },
+        {0.05, 0.05, 0.3}, 0.02, 45);
+    // Points on the core circle are inside; those on the axis, in the hole, are not.
+    PointSet points;
+    for (int k = 0; k < 16; ++k) {
+        const double a = 2 * 3.14159265358979 * k / 16;
+        points.push_back({0.5 + 0.3 * std::cos(a), 0.5 + 0.3 * std::sin(a), 0.5});
+    }
+    points.push_back({0.5, 0.5, 0.5});
+    const MeshQuality t = measure_quality(torus, points, 0.1, 0.02);
+    CHECK(t.components == 1);
+    CHECK(t.genus == 1);
+    CHECK(t.points_inside == 16);
+    CHECK(t.points_outside == 1);
+    CHECK(t.inside_disagreements == 0);
+    CHECK(t.depth_min == doctest::Approx(1).epsilon(0.05));   // the core circle is 0.1 = l deep
+    CHECK(t.depth_p01 == doctest::Approx(-2).epsilon(0.05));  // the axis is 0.2 outside
+}
+
+TEST_CASE("quality: a spherical shell of radii R - l and R + l") {
+    const Mesh& mesh = shell();
+    const PointSet points = shapes::sphere(kCentre, kR, 0.02);
+    const auto exact = [](const Vec3& p) { return std::fabs(dist(p, kCentre) - kR) - kL; };
+    const MeshQuality q = measure_quality(mesh, points, kL, kH, exact);
+    MESSAGE(format_quality(q));
+    CHECK(q.closed);
+    CHECK(q.components == 2);
+    CHECK(q.solids == 1);
+    CHECK(q.cavities == 1);
+    CHECK(q.genus == 0);
+    CHECK(q.points_inside == points.size());
+    CHECK(q.points_outside == 0);
+    CHECK(q.inside_disagreements == 0);
+    CHECK(q.inside_fraction == 1.0);
+    CHECK(q.depth_min == doctest::Approx(1).epsilon(0.03));
+    CHECK(q.depth_p01 == doctest::Approx(1).epsilon(0.03));
+    CHECK(q.wall_misses == 0);
+    CHECK(q.wall_min_2l == doctest::Approx(1).epsilon(0.03));
+    CHECK(q.wall_p01_2l == doctest::Approx(1).epsilon(0.03));
+    CHECK(q.wall_min * kH == doctest::Approx(2 * kL * q.wall_min_2l));
+    CHECK(thinnest_wall(mesh) == doctest::Approx(q.wall_min * kH));
+    CHECK(q.has_exact);
+    CHECK(q.exact_rms < 0.05);
+    CHECK(q.exact_max < 0.15);
+    // The points are a sampling of the sphere, so the nearest one is a bit beyond l.
+    CHECK(std::fabs(q.offset_mean) < 0.1);
+    CHECK(q.offset_rms < 0.1);
+    CHECK(q.offset_rms >= std::fabs(q.offset_mean));
+    CHECK(q.dihedral_rms > 0);
+    CHECK(q.normal_noise > 0);
+    // Whatever the mesher, the JSON line names every figure once.
+    const std::string json = quality_json(q);
+    CHECK(json.front() == '{');
+    CHECK(json.back() == '}');
+    CHECK(json.find("\"genus\":0") != std::string::npos);
+    CHECK(json.find("\"exact_rms_h\":") != std::string::npos);
+}
+
+TEST_CASE("quality: a ball around one point: offset error, depth and wall") {
+    const double l = 0.2, h = 0.01;
+    const Mesh ball = icosphere(kCentre, l, 4);
+    const MeshQuality q = measure_quality(ball, {kCentre}, l, h);
+    CHECK(q.oriented);
+    CHECK(q.genus == 0);
+    CHECK(std::fabs(q.offset_rms) < 1e-12);  // every vertex is exactly l from the point
+    CHECK(std::fabs(q.offset_mean) < 1e-12);
+    CHECK(q.depth_min == doctest::Approx(1).epsilon(0.01));  // faces are chords, slightly inside
+    CHECK(q.wall_min_2l == doctest::Approx(1).epsilon(0.01));  // the diameter
+    CHECK(q.wall_min == doctest::Approx(2 * l / h).epsilon(0.01));
+}
+
+TEST_CASE("quality: dihedral angle and normal noise grow with noise") {
+    const MeshQuality fine = measure_quality(icosphere(kCentre, 0.3, 5), {kCentre}, 0.3, 0.01);
+    const MeshQuality noisy = measure_quality(icosphere(kCentre, 0.3, 5, 0.01), {kCentre}, 0.3, 0.01);
+    MESSAGE("fine: dihedral " << fine.dihedral_rms << " deg, noise " << fine.normal_noise << " deg; noisy: "
+                              << noisy.dihedral_rms << ", " << noisy.normal_noise);
+    CHECK(fine.dihedral_rms < 2);     // edges span about 1.1 degrees of arc
+    CHECK(fine.normal_noise < 0.5);   // smooth normals: neighbours agree
+    CHECK(noisy.dihedral_rms > 3 * fine.dihedral_rms);
+    CHECK(noisy.normal_noise > 5 * fine.normal_noise);
+    CHECK(fine.interior_edges == 3 * fine.triangles / 2);
+}
+
+TEST_CASE("quality: bad arguments") {
+    const Mesh ball = icosphere(kCentre, 0.2, 1);
+    CHECK_THROWS_AS(measure_quality(ball, {kCentre}, 0, 0.01), ParameterError);
+    CHECK_THROWS_AS(measure_quality(ball, {kCentre}, 0.1, -1), ParameterError);
+    Mesh broken = ball;
+    broken.triangles[3][1] = std::uint32_t(ball.vertices.size());
+    CHECK_THROWS_AS(measure_quality(broken, {kCentre}, 0.1, 0.01), InputError);
+}
+
+TEST_CASE("triangle grid: closest triangle and first hit agree with brute force") {
+    const Mesh& mesh = shell();
+    const TriangleGrid grid(mesh);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> coord(-0.2, 1.2), unit(-1, 1);
+    for (int n = 0; n < 200; ++n) {
+        const Vec3 p{coord(rng), coord(rng), coord(rng)};
+        double best = kInf;
+        for (const auto& t : mesh.triangles)
+            best = std::min(best, point_triangle_dist_sq(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
+        CHECK(grid.closest(p).dist_sq == best);
+
+        Vec3 d{unit(rng), unit(rng), unit(rng)};
+        const double len = dist(d, {0, 0, 0});
+        for (double& x : d) x /= len;
+        double first = kInf;
+        std::size_t crossings = 0;
+        for (const auto& t : mesh.triangles) {
+            const double s = ray_triangle(p, d, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+            if (s > 0 && s < kInf) {
+                first = std::min(first, s);
+                ++crossings;
+            }
+        }
+        const TriangleGrid::Hit hit = grid.first_hit(p, d, 0);
+        if (first == kInf) {
+            CHECK(hit.t == kInf);
+            CHECK(hit.triangle == TriangleGrid::none);
+        } else {
+            CHECK(hit.t == doctest::Approx(first).epsilon(1e-9));
+        }
+        CHECK(grid.count_crossings(p, d) == crossings);
+    }
+    // Distance to a triangle's own plane, edges and corners.
+    const Vec3 a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
+    CHECK(point_triangle_dist_sq({0.2, 0.2, 0.5}, a, b, c) == doctest::Approx(0.25));
+    CHECK(point_triangle_dist_sq({2, 0, 0}, a, b, c) == doctest::Approx(1));
+    CHECK(point_triangle_dist_sq({1, 1, 0}, a, b, c) == doctest::Approx(0.5));
+    CHECK(point_triangle_dist_sq({0.5, -1, 0}, a, b, c) == doctest::Approx(1));
+    CHECK(point_triangle_dist_sq({3, 0, 0}, a, b, {2, 0, 0}) == doctest::Approx(1));  // degenerate
+}
+
+TEST_CASE("read_mesh: round trip through write_mesh, and bad files") {
+    TempDir dir;
+    const Mesh mesh = icosphere(kCentre, 0.25, 2);
+    for (const char* name : {"m.stl", "m.ply", "m.obj"}) {
+        CAPTURE(name);
+        const std::string path = dir.file(name);
+        write_mesh(mesh, path);
+        const Mesh back = read_mesh(path);
+        REQUIRE(back.triangles.size() == mesh.triangles.size());
+        CHECK(back.vertices.size() == mesh.vertices.size());  // STL corners welded again
+        const double tolerance = std::string(name) == "m.obj" ? 0 : 1e-7;
+        double worst = 0;
+        for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+            for (int k = 0; k < 3; ++k)
+                worst = std::max(worst, dist(mesh.vertices[mesh.triangles[t][k]], back.vertices[back.triangles[t][k]]));
+        CHECK(worst <= tolerance);
+        const MeshReport report = check_mesh(back);
+        CHECK(report.closed());
+        CHECK(report.oriented());
+    }
+
+    // ASCII STL and OBJ polygons with slashes and negative indices.
+    write_text(dir.file("tet.stl"),
+               "solid tet\n"
+               "facet normal 0 0 -1\n outer loop\n  vertex 0 0 0\n  vertex 0 1 0\n  vertex 1 0 0\n endloop\nendfacet\n"
+               "facet normal 0 -1 0\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 0 1\n endloop\nendfacet\n"
+               "facet normal -1 0 0\n outer loop\n  vertex 0 0 0\n  vertex 0 0 1\n  vertex 0 1 0\n endloop\nendfacet\n"
+               "facet normal 1 1 1\n outer loop\n  vertex 1 0 0\n  vertex 0 1 0\n  vertex 0 0 1\n endloop\nendfacet\n"
+               "endsolid tet\n");
+    const Mesh tet = read_mesh(dir.file("tet.stl"));
+    CHECK(tet.vertices.size() == 4);
+    CHECK(tet.triangles.size() == 4);
+    CHECK(check_mesh(tet).closed());
+    CHECK(check_mesh(tet).oriented());
+    write_text(dir.file("quad.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1 4//1\nf -1 -2 -3\n");
+    const Mesh quad = read_mesh(dir.file("quad.obj"));
+    CHECK(quad.triangles.size() == 3);
+    CHECK(quad.triangles[2] == std::array<std::uint32_t, 3>{3, 2, 1});
+
+    // A truncated binary STL, broken text and missing files.
+    const std::string stl = dir.file("m.stl");
+    fs::resize_file(stl, fs::file_size(stl) - 10);
+    const auto message = [](const std::string& path) {
+        try {
+            read_mesh(path);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    CHECK_THROWS_AS(read_mesh(stl), InputError);
+    CHECK(message(stl).find("truncated") != std::string::npos);
+    CHECK(message(stl).find(stl) != std::string::npos);
+    write_text(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+    CHECK_THROWS_AS(read_mesh(dir.file("bad.obj")), InputError);
+    CHECK(message(dir.file("bad.obj")).find("line 3") != std::string::npos);
+    write_text(dir.file("bad.stl"), "solid x\nfacet normal 0 0 1\n outer loop\n vertex 0 0\n");
+    CHECK(message(dir.file("bad.stl")).find("line 4") != std::string::npos);
+    const std::string ply = dir.file("m.ply");
+    fs::resize_file(ply, fs::file_size(ply) - 5);
+    CHECK_THROWS_AS(read_mesh(ply), InputError);
+    CHECK(message(ply).find("face records") != std::string::npos);
+    CHECK_THROWS_AS(read_mesh(dir.file("missing.stl")), IoError);
+    CHECK_THROWS_AS(read_mesh(dir.file("m.off")), InputError);
+}
