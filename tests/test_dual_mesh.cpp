@@ -9,43 +9,14 @@
 #include <random>
 #include <vector>
 
+#include "mesh_fields.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 
 using namespace snvr;
+using namespace snvr::testing;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-struct Grid {
-    Domain domain;
-    Field field;
-};
-
-template <class F>  // F(position, i, j, k) -> value
-Grid make_grid(int nx, int ny, int nz, double h, Vec3 origin, F f, Precision precision = Precision::Double) {
-    Grid g;
-    g.domain.origin = origin;
-    g.domain.h = h;
-    g.domain.nx = g.field.nx = nx;
-    g.domain.ny = g.field.ny = ny;
-    g.domain.nz = g.field.nz = nz;
-    g.field.precision = precision;
-    std::vector<double> v(g.field.size());
-    for (int k = 0; k < nz; ++k)
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) v[g.domain.index(i, j, k)] = f(g.domain.cell_center(i, j, k), i, j, k);
-    if (precision == Precision::Double)
-        g.field.f64 = v;
-    else
-        g.field.f32.assign(v.begin(), v.end());
-    return g;
-}
-
-double dist(const Vec3& a, const Vec3& b) {
-    return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-}
 
 // Printable, plus the counts a closed triangulated 2-manifold must satisfy.
 bool watertight(const Mesh& m) {
@@ -60,14 +31,7 @@ bool watertight(const Mesh& m) {
 
 void require_printable(const Mesh& m) {
     const MeshReport r = check_mesh(m);
-    CHECK(r.boundary_edges == 0);
-    CHECK(r.nonmanifold_edges == 0);
-    CHECK(r.nonmanifold_vertices == 0);
-    CHECK(r.degenerate_triangles == 0);
-    CHECK(r.misoriented_edges == 0);
-    CHECK(r.closed());
-    CHECK(r.manifold());
-    CHECK(r.oriented());
+    check_printable(r);
     CHECK(watertight(m));
 }
 

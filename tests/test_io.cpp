@@ -17,30 +17,14 @@
 #include "atomic_file.hpp"
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using snvr::PointSet;
 using snvr::Vec3;
+using snvr::testing::TempDir;
 
 namespace {
-
-// A fresh directory per test, removed with everything in it afterwards.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static std::atomic<unsigned> counter{0};
-        std::random_device entropy;
-        path = fs::temp_directory_path() /
-               ("snvr-test-io-" + std::to_string(entropy()) + "-" + std::to_string(counter++));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path, ignored);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-    std::size_t entries() const { return std::size_t(std::distance(fs::directory_iterator(path), fs::directory_iterator())); }
-};
 
 void write_bytes(const std::string& path, const std::string& bytes) {
     std::ofstream out(path, std::ios::binary);
@@ -151,7 +135,7 @@ snvr::Domain domain_for(const snvr::Field& field) {
 }  // namespace
 
 TEST_CASE("read_points: ASCII PLY with extra properties and elements") {
-    TempDir dir;
+    TempDir dir("io");
     std::string text =
         "ply\r\nformat ascii 1.0\ncomment made by the test\nelement vertex 4\nproperty uchar red\n"
         "property double z\nproperty list uchar int idx\nproperty double x\nproperty float32 nx\nproperty double y\n"
@@ -165,7 +149,7 @@ TEST_CASE("read_points: ASCII PLY with extra properties and elements") {
 }
 
 TEST_CASE("read_points: binary little endian PLY with lists before and inside the vertex element") {
-    TempDir dir;
+    TempDir dir("io");
     std::string bytes =
         "ply\nformat binary_little_endian 1.0\nelement face 2\nproperty list uchar int vertex_indices\n"
         "property short flag\nelement vertex 4\nproperty uint8 red\nproperty float x\nproperty int16 s\n"
@@ -192,7 +176,7 @@ TEST_CASE("read_points: binary little endian PLY with lists before and inside th
 }
 
 TEST_CASE("read_points: binary big endian PLY with double coordinates") {
-    TempDir dir;
+    TempDir dir("io");
     std::string bytes =
         "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty int id\nproperty float64 x\n"
         "property double y\nproperty double z\nproperty ushort flags\nelement face 1\n"
@@ -209,7 +193,7 @@ TEST_CASE("read_points: binary big endian PLY with double coordinates") {
 }
 
 TEST_CASE("read_points: XYZ, PTS, TXT, OBJ and OFF") {
-    TempDir dir;
+    TempDir dir("io");
     SUBCASE("xyz with comments, blank lines, CRLF and extra columns") {
         std::string text = "# header comment\n\n";
         for (const Vec3& p : sample) text += xyz_line(p, "  ", " 0.5 1 2 # note\r");
@@ -255,7 +239,7 @@ TEST_CASE("read_points: XYZ, PTS, TXT, OBJ and OFF") {
 }
 
 TEST_CASE("read_points: missing file and unknown extension") {
-    TempDir dir;
+    TempDir dir("io");
     const std::string missing = dir.file("missing.ply");
     check_throws<snvr::IoError>([&] { snvr::read_points(missing); }, missing,
                                 {"cannot open '" + missing + "': No such file or directory"});
@@ -266,7 +250,7 @@ TEST_CASE("read_points: missing file and unknown extension") {
 }
 
 TEST_CASE("read_points: malformed PLY headers") {
-    TempDir dir;
+    TempDir dir("io");
     check_read_fails(dir, "magic.ply", "plx\nformat ascii 1.0\nend_header\n", {"'ply' magic", "line 1"});
     check_read_fails(dir, "format.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n",
                      {"header line 2", "unknown format", "binary_middle_endian"});
@@ -280,7 +264,7 @@ TEST_CASE("read_points: malformed PLY headers") {
 }
 
 TEST_CASE("read_points: truncated and malformed PLY data") {
-    TempDir dir;
+    TempDir dir("io");
     const std::string head4 =
         "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
         "property float z\nend_header\n";
@@ -300,7 +284,7 @@ TEST_CASE("read_points: truncated and malformed PLY data") {
 }
 
 TEST_CASE("read_points: non-finite coordinates and empty clouds") {
-    TempDir dir;
+    TempDir dir("io");
     check_read_fails(dir, "nan.ply", ascii_ply_head + "1 2 3\n4 nan 6\n7 8 9\n", {"point 1", "non-finite"});
     std::string inf_bytes =
         "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty double x\nproperty double y\n"
@@ -317,7 +301,7 @@ TEST_CASE("read_points: non-finite coordinates and empty clouds") {
 }
 
 TEST_CASE("read_points: malformed XYZ, OBJ and OFF") {
-    TempDir dir;
+    TempDir dir("io");
     check_read_fails(dir, "text.xyz", "1 2 3\n\n4 five 6\n", {"line 3", "'five'"});
     check_read_fails(dir, "header.txt", "x y z\n1 2 3\n", {"line 1", "'x'"});
     check_read_fails(dir, "two.xyz", "1 2 3\n4 5\n", {"line 2", "expected x y z"});
@@ -329,7 +313,7 @@ TEST_CASE("read_points: malformed XYZ, OBJ and OFF") {
 }
 
 TEST_CASE("write_mesh: STL, PLY and OBJ") {
-    TempDir dir;
+    TempDir dir("io");
     const snvr::Mesh mesh = tetrahedron();
 
     SUBCASE("binary STL") {
@@ -385,7 +369,7 @@ TEST_CASE("write_mesh: STL, PLY and OBJ") {
 }
 
 TEST_CASE("write_field: VTI and NRRD") {
-    TempDir dir;
+    TempDir dir("io");
     for (const auto precision : {snvr::Precision::Double, snvr::Precision::Single}) {
         const bool dbl = precision == snvr::Precision::Double;
         CAPTURE(dbl);
@@ -437,7 +421,7 @@ TEST_CASE("write_field: VTI and NRRD") {
 }
 
 TEST_CASE("write_field: rejected fields") {
-    TempDir dir;
+    TempDir dir("io");
     const snvr::Field field = ramp_field(snvr::Precision::Double);
     snvr::Domain domain = domain_for(field);
     const std::string path = dir.file("phi.vti");
@@ -449,7 +433,7 @@ TEST_CASE("write_field: rejected fields") {
 }
 
 TEST_CASE("atomic writes") {
-    TempDir dir;
+    TempDir dir("io");
     const snvr::Mesh mesh = tetrahedron();
 
     SUBCASE("a nonexistent directory is an IoError and leaves nothing") {

@@ -21,9 +21,11 @@
 #include "snvr/mesh.hpp"
 #include "snvr/quality.hpp"
 #include "snvr/shapes.hpp"
+#include "temp_dir.hpp"
 #include "triangle_grid.hpp"
 
 using namespace snvr;
+using snvr::testing::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
@@ -99,22 +101,6 @@ const Mesh& shell() {
         [](const Vec3& p) { return kL - std::fabs(dist(p, kCentre) - kR); }, {0.1, 0.1, 0.1}, kH, 80);
     return mesh;
 }
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static std::atomic<unsigned> counter{0};
-        std::random_device entropy;
-        path = fs::temp_directory_path() /
-               ("snvr-test-quality-" + std::to_string(entropy()) + "-" + std::to_string(counter++));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path, ignored);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
 
 void write_text(const std::string& path, const std::string& text) {
     std::ofstream(path, std::ios::binary) << text;
@@ -288,7 +274,7 @@ TEST_CASE("triangle grid: closest triangle and first hit agree with brute force"
 }
 
 TEST_CASE("read_mesh: round trip through write_mesh, and bad files") {
-    TempDir dir;
+    TempDir dir("quality");
     const Mesh mesh = icosphere(kCentre, 0.25, 2);
     for (const char* name : {"m.stl", "m.ply", "m.obj"}) {
         CAPTURE(name);

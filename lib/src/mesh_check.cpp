@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "disjoint_sets.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 
@@ -30,26 +31,6 @@ void check_indices(const Mesh& mesh, const char* who) {
                 throw InputError(std::string(who) + ": triangle " + std::to_string(t) + " uses vertex " +
                                  std::to_string(v) + " of " + std::to_string(nv));
 }
-
-class DisjointSets {
-public:
-    explicit DisjointSets(std::size_t n) : parent_(n) {
-        for (std::size_t i = 0; i < n; ++i) parent_[i] = std::uint32_t(i);
-    }
-    std::uint32_t find(std::uint32_t x) {
-        while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];  // path halving
-        return x;
-    }
-    // The smaller root wins, which keeps the result independent of union order.
-    void unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-    }
-
-private:
-    std::vector<std::uint32_t> parent_;
-};
 
 // Items grouped by bucket (counting sort): bucket b is items[start[b] .. start[b+1]).
 template <class Item>

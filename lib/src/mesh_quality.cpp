@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "disjoint_sets.hpp"
 #include "io_common.hpp"
 #include "point_index.hpp"
 #include "snvr/error.hpp"
@@ -95,25 +96,6 @@ double percentile_01(std::vector<double>& values) {
     std::nth_element(values.begin(), values.begin() + k, values.end());
     return values[k];
 }
-
-class DisjointSets {
-public:
-    explicit DisjointSets(std::size_t n) : parent_(n) {
-        for (std::size_t i = 0; i < n; ++i) parent_[i] = std::uint32_t(i);
-    }
-    std::uint32_t find(std::uint32_t x) {
-        while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];  // path halving
-        return x;
-    }
-    void unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-    }
-
-private:
-    std::vector<std::uint32_t> parent_;
-};
 
 // The half-edges of the proper triangles grouped by their lower vertex v, each as
 // (upper vertex << 32 | triangle), sorted: runs of one upper vertex are one edge.

@@ -42,6 +42,15 @@ long intervals(double length, double spacing) {
     return std::max(1L, static_cast<long>(std::ceil(length / spacing - 1e-9)));
 }
 
+// Intervals per edge of a square lattice of side `size`, after checking spacing and
+// refusing `squares` such lattices if they would hold too many points.
+long square_intervals(double size, double spacing, double squares) {
+    require_positive("spacing", spacing);
+    const double per_edge = std::ceil(size / spacing) + 1;
+    require_count(squares * per_edge * per_edge);
+    return intervals(size, spacing);
+}
+
 // Appends a horizontal circle of radius rho at height z around c, with a point count
 // that keeps the arc between neighbours at most `spacing`; rho == 0 gives one point.
 // Odd rings are turned by half a step so neighbouring rings interleave.
@@ -65,6 +74,26 @@ double lerp(double lo, double hi, long j, long n) {
     return lo + (hi - lo) * (double(j) / double(n));
 }
 
+// Golden-angle spiral of `estimate` points (at least one) on the sphere (c, r): point
+// i of n at unit height height(i, n), kept when that height passes `keep`. The plain
+// and the varying-density spheres differ only in the heights.
+template <class Height, class Keep>
+PointSet golden_spiral(const Vec3& c, double r, double estimate, Height height, Keep keep) {
+    require_count(estimate);
+    const long n = std::max(1L, static_cast<long>(estimate));
+    const double golden = kPi * (3 - std::sqrt(5.0));
+    PointSet out;
+    out.reserve(std::size_t(n));
+    for (long i = 0; i < n; ++i) {
+        const double z = height(i, n);
+        if (!keep(z)) continue;
+        const double rho = std::sqrt(std::max(0.0, 1 - z * z));
+        const double theta = golden * double(i);
+        out.push_back({c[0] + r * rho * std::cos(theta), c[1] + r * rho * std::sin(theta), c[2] + r * z});
+    }
+    return out;
+}
+
 // Fibonacci lattice on the sphere, keeping the points whose unit z passes `keep`.
 template <class Keep>
 PointSet fibonacci(const Vec3& c, double r, double spacing, Keep keep) {
@@ -72,19 +101,8 @@ PointSet fibonacci(const Vec3& c, double r, double spacing, Keep keep) {
     require_positive("radius", r);
     require_positive("spacing", spacing);
     const double estimate = std::ceil(4 * kPi * r * r / (spacing * spacing));
-    require_count(estimate);
-    const long n = std::max(1L, static_cast<long>(estimate));
-    const double golden = kPi * (3 - std::sqrt(5.0));
-    PointSet out;
-    out.reserve(std::size_t(n));
-    for (long i = 0; i < n; ++i) {
-        const double z = 1 - (2 * double(i) + 1) / double(n);
-        if (!keep(z)) continue;
-        const double rho = std::sqrt(std::max(0.0, 1 - z * z));
-        const double theta = golden * double(i);
-        out.push_back({c[0] + r * rho * std::cos(theta), c[1] + r * rho * std::sin(theta), c[2] + r * z});
-    }
-    return out;
+    return golden_spiral(
+        c, r, estimate, [](long i, long n) { return 1 - (2 * double(i) + 1) / double(n); }, keep);
 }
 
 // The arguments shared by the cylinder and the cone.
@@ -360,10 +378,7 @@ PointSet half_sphere(const Vec3& c, double r, double spacing) {
 PointSet cube(const Vec3& c, double s, double spacing) {
     require_finite(c);
     require_positive("side", s);
-    require_positive("spacing", spacing);
-    const double per_edge = std::ceil(s / spacing) + 1;
-    require_count(6 * per_edge * per_edge);
-    const long n = intervals(s, spacing);
+    const long n = square_intervals(s, spacing, 6);
     const double h = s / 2;
     PointSet out;
     out.reserve(std::size_t((n + 1) * (n + 1) * (n + 1) - (n - 1) * (n - 1) * (n - 1)));
@@ -417,10 +432,7 @@ PointSet parallel_sheets(const Vec3& c, double size, double gap, double spacing)
     require_finite(c);
     require_positive("size", size);
     require_positive("gap", gap);
-    require_positive("spacing", spacing);
-    const double per_edge = std::ceil(size / spacing) + 1;
-    require_count(2 * per_edge * per_edge);
-    const long n = intervals(size, spacing);
+    const long n = square_intervals(size, spacing, 2);
     const double h = size / 2;
     PointSet out;
     out.reserve(std::size_t(2 * (n + 1) * (n + 1)));
@@ -491,21 +503,13 @@ PointSet varying_sphere(const Vec3& c, double r, double spacing, double ratio) {
     const double a = std::log(ratio) / 2;
     const double total = a > 0 ? -std::expm1(-2 * a) / a : 2.0;
     const double estimate = std::ceil(2 * kPi * r * r / (spacing * spacing) * total);
-    require_count(estimate);
-    const long n = std::max(1L, static_cast<long>(estimate));
-    const double golden = kPi * (3 - std::sqrt(5.0));
-    PointSet out;
-    out.reserve(std::size_t(n));
-    for (long i = 0; i < n; ++i) {
-        // The Fibonacci lattice with its heights warped so that point i has the share
-        // (i + 1/2) / n of the profile above it; locally it stays a Fibonacci lattice.
+    // The Fibonacci lattice with its heights warped so that point i has the share
+    // (i + 1/2) / n of the profile above it; locally it stays a Fibonacci lattice.
+    const auto height = [&](long i, long n) {
         const double share = (double(i) + 0.5) / double(n);
-        const double z = a > 0 ? 1 + std::log1p(-a * share * total) / a : 1 - 2 * share;
-        const double rho = std::sqrt(std::max(0.0, 1 - z * z));
-        const double theta = golden * double(i);
-        out.push_back({c[0] + r * rho * std::cos(theta), c[1] + r * rho * std::sin(theta), c[2] + r * z});
-    }
-    return out;
+        return a > 0 ? 1 + std::log1p(-a * share * total) / a : 1 - 2 * share;
+    };
+    return golden_spiral(c, r, estimate, height, [](double) { return true; });
 }
 
 PointSet torus(const Vec3& c, double R, double r, double spacing) {

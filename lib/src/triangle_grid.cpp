@@ -113,27 +113,28 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
     // Boxes grown by a sliver, so that a point on a cell face finds the triangle
     // from both cells whatever the rounding.
     const double slack = size_ * 1e-9;
-    const auto box_cells = [&](std::size_t t, std::array<int, 3>& c0, std::array<int, 3>& c1) {
+    // Calls visit(cell index) for every cell that triangle t's box meets; shared by
+    // the counting and the filling pass so that both see the same cells.
+    const auto for_box_cells = [&](std::size_t t, auto&& visit) {
+        std::array<int, 3> c0, c1;
         for (int d = 0; d < 3; ++d) {
             const double a = V[T[t][0]][d], b = V[T[t][1]][d], c = V[T[t][2]][d];
             c0[d] = cell(d, std::min({a, b, c}) - slack);
             c1[d] = cell(d, std::max({a, b, c}) + slack);
         }
+        for (int z = c0[2]; z <= c1[2]; ++z)
+            for (int y = c0[1]; y <= c1[1]; ++y)
+                for (int x = c0[0]; x <= c1[0]; ++x) visit(index(x, y, z));
     };
     const std::size_t n_cells = std::size_t(n_[0]) * std::size_t(n_[1]) * std::size_t(n_[2]);
     std::vector<std::uint64_t> count(n_cells + 1, 0);
     std::uint64_t* counts = count.data() + 1;
 #pragma omp parallel for schedule(static) if (nt > 20000)
-    for (std::ptrdiff_t t = 0; t < std::ptrdiff_t(nt); ++t) {
-        std::array<int, 3> c0, c1;
-        box_cells(std::size_t(t), c0, c1);
-        for (int z = c0[2]; z <= c1[2]; ++z)
-            for (int y = c0[1]; y <= c1[1]; ++y)
-                for (int x = c0[0]; x <= c1[0]; ++x) {
+    for (std::ptrdiff_t t = 0; t < std::ptrdiff_t(nt); ++t)
+        for_box_cells(std::size_t(t), [&](std::size_t cell_index) {
 #pragma omp atomic
-                    ++counts[index(x, y, z)];
-                }
-    }
+            ++counts[cell_index];
+        });
     for (std::size_t c = 0; c < n_cells; ++c) count[c + 1] += count[c];
     if (count[n_cells] >= std::numeric_limits<std::uint32_t>::max())
         throw ResourceError("TriangleGrid: more than 2^32 cell entries");
@@ -141,18 +142,13 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
     items_.resize(count[n_cells]);
     std::uint64_t* next = count.data();  // reused as each cell's write cursor
 #pragma omp parallel for schedule(static) if (nt > 20000)
-    for (std::ptrdiff_t t = 0; t < std::ptrdiff_t(nt); ++t) {
-        std::array<int, 3> c0, c1;
-        box_cells(std::size_t(t), c0, c1);
-        for (int z = c0[2]; z <= c1[2]; ++z)
-            for (int y = c0[1]; y <= c1[1]; ++y)
-                for (int x = c0[0]; x <= c1[0]; ++x) {
-                    std::uint64_t at;
+    for (std::ptrdiff_t t = 0; t < std::ptrdiff_t(nt); ++t)
+        for_box_cells(std::size_t(t), [&](std::size_t cell_index) {
+            std::uint64_t at;
 #pragma omp atomic capture
-                    at = next[index(x, y, z)]++;
-                    items_[at] = std::uint32_t(t);
-                }
-    }
+            at = next[cell_index]++;
+            items_[at] = std::uint32_t(t);
+        });
 }
 
 int TriangleGrid::cell(int d, double v) const {
