@@ -8,4 +8,4 @@ export OMP_WAIT_POLICY=passive
 # PoCL caches compiled kernels; keep its cache somewhere writable even without a home.
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"
 ./build/cli/snvr-cl sample cone --spacing 0.004 -o build/example-cone.ply
-./build/cli/snvr-cl reconstruct build/example-cone.ply -o example-cone.stl --resolution 128 --steps 8
+./build/cli/snvr-cl reconstruct build/example-cone.ply -o example-cone.stl --resolution 128

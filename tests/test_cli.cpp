@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -88,6 +89,34 @@ TEST_CASE("bad usage: exit 2 and a hint") {
     expect_failure("reconstruct " + cloud + " -o " + t.out() + " --offset 1 --thickness 2", 2, "thickness", t);
     expect_failure("reconstruct " + cloud + " -o " + t.out() + " --bogus", 2, "--bogus", t);
     expect_failure("frobnicate", 2, "frobnicate", t);
+}
+
+TEST_CASE("the flow in cells by default; the paper's normalised dt and free flow on request") {
+    TempDir t;
+    std::string sphere;  // points on a sphere of radius 0.3
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 80; ++j) {
+            const double th = 3.14159265 * (i + 0.5) / 40, ph = 2 * 3.14159265 * j / 80;
+            sphere += std::to_string(0.3 * std::sin(th) * std::cos(ph)) + " " + std::to_string(0.3 * std::sin(th) * std::sin(ph)) +
+                      " " + std::to_string(0.3 * std::cos(th)) + "\n";
+        }
+    const std::string cloud = t.file("sphere.xyz", sphere);
+    Run r = run("reconstruct " + cloud + " -o " + t.out() + " --resolution 48");
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("6 steps of dt") != std::string::npos);
+    CHECK(r.output.find("(0.25 h^2): time 1.5 h^2; surface kept between") != std::string::npos);
+    CHECK(r.output.find("walls            thinnest 1%") != std::string::npos);
+    fs::remove(t.out());
+    r = run("reconstruct " + cloud + " -o " + t.out() + " --resolution 48 --dt 5e-5 --steps 3 --free-flow");
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("3 steps of dt 5e-05") != std::string::npos);
+    CHECK(r.output.find("free flow") != std::string::npos);
+    fs::remove(t.out());
+    expect_failure("reconstruct " + cloud + " -o " + t.out() + " --dt 1e-5 --dt-cells 0.5", 2, "--dt", t);
+    expect_failure("reconstruct " + cloud + " -o " + t.out() + " --tube-inner 1.5", 2, "tube", t);
+    expect_failure("reconstruct " + cloud + " -o " + t.out() + " --free-flow --tube-outer 0.5", 2, "free-flow", t);
 }
 
 TEST_CASE("degenerate but sane input gets a printable result") {
