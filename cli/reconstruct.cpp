@@ -81,17 +81,15 @@ int run_reconstruct(const std::vector<std::string>& args) {
     seconds.written = total.lap();
 
     say("check: " + grouped(mesh.triangles.size()) + " triangles, " + grouped(points.size()) + " points");
-    const snvr::MeshReport report = snvr::check_mesh(mesh);
-    // Points inside, their depth, the walls and the surface's roughness, for the summary.
+    // Closed / manifold / oriented, points inside and their depth, walls and roughness.
     const snvr::MeshQuality quality = snvr::measure_quality(mesh, points, result.offset, result.domain.h);
-    const std::size_t inside = quality.points_inside;
     const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
     seconds.check = stage.lap();
-    for (const std::string& w : mesh_warnings(report, inside, points.size(), clusters)) warn(w);
+    for (const std::string& w : mesh_warnings(quality.report, quality.points_inside, points.size(), clusters)) warn(w);
     seconds.total = seconds.written + total.lap();
 
     if (!o.quiet)
-        print_summary(std::cerr, RunSummary{result, report, quality, points.size(), inside, seconds, o.output, o.volume});
+        print_summary(std::cerr, RunSummary{result, quality, seconds, o.output, o.volume});
     return 0;
 }
 

@@ -105,15 +105,14 @@ void print_summary(std::ostream& out, const RunSummary& run) {
                        s.domain, s.distance, s.init, s.steps));
     row("", fmt("mesh %.2f, write %.2f (written after %.2f), check %.2f; total %.2f", run.seconds.mesh,
                 run.seconds.write, run.seconds.written, run.seconds.check, run.seconds.total));
-    row("mesh", fmt("%s triangles, %s vertices, %zu component%s", grouped(run.mesh.triangles).c_str(),
-                    grouped(run.mesh.vertices).c_str(), run.mesh.components, run.mesh.components == 1 ? "" : "s"));
-    row("", fmt("%zu solid piece%s (the other components bound cavities)", run.mesh.solids,
-                run.mesh.solids == 1 ? "" : "s"));
-    row("", fmt("closed %s, manifold %s, oriented %s", yes_no(run.mesh.closed()), yes_no(run.mesh.manifold()),
-                yes_no(run.mesh.oriented())));
     const snvr::MeshQuality& q = run.quality;
+    const snvr::MeshReport& m = q.report;
+    row("mesh", fmt("%s triangles, %s vertices, %zu component%s", grouped(m.triangles).c_str(),
+                    grouped(m.vertices).c_str(), m.components, m.components == 1 ? "" : "s"));
+    row("", fmt("%zu solid piece%s (the other components bound cavities)", m.solids, m.solids == 1 ? "" : "s"));
+    row("", fmt("closed %s, manifold %s, oriented %s", yes_no(m.closed()), yes_no(m.manifold()), yes_no(m.oriented())));
     row("points enclosed", fmt("%s of %s; the nearest to the surface %.3g x offset deep (1st percentile %.3g)",
-                               grouped(run.inside).c_str(), grouped(run.points).c_str(), q.depth_min, q.depth_p01));
+                               grouped(q.points_inside).c_str(), grouped(q.points).c_str(), q.depth_min, q.depth_p01));
     row("walls", fmt("thinnest 1%% at %.3g voxels = %.3g x 2 offset (thinnest of all %.3g voxels)", q.wall_p01,
                      q.wall_p01_2l, q.wall_min));
     row("surface", fmt("distance to the points - offset: RMS %.3g voxels, mean %+.3g; dihedral RMS %.3g deg, "

@@ -36,9 +36,7 @@ struct Seconds {
 
 struct RunSummary {
     const snvr::Result& result;
-    const snvr::MeshReport& mesh;
-    const snvr::MeshQuality& quality;
-    std::size_t points = 0, inside = 0;
+    const snvr::MeshQuality& quality;  // its report is check_mesh's
     Seconds seconds;
     std::string output, volume;
 };

@@ -347,7 +347,8 @@ MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double off
     q.offset = offset;
     q.voxel = voxel;
 
-    const MeshReport report = check_mesh(mesh);
+    q.report = check_mesh(mesh);
+    const MeshReport& report = q.report;
     q.components = report.components;
     q.solids = report.solids;
     q.cavities = report.components - std::min(report.components, report.solids);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "snvr/geometry.hpp"
+#include "snvr/mesh.hpp"
 
 namespace snvr {
 
@@ -17,6 +18,7 @@ struct MeshQuality {
     std::size_t vertices = 0, triangles = 0, points = 0;
     double offset = 0, voxel = 0;  // l and h as given, world units
 
+    MeshReport report;           // check_mesh's full report (counts of every defect)
     std::size_t components = 0;  // edge-connected pieces of the mesh (check_mesh)
     std::size_t solids = 0;      // pieces enclosing positive volume (check_mesh)
     std::size_t cavities = 0;    // components - solids: pieces bounding holes inside solids
