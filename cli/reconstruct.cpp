@@ -56,8 +56,17 @@ int run_reconstruct(const std::vector<std::string>& args) {
     for (const std::string& w : result.warnings) warn(w);
 
     say("mesh: extracting the zero level set");
-    const snvr::Mesh mesh = snvr::shell_mesh(result);
+    snvr::DepthGuardReport guard;
+    const snvr::Mesh mesh = snvr::shell_mesh(result, points, &guard);
     seconds.mesh = stage.lap();
+    if (guard.moved_vertices)
+        say(fmt("mesh: %s vertices lifted along their normals, around %s that came nearer to a point than the "
+                "tube's inner wall (%.3g x offset), so that every point stays that deep",
+                grouped(guard.moved_vertices).c_str(), grouped(guard.near_vertices).c_str(),
+                1 - result.tube_inner / result.offset));
+    if (guard.shallow_points)
+        warn(fmt("%s points stay shallower than %.3g x offset after %d repair rounds",
+                 grouped(guard.shallow_points).c_str(), 1 - result.tube_inner / result.offset, guard.repair_rounds));
     if (mesh.triangles.empty())
         throw snvr::Error(fmt("the reconstructed shell is empty (no triangles on the %d x %d x %d grid, offset "
                               "%.6g, voxel %.6g); try a larger --offset or a finer --resolution. Nothing written",

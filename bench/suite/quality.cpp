@@ -199,7 +199,7 @@ Record measure_quality_run(const QualityRun& run, const std::string& data_dir) {
         Stopwatch clock;
         const Result res = reconstruct(in.points, p);
         const double reconstruct_s = clock.lap();
-        mesh = shell_mesh(res);  // snvr-cl's mesher
+        mesh = shell_mesh(res, in.points);  // snvr-cl's mesher
         const double mesh_s = clock.lap();
         rec.set("backend", res.backend).set("grid", std::to_string(res.domain.nx) + "x" + std::to_string(res.domain.ny) + "x" +
                                                         std::to_string(res.domain.nz));

@@ -17,6 +17,7 @@
 #include "snvr/mesh.hpp"
 #include "snvr/quality.hpp"
 #include "triangle_grid.hpp"
+#include "vec3_math.hpp"
 
 namespace snvr {
 namespace {
@@ -28,11 +29,6 @@ constexpr double kDegrees = 180 / 3.14159265358979323846;
 // Below this many items a loop is not worth waking threads for.
 constexpr std::ptrdiff_t kParallel = 4096;
 
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 // Robust for nearly parallel vectors, unlike acos of the dot product.
 double angle(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 
@@ -44,27 +40,6 @@ void check_indices(const Mesh& mesh, const char* who) {
             if (v >= mesh.vertices.size())
                 throw InputError(std::string(who) + ": triangle " + std::to_string(t) + " uses vertex " +
                                  std::to_string(v) + " of " + std::to_string(mesh.vertices.size()));
-}
-
-// Twice the area times the unit normal, from the counter-clockwise order.
-Vec3 face_vector(const Mesh& m, const Tri& t) {
-    const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
-    return cross({b[0] - a[0], b[1] - a[1], b[2] - a[2]}, {c[0] - a[0], c[1] - a[1], c[2] - a[2]});
-}
-
-// Unit vertex normals: the area-weighted mean of the incident faces' normals
-// (zero for a vertex no proper triangle uses).
-std::vector<Vec3> vertex_normals(const Mesh& m, const std::vector<Vec3>& faces) {
-    std::vector<Vec3> n(m.vertices.size(), Vec3{0, 0, 0});
-    for (std::size_t t = 0; t < m.triangles.size(); ++t)
-        for (std::uint32_t v : m.triangles[t])
-            for (int d = 0; d < 3; ++d) n[v][d] += faces[t][d];
-    for (Vec3& v : n) {
-        const double len = norm(v);
-        if (len > 0)
-            for (double& x : v) x /= len;
-    }
-    return n;
 }
 
 // The distance from each vertex along its inward normal to the first triangle

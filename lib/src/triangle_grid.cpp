@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "snvr/error.hpp"
+#include "vec3_math.hpp"
 
 namespace snvr {
 namespace {
@@ -15,11 +16,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Finer cells mean fewer triangles tested per query and 4 bytes per cell.
 constexpr double kCellsPerTriangle = 4;
 
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
 
 double point_segment_dist_sq(const Vec3& p, const Vec3& a, const Vec3& b) {
     const Vec3 ab = sub(b, a), ap = sub(p, a);

@@ -53,6 +53,20 @@ struct MeshReport {
 
 MeshReport check_mesh(const Mesh& mesh);
 
+// What keep_points_deep did.
+struct DepthGuardReport {
+    std::size_t near_vertices = 0;   // vertices nearer than the depth (plus a margin) to a point
+    std::size_t moved_vertices = 0;  // vertices lifted, those and their neighbours
+    int repair_rounds = 0;           // extra lifts of single triangles that were needed
+    std::size_t shallow_points = 0;  // points still shallower than the depth at the end
+};
+
+// Moves the vertices of a closed, outward-oriented mesh outward along their normals,
+// smoothly over two rings of neighbours, until every point that lies inside it is at
+// least `depth` from the surface (depth and voxel in world units; the voxel sets the
+// margin and the smoothness scale). Points outside the mesh are left alone.
+DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel);
+
 // How many of the points lie strictly inside the closed mesh (odd crossing count of a ray).
 std::size_t count_points_inside(const Mesh& mesh, const PointSet& points);
 

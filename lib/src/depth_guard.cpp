@@ -1,0 +1,219 @@
+// keep_points_deep: moves a shell's vertices outward, smoothly, until no point lies
+// nearer than the promised depth to the surface.
+//
+// Why the mesh needs it although the field keeps the depth: the tube holds phi above
+// the profile of the surface d = depth at every grid node, but between nodes the
+// interpolant of a ball two or three cells in radius sags inward, and flat triangles
+// across it cut deeper still (a point on a scan's open rim ended 0.72 l deep on the
+// bunny at l = 2.5 voxels with the tube at 0.8 l). Where that happens the patch of
+// surface is lifted along its normals by a displacement that is spread over two rings
+// of neighbours, so the lifted patch has no kink at its edge.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "point_index.hpp"
+#include "snvr/error.hpp"
+#include "snvr/mesh.hpp"
+#include "triangle_grid.hpp"  // point_triangle_dist_sq
+#include "vec3_math.hpp"
+
+namespace snvr {
+namespace {
+
+// Vertices are aimed this far (in voxels) beyond the depth: a triangle about a voxel
+// across on a ball of radius 2 voxels sags about 0.1 voxel between its corners.
+constexpr double kMarginVoxels = 0.1;
+// Rounds of (largest of the ring, then mean of the ring) that spread each lift.
+constexpr int kSpreadRounds = 2;
+// Repair rounds for the points still too shallow after the first lift; each lifts the
+// nearest triangle of each such point by what it lacks.
+constexpr int kRepairRounds = 8;
+constexpr std::ptrdiff_t kParallel = 4096;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Each vertex's neighbours along edges, as compressed rows.
+struct Rings {
+    std::vector<std::size_t> start;
+    std::vector<std::uint32_t> items;
+    Rings(const Mesh& m) : start(m.vertices.size() + 1, 0) {
+        for (const auto& t : m.triangles)
+            for (int e = 0; e < 3; ++e) ++start[t[e] + 1];
+        for (std::size_t v = 0; v < m.vertices.size(); ++v) start[v + 1] += start[v];
+        items.resize(start.back());
+        std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+        for (const auto& t : m.triangles)
+            for (int e = 0; e < 3; ++e) items[fill[t[e]]++] = t[(e + 1) % 3];
+    }
+};
+
+// Widens each lift to the vertex's ring, then averages it over the ring: a lift on one
+// vertex becomes a smooth bump over two rings.
+void spread(const Rings& rings, std::vector<double>& lift) {
+    const std::ptrdiff_t nv = std::ptrdiff_t(lift.size());
+    std::vector<double> wide(lift.size());
+    for (int round = 0; round < kSpreadRounds; ++round) {
+#pragma omp parallel for schedule(static) if (nv > kParallel)
+        for (std::ptrdiff_t v = 0; v < nv; ++v) {
+            double m = lift[v];
+            for (std::size_t r = rings.start[v]; r < rings.start[v + 1]; ++r) m = std::max(m, lift[rings.items[r]]);
+            wide[v] = m;
+        }
+#pragma omp parallel for schedule(static) if (nv > kParallel)
+        for (std::ptrdiff_t v = 0; v < nv; ++v) {
+            double sum = wide[v];
+            for (std::size_t r = rings.start[v]; r < rings.start[v + 1]; ++r) sum += wide[rings.items[r]];
+            lift[v] = sum / double(1 + rings.start[v + 1] - rings.start[v]);
+        }
+    }
+}
+
+void apply(Mesh& mesh, const std::vector<Vec3>& normals, const std::vector<double>& lift) {
+    for (std::size_t v = 0; v < lift.size(); ++v)
+        for (int d = 0; d < 3; ++d) mesh.vertices[v][d] += normals[v][d] * lift[v];
+}
+
+// Distance from each vertex to its nearest point, or infinity beyond `bound`.
+std::vector<double> vertex_clearance(const Mesh& mesh, const PointIndex& index, double bound) {
+    const std::ptrdiff_t nv = std::ptrdiff_t(mesh.vertices.size());
+    std::vector<double> clearance(mesh.vertices.size(), kInf);
+#pragma omp parallel for schedule(dynamic, 1024) if (nv > kParallel)
+    for (std::ptrdiff_t v = 0; v < nv; ++v) {
+        const PointIndex::Hit hit = index.nearest(mesh.vertices[v], bound * bound);
+        if (hit.index != PointIndex::npos) clearance[v] = std::sqrt(hit.dist_sq);
+    }
+    return clearance;
+}
+
+// The triangles around each vertex, as compressed rows.
+struct Fans {
+    std::vector<std::size_t> start;
+    std::vector<std::uint32_t> items;
+    explicit Fans(const Mesh& m) : start(m.vertices.size() + 1, 0) {
+        for (const auto& t : m.triangles)
+            for (std::uint32_t v : t) ++start[v + 1];
+        for (std::size_t v = 0; v < m.vertices.size(); ++v) start[v + 1] += start[v];
+        items.resize(start.back());
+        std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+        for (std::uint32_t t = 0; t < m.triangles.size(); ++t)
+            for (std::uint32_t v : m.triangles[t]) items[fill[v]++] = t;
+    }
+};
+
+double triangle_distance(const Mesh& m, const Vec3& p, std::uint32_t t) {
+    const auto& tri = m.triangles[t];
+    return std::sqrt(point_triangle_dist_sq(p, m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]));
+}
+
+// A point that some triangle comes within depth + slack of, with those triangles.
+struct Watched {
+    std::size_t point;
+    std::vector<std::uint32_t> triangles;
+};
+
+// Every point that a triangle comes within `within` of. Each spot of a triangle lies
+// within longest edge / sqrt 3 (the largest circumradius) of one of its corners, so
+// the corners within `within` + that of the point find every such triangle.
+std::vector<Watched> watch_list(const Mesh& mesh, const PointSet& points, double within) {
+    double longest = 0;
+    for (const auto& t : mesh.triangles)
+        for (int e = 0; e < 3; ++e)
+            longest = std::max(longest, norm(sub(mesh.vertices[t[e]], mesh.vertices[t[(e + 1) % 3]])));
+    const double reach = within + longest / std::sqrt(3.0);
+    const PointIndex corners(mesh.vertices);
+    const Fans fans(mesh);
+    std::vector<Watched> watched;
+    const std::ptrdiff_t np = std::ptrdiff_t(points.size());
+#pragma omp parallel
+    {
+        std::vector<Watched> mine;
+#pragma omp for schedule(dynamic, 256)
+        for (std::ptrdiff_t p = 0; p < np; ++p) {
+            const Vec3& at = points[p];
+            Watched w{std::size_t(p), {}};
+            corners.for_each_within(at, reach, [&](std::size_t v) {
+                for (std::size_t f = fans.start[v]; f < fans.start[v + 1]; ++f) {
+                    // Each triangle once: from its first corner within reach.
+                    const std::uint32_t t = fans.items[f];
+                    for (std::uint32_t c : mesh.triangles[t]) {
+                        if (c == v) {
+                            if (triangle_distance(mesh, at, t) < within) w.triangles.push_back(t);
+                            break;
+                        }
+                        if (norm(sub(mesh.vertices[c], at)) < reach) break;
+                    }
+                }
+            });
+            if (!w.triangles.empty()) mine.push_back(std::move(w));
+        }
+#pragma omp critical
+        for (Watched& w : mine) watched.push_back(std::move(w));
+    }
+    std::sort(watched.begin(), watched.end(), [](const Watched& a, const Watched& b) { return a.point < b.point; });
+    return watched;
+}
+
+}  // namespace
+
+DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel) {
+    if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
+        throw ParameterError("keep_points_deep: depth and voxel must be positive and finite");
+    DepthGuardReport report;
+    if (mesh.triangles.empty() || points.empty()) return report;
+    for (const auto& t : mesh.triangles)
+        for (std::uint32_t v : t)
+            if (v >= mesh.vertices.size()) throw InputError("keep_points_deep: a triangle uses a missing vertex");
+
+    std::vector<Vec3> faces(mesh.triangles.size());
+    for (std::size_t t = 0; t < faces.size(); ++t) faces[t] = face_vector(mesh, mesh.triangles[t]);
+    const std::vector<Vec3> normals = vertex_normals(mesh, faces);  // kept from the unmoved mesh
+    const PointIndex index(points);
+
+    // Lift every vertex nearer than the aim to a point on its inner side.
+    const double aim = depth + kMarginVoxels * voxel;
+    const std::vector<double> clearance = vertex_clearance(mesh, index, aim);
+    std::vector<double> lift(mesh.vertices.size(), 0.0);
+    for (std::size_t v = 0; v < lift.size(); ++v) {
+        if (!(clearance[v] < aim)) continue;
+        const PointIndex::Hit hit = index.nearest(mesh.vertices[v], aim * aim);
+        if (dot(sub(mesh.vertices[v], index.point(hit.index)), normals[v]) > 0) lift[v] = aim - clearance[v];
+    }
+    for (double x : lift) report.near_vertices += x > 0;
+    if (report.near_vertices == 0) return report;
+    spread(Rings(mesh), lift);
+    apply(mesh, normals, lift);
+    for (double x : lift) report.moved_vertices += x > 0;
+
+    // Then lift the nearest triangle of each point still shallower than the depth. The
+    // watch list holds every triangle within a voxel of the depth from a point; repairs
+    // lift a few vertices by a fraction of that, outward, away from the points inside.
+    const std::vector<Watched> watched = watch_list(mesh, points, depth + 0.25 * voxel);
+    for (report.repair_rounds = 0;; ++report.repair_rounds) {
+        std::fill(lift.begin(), lift.end(), 0.0);
+        report.shallow_points = 0;
+        for (const Watched& w : watched) {
+            const Vec3& p = points[w.point];
+            double dist = kInf;
+            std::uint32_t nearest = 0;
+            for (std::uint32_t t : w.triangles) {
+                const double d = triangle_distance(mesh, p, t);
+                if (d < dist) dist = d, nearest = t;
+            }
+            if (!(dist < depth)) continue;
+            const auto& t = mesh.triangles[nearest];
+            if (dot(sub(mesh.vertices[t[0]], p), faces[nearest]) <= 0) continue;  // not under it
+            ++report.shallow_points;
+            const double lack = depth - dist + 0.5 * kMarginVoxels * voxel;
+            for (std::uint32_t v : t) lift[v] = std::max(lift[v], lack);
+        }
+        if (report.shallow_points == 0 || report.repair_rounds == kRepairRounds) break;
+        apply(mesh, normals, lift);
+    }
+    return report;
+}
+
+}  // namespace snvr
