@@ -59,11 +59,16 @@ int run_reconstruct(const std::vector<std::string>& args) {
     snvr::DepthGuardReport guard;
     const snvr::Mesh mesh = snvr::shell_mesh(result, points, &guard);
     seconds.mesh = stage.lap();
-    if (guard.moved_vertices)
+    if (guard.moved_vertices) {
+        const std::string except =
+            guard.lone_points ? " but " + grouped(guard.lone_points) +
+                                    " with no other point within the offset (it is below the sampling gap)"
+                              : "";
         say(fmt("mesh: %s vertices lifted along their normals, around %s that came nearer to a point than the "
-                "tube's inner wall (%.3g x offset), so that every point stays that deep",
+                "tube's inner wall (%.3g x offset), so that every point stays that deep%s",
                 grouped(guard.moved_vertices).c_str(), grouped(guard.near_vertices).c_str(),
-                1 - result.tube_inner / result.offset));
+                1 - result.tube_inner / result.offset, except.c_str()));
+    }
     if (guard.shallow_points)
         warn(fmt("%s points stay shallower than %.3g x offset after %d repair rounds",
                  grouped(guard.shallow_points).c_str(), 1 - result.tube_inner / result.offset, guard.repair_rounds));

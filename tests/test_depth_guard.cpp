@@ -10,6 +10,7 @@
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 #include "triangle_grid.hpp"
+#include "vec3_math.hpp"
 
 using namespace snvr;
 using namespace snvr::testing;
@@ -57,6 +58,12 @@ TEST_CASE("a ball meshed two cells in radius: every point inside ends at least t
     for (const Vec3& p : points) CHECK(depth_of(m, p) >= depth);
     check_printable(check_mesh(m));
     CHECK(m.triangles == original.triangles);
+    for (const auto& t : m.triangles) {  // none turned over
+        const Vec3 a = cross(sub(m.vertices[t[1]], m.vertices[t[0]]), sub(m.vertices[t[2]], m.vertices[t[0]]));
+        const Vec3 b = cross(sub(original.vertices[t[1]], original.vertices[t[0]]),
+                             sub(original.vertices[t[2]], original.vertices[t[0]]));
+        CHECK(dot(a, b) > 0);
+    }
     // Lifted outward only, and by about what was missing, not more.
     double most = 0;
     for (std::size_t v = 0; v < m.vertices.size(); ++v) {
@@ -64,6 +71,23 @@ TEST_CASE("a ball meshed two cells in radius: every point inside ends at least t
         most = std::max(most, dist(m.vertices[v], original.vertices[v]));
     }
     CHECK(most <= depth - before + 0.2 * h);
+}
+
+TEST_CASE("points with no other point within `lone` are left out") {
+    const double h = 0.1, r0 = 0.2;
+    const Vec3 c{0.013, -0.021, 0.007};
+    const Mesh original = coarse_sphere(c, r0, h);
+    const PointSet points{c, {c[0] + 0.02, c[1], c[2]}, {c[0], c[1] - 0.015, c[2] + 0.01}};  // 0.018-0.025 apart
+    Mesh alone = original;
+    const DepthGuardReport a = keep_points_deep(alone, points, 0.19, h, 0.01);
+    CHECK(a.lone_points == 3);
+    CHECK(a.near_vertices == 0);
+    CHECK(alone.vertices == original.vertices);
+    Mesh linked = original;
+    const DepthGuardReport b = keep_points_deep(linked, points, 0.19, h, 0.05);
+    CHECK(b.lone_points == 0);
+    CHECK(b.shallow_points == 0);
+    for (const Vec3& p : points) CHECK(depth_of(linked, p) >= 0.19);
 }
 
 TEST_CASE("points already deep, and points outside, leave the mesh as it is") {
@@ -91,6 +115,7 @@ TEST_CASE("keep_points_deep rejects a depth or voxel that is not positive and fi
     CHECK_THROWS_AS(keep_points_deep(m, points, 0, 0.1), ParameterError);
     CHECK_THROWS_AS(keep_points_deep(m, points, 0.1, -1), ParameterError);
     CHECK_THROWS_AS(keep_points_deep(m, points, std::nan(""), 0.1), ParameterError);
+    CHECK_THROWS_AS(keep_points_deep(m, points, 0.1, 0.1, 0), ParameterError);
     Mesh broken = m;
     broken.triangles[0][0] = std::uint32_t(broken.vertices.size());
     CHECK_THROWS_AS(keep_points_deep(broken, points, 0.1, 0.1), InputError);

@@ -113,3 +113,17 @@ TEST_CASE("the bunny scan: the same quality per voxel at two resolutions") {
         CHECK(q.normal_noise <= (cells < 128 ? 2.3 : 1.7));
     }
 }
+
+TEST_CASE("the horse scan: lifted patches keep every point deep without folding the surface") {
+    // Voxel = extent / 256, l = 2.5 voxels: lifts of a few hundredths of a voxel along
+    // neighbouring normals turned slivers over (thinnest wall 0.0005 x 2l) before the
+    // lifts were untangled.
+    const PointSet points = read_points(std::string(SNVR_DATA_DIR) + "/horse.ply");
+    const double h = 0.000716176, l = 2.5 * h;
+    const MeshQuality q = shell_quality("horse at 256", points, h, l);
+    CHECK(q.solids == 1);
+    CHECK(q.points_inside == points.size());
+    CHECK(q.depth_min >= 0.8);
+    CHECK(q.wall_min_2l >= 0.1);
+    CHECK(q.wall_p01_2l >= 0.8);
+}

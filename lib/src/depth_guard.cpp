@@ -33,6 +33,7 @@ constexpr int kSpreadRounds = 2;
 // Repair rounds for the points still too shallow after the first lift; each lifts the
 // nearest triangle of each such point by what it lacks.
 constexpr int kRepairRounds = 8;
+constexpr int kUntangleRounds = 16;
 constexpr std::ptrdiff_t kParallel = 4096;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -72,9 +73,42 @@ void spread(const Rings& rings, std::vector<double>& lift) {
     }
 }
 
-void apply(Mesh& mesh, const std::vector<Vec3>& normals, const std::vector<double>& lift) {
-    for (std::size_t v = 0; v < lift.size(); ++v)
-        for (int d = 0; d < 3; ++d) mesh.vertices[v][d] += normals[v][d] * lift[v];
+// Moves every vertex from where it started by its displacement, and returns how many
+// triangles now face against where they faced before (turned over).
+std::size_t place(Mesh& mesh, const std::vector<Vec3>& start, const std::vector<Vec3>& shift,
+                  const std::vector<Vec3>& faces, std::vector<std::uint8_t>& turned) {
+    for (std::size_t v = 0; v < start.size(); ++v)
+        for (int d = 0; d < 3; ++d) mesh.vertices[v][d] = start[v][d] + shift[v][d];
+    std::size_t count = 0;
+    for (std::size_t t = 0; t < faces.size(); ++t) {
+        turned[t] = dot(faces[t], faces[t]) > 0 && dot(face_vector(mesh, mesh.triangles[t]), faces[t]) <= 0;
+        count += turned[t];
+    }
+    return count;
+}
+
+// Lifts along neighbouring normals differ, and a sliver of a triangle a hundredth of a
+// voxel across turns over under the difference. Giving its corners their mean shift
+// moves it without turning it; repeated until no triangle is turned, or the rounds end
+// (then those triangles' corners go back to where they started).
+void untangle(Mesh& mesh, const std::vector<Vec3>& start, std::vector<Vec3>& shift, const std::vector<Vec3>& faces) {
+    std::vector<std::uint8_t> turned(faces.size());
+    for (int round = 0; round < kUntangleRounds; ++round) {
+        if (place(mesh, start, shift, faces, turned) == 0) return;
+        for (std::size_t t = 0; t < faces.size(); ++t) {
+            if (!turned[t]) continue;
+            const auto& tri = mesh.triangles[t];
+            Vec3 mean{0, 0, 0};
+            for (std::uint32_t v : tri)
+                for (int d = 0; d < 3; ++d) mean[d] += shift[v][d] / 3;
+            for (std::uint32_t v : tri) shift[v] = mean;
+        }
+    }
+    if (place(mesh, start, shift, faces, turned) == 0) return;
+    for (std::size_t t = 0; t < faces.size(); ++t)
+        if (turned[t])
+            for (std::uint32_t v : mesh.triangles[t]) shift[v] = {0, 0, 0};
+    place(mesh, start, shift, faces, turned);
 }
 
 // Distance from each vertex to its nearest point, or infinity beyond `bound`.
@@ -159,9 +193,10 @@ std::vector<Watched> watch_list(const Mesh& mesh, const PointSet& points, double
 
 }  // namespace
 
-DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel) {
+DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel, double lone) {
     if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
         throw ParameterError("keep_points_deep: depth and voxel must be positive and finite");
+    if (!(lone > 0)) throw ParameterError("keep_points_deep: lone must be positive");
     DepthGuardReport report;
     if (mesh.triangles.empty() || points.empty()) return report;
     for (const auto& t : mesh.triangles)
@@ -170,32 +205,46 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double dep
 
     std::vector<Vec3> faces(mesh.triangles.size());
     for (std::size_t t = 0; t < faces.size(); ++t) faces[t] = face_vector(mesh, mesh.triangles[t]);
-    const std::vector<Vec3> normals = vertex_normals(mesh, faces);  // kept from the unmoved mesh
+    const std::vector<Vec3> normals = vertex_normals(mesh, faces);
+    const std::vector<Vec3> start = mesh.vertices;
     const PointIndex index(points);
+    // The points the promise covers: those with another point within `lone`.
+    std::vector<std::uint8_t> kept(points.size(), 1);
+    if (std::isfinite(lone)) {
+        const std::ptrdiff_t np = std::ptrdiff_t(points.size());
+#pragma omp parallel for schedule(dynamic, 1024) if (np > kParallel)
+        for (std::ptrdiff_t p = 0; p < np; ++p) kept[p] = index.nearest_other(std::size_t(p)) <= lone;
+        for (std::uint8_t k : kept) report.lone_points += !k;
+    }
 
-    // Lift every vertex nearer than the aim to a point on its inner side.
+    // Lift every vertex nearer than the aim to a kept point on its inner side.
     const double aim = depth + kMarginVoxels * voxel;
     const std::vector<double> clearance = vertex_clearance(mesh, index, aim);
     std::vector<double> lift(mesh.vertices.size(), 0.0);
     for (std::size_t v = 0; v < lift.size(); ++v) {
         if (!(clearance[v] < aim)) continue;
         const PointIndex::Hit hit = index.nearest(mesh.vertices[v], aim * aim);
-        if (dot(sub(mesh.vertices[v], index.point(hit.index)), normals[v]) > 0) lift[v] = aim - clearance[v];
+        if (kept[hit.index] && dot(sub(mesh.vertices[v], index.point(hit.index)), normals[v]) > 0)
+            lift[v] = aim - clearance[v];
     }
     for (double x : lift) report.near_vertices += x > 0;
     if (report.near_vertices == 0) return report;
     spread(Rings(mesh), lift);
-    apply(mesh, normals, lift);
-    for (double x : lift) report.moved_vertices += x > 0;
+    std::vector<Vec3> shift(mesh.vertices.size());
+    for (std::size_t v = 0; v < shift.size(); ++v)
+        for (int d = 0; d < 3; ++d) shift[v][d] = normals[v][d] * lift[v];
+    untangle(mesh, start, shift, faces);
 
-    // Then lift the nearest triangle of each point still shallower than the depth. The
-    // watch list holds every triangle within a voxel of the depth from a point; repairs
-    // lift a few vertices by a fraction of that, outward, away from the points inside.
+    // Then move the nearest triangle of each point still shallower than the depth along
+    // its own normal, all three corners alike. The watch list holds every triangle
+    // within a quarter voxel of the depth from a point; repairs move a few vertices by
+    // a fraction of that, outward, away from the points inside.
     const std::vector<Watched> watched = watch_list(mesh, points, depth + 0.25 * voxel);
     for (report.repair_rounds = 0;; ++report.repair_rounds) {
-        std::fill(lift.begin(), lift.end(), 0.0);
+        std::vector<Vec3> push(mesh.vertices.size(), Vec3{0, 0, 0});
         report.shallow_points = 0;
         for (const Watched& w : watched) {
+            if (!kept[w.point]) continue;
             const Vec3& p = points[w.point];
             double dist = kInf;
             std::uint32_t nearest = 0;
@@ -205,14 +254,19 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double dep
             }
             if (!(dist < depth)) continue;
             const auto& t = mesh.triangles[nearest];
-            if (dot(sub(mesh.vertices[t[0]], p), faces[nearest]) <= 0) continue;  // not under it
+            const Vec3 n = face_vector(mesh, t);
+            if (dot(sub(mesh.vertices[t[0]], p), n) <= 0) continue;  // the point is not under it
             ++report.shallow_points;
-            const double lack = depth - dist + 0.5 * kMarginVoxels * voxel;
-            for (std::uint32_t v : t) lift[v] = std::max(lift[v], lack);
+            const double by = (depth - dist + 0.5 * kMarginVoxels * voxel) / norm(n);
+            for (std::uint32_t v : t)
+                if (by * norm(n) > norm(push[v])) push[v] = {n[0] * by, n[1] * by, n[2] * by};
         }
         if (report.shallow_points == 0 || report.repair_rounds == kRepairRounds) break;
-        apply(mesh, normals, lift);
+        for (std::size_t v = 0; v < shift.size(); ++v)
+            for (int d = 0; d < 3; ++d) shift[v][d] += push[v][d];
+        untangle(mesh, start, shift, faces);
     }
+    for (const Vec3& d : shift) report.moved_vertices += dot(d, d) > 0;
     return report;
 }
 

@@ -1,6 +1,7 @@
 // Isosurface extraction and the checks that make a mesh printable.
 #pragma once
 #include <cstddef>
+#include <limits>
 
 #include "snvr/domain.hpp"
 #include "snvr/field.hpp"
@@ -59,13 +60,17 @@ struct DepthGuardReport {
     std::size_t moved_vertices = 0;  // vertices lifted, those and their neighbours
     int repair_rounds = 0;           // extra lifts of single triangles that were needed
     std::size_t shallow_points = 0;  // points still shallower than the depth at the end
+    std::size_t lone_points = 0;     // points left out: no other point within `lone`
 };
 
 // Moves the vertices of a closed, outward-oriented mesh outward along their normals,
 // smoothly over two rings of neighbours, until every point that lies inside it is at
 // least `depth` from the surface (depth and voxel in world units; the voxel sets the
-// margin and the smoothness scale). Points outside the mesh are left alone.
-DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel);
+// margin and the smoothness scale); no triangle is turned over. Points outside the
+// mesh, and points with no other point within `lone` (the beads of an undersampled
+// scan, which lifting only makes grainier), are left alone.
+DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel,
+                                  double lone = std::numeric_limits<double>::infinity());
 
 // How many of the points lie strictly inside the closed mesh (odd crossing count of a ray).
 std::size_t count_points_inside(const Mesh& mesh, const PointSet& points);
