@@ -37,24 +37,35 @@ constexpr int kUntangleRounds = 16;
 constexpr std::ptrdiff_t kParallel = 4096;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Each vertex's neighbours along edges, as compressed rows.
-struct Rings {
+// One list per vertex, as compressed rows: item(triangle index, corner) for every
+// corner of every triangle, filed under that corner's vertex.
+struct VertexLists {
     std::vector<std::size_t> start;
     std::vector<std::uint32_t> items;
-    Rings(const Mesh& m) : start(m.vertices.size() + 1, 0) {
+    template <class Item>
+    VertexLists(const Mesh& m, Item item) : start(m.vertices.size() + 1, 0) {
         for (const auto& t : m.triangles)
-            for (int e = 0; e < 3; ++e) ++start[t[e] + 1];
+            for (std::uint32_t v : t) ++start[v + 1];
         for (std::size_t v = 0; v < m.vertices.size(); ++v) start[v + 1] += start[v];
         items.resize(start.back());
         std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-        for (const auto& t : m.triangles)
-            for (int e = 0; e < 3; ++e) items[fill[t[e]]++] = t[(e + 1) % 3];
+        for (std::uint32_t t = 0; t < m.triangles.size(); ++t)
+            for (int c = 0; c < 3; ++c) items[fill[m.triangles[t][c]]++] = item(t, c);
     }
 };
 
+// Each vertex's neighbours along edges (each edge seen from one of its two triangles).
+VertexLists rings(const Mesh& m) {
+    return VertexLists(m, [&m](std::uint32_t t, int c) { return m.triangles[t][(c + 1) % 3]; });
+}
+// The triangles around each vertex.
+VertexLists fans(const Mesh& m) {
+    return VertexLists(m, [](std::uint32_t t, int) { return t; });
+}
+
 // Widens each lift to the vertex's ring, then averages it over the ring: a lift on one
 // vertex becomes a smooth bump over two rings.
-void spread(const Rings& rings, std::vector<double>& lift) {
+void spread(const VertexLists& rings, std::vector<double>& lift) {
     const std::ptrdiff_t nv = std::ptrdiff_t(lift.size());
     std::vector<double> wide(lift.size());
     for (int round = 0; round < kSpreadRounds; ++round) {
@@ -111,32 +122,14 @@ void untangle(Mesh& mesh, const std::vector<Vec3>& start, std::vector<Vec3>& shi
     place(mesh, start, shift, faces, turned);
 }
 
-// Distance from each vertex to its nearest point, or infinity beyond `bound`.
-std::vector<double> vertex_clearance(const Mesh& mesh, const PointIndex& index, double bound) {
+// Each vertex's nearest point, if nearer than `bound`.
+std::vector<PointIndex::Hit> nearest_points(const Mesh& mesh, const PointIndex& index, double bound) {
     const std::ptrdiff_t nv = std::ptrdiff_t(mesh.vertices.size());
-    std::vector<double> clearance(mesh.vertices.size(), kInf);
+    std::vector<PointIndex::Hit> hits(mesh.vertices.size());
 #pragma omp parallel for schedule(dynamic, 1024) if (nv > kParallel)
-    for (std::ptrdiff_t v = 0; v < nv; ++v) {
-        const PointIndex::Hit hit = index.nearest(mesh.vertices[v], bound * bound);
-        if (hit.index != PointIndex::npos) clearance[v] = std::sqrt(hit.dist_sq);
-    }
-    return clearance;
+    for (std::ptrdiff_t v = 0; v < nv; ++v) hits[v] = index.nearest(mesh.vertices[v], bound * bound);
+    return hits;
 }
-
-// The triangles around each vertex, as compressed rows.
-struct Fans {
-    std::vector<std::size_t> start;
-    std::vector<std::uint32_t> items;
-    explicit Fans(const Mesh& m) : start(m.vertices.size() + 1, 0) {
-        for (const auto& t : m.triangles)
-            for (std::uint32_t v : t) ++start[v + 1];
-        for (std::size_t v = 0; v < m.vertices.size(); ++v) start[v + 1] += start[v];
-        items.resize(start.back());
-        std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-        for (std::uint32_t t = 0; t < m.triangles.size(); ++t)
-            for (std::uint32_t v : m.triangles[t]) items[fill[v]++] = t;
-    }
-};
 
 double triangle_distance(const Mesh& m, const Vec3& p, std::uint32_t t) {
     const auto& tri = m.triangles[t];
@@ -159,7 +152,7 @@ std::vector<Watched> watch_list(const Mesh& mesh, const PointSet& points, double
             longest = std::max(longest, norm(sub(mesh.vertices[t[e]], mesh.vertices[t[(e + 1) % 3]])));
     const double reach = within + longest / std::sqrt(3.0);
     const PointIndex corners(mesh.vertices);
-    const Fans fans(mesh);
+    const VertexLists fan = fans(mesh);
     std::vector<Watched> watched;
     const std::ptrdiff_t np = std::ptrdiff_t(points.size());
 #pragma omp parallel
@@ -170,9 +163,9 @@ std::vector<Watched> watch_list(const Mesh& mesh, const PointSet& points, double
             const Vec3& at = points[p];
             Watched w{std::size_t(p), {}};
             corners.for_each_within(at, reach, [&](std::size_t v) {
-                for (std::size_t f = fans.start[v]; f < fans.start[v + 1]; ++f) {
+                for (std::size_t f = fan.start[v]; f < fan.start[v + 1]; ++f) {
                     // Each triangle once: from its first corner within reach.
-                    const std::uint32_t t = fans.items[f];
+                    const std::uint32_t t = fan.items[f];
                     for (std::uint32_t c : mesh.triangles[t]) {
                         if (c == v) {
                             if (triangle_distance(mesh, at, t) < within) w.triangles.push_back(t);
@@ -219,17 +212,16 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double dep
 
     // Lift every vertex nearer than the aim to a kept point on its inner side.
     const double aim = depth + kMarginVoxels * voxel;
-    const std::vector<double> clearance = vertex_clearance(mesh, index, aim);
+    const std::vector<PointIndex::Hit> near = nearest_points(mesh, index, aim);
     std::vector<double> lift(mesh.vertices.size(), 0.0);
     for (std::size_t v = 0; v < lift.size(); ++v) {
-        if (!(clearance[v] < aim)) continue;
-        const PointIndex::Hit hit = index.nearest(mesh.vertices[v], aim * aim);
-        if (kept[hit.index] && dot(sub(mesh.vertices[v], index.point(hit.index)), normals[v]) > 0)
-            lift[v] = aim - clearance[v];
+        const std::size_t p = near[v].index;
+        if (p != PointIndex::npos && kept[p] && dot(sub(mesh.vertices[v], index.point(p)), normals[v]) > 0)
+            lift[v] = aim - std::sqrt(near[v].dist_sq);
     }
     for (double x : lift) report.near_vertices += x > 0;
     if (report.near_vertices == 0) return report;
-    spread(Rings(mesh), lift);
+    spread(rings(mesh), lift);
     std::vector<Vec3> shift(mesh.vertices.size());
     for (std::size_t v = 0; v < shift.size(); ++v)
         for (int d = 0; d < 3; ++d) shift[v][d] = normals[v][d] * lift[v];

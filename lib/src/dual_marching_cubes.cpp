@@ -518,15 +518,7 @@ Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double is
         }
     }
 
-    // Concatenate the planes in order, so the output does not depend on the thread count.
-    std::vector<std::size_t> tri_base(plane_tris.size() + 1, 0);
-    for (std::size_t k = 0; k < plane_tris.size(); ++k) tri_base[k + 1] = tri_base[k] + plane_tris[k].size();
-    mesh.triangles.resize(tri_base.back());
-#pragma omp parallel for schedule(dynamic) if (parallel)
-    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(plane_tris.size()); ++k) {
-        std::copy(plane_tris[k].begin(), plane_tris[k].end(), mesh.triangles.begin() + std::ptrdiff_t(tri_base[k]));
-        std::vector<Tri>().swap(plane_tris[k]);
-    }
+    contour::concatenate_in_order(plane_tris, mesh.triangles, parallel);
     return mesh;
 }
 

@@ -80,4 +80,19 @@ private:
 
 inline int ctz(std::uint64_t x) { return __builtin_ctzll(x); }
 
+// Appends the per-slab triangle lists in slab order (so the output does not depend
+// on the thread count), freeing each list once copied.
+template <class Tri>
+void concatenate_in_order(std::vector<std::vector<Tri>>& slabs, std::vector<Tri>& out, [[maybe_unused]] bool parallel) {
+    std::vector<std::size_t> base(slabs.size() + 1, 0);
+    for (std::size_t k = 0; k < slabs.size(); ++k) base[k + 1] = base[k] + slabs[k].size();
+    const std::size_t first = out.size();
+    out.resize(first + base.back());
+#pragma omp parallel for schedule(dynamic) if (parallel)
+    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(slabs.size()); ++k) {
+        std::copy(slabs[k].begin(), slabs[k].end(), out.begin() + std::ptrdiff_t(first + base[k]));
+        std::vector<Tri>().swap(slabs[k]);
+    }
+}
+
 }  // namespace snvr::contour

@@ -311,15 +311,7 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso, In
         }
     }
 
-    // Concatenate the slabs in order, so the output does not depend on the thread count.
-    std::vector<std::size_t> tri_base(slab_tris.size() + 1, 0);
-    for (std::size_t k = 0; k < slab_tris.size(); ++k) tri_base[k + 1] = tri_base[k] + slab_tris[k].size();
-    mesh.triangles.resize(tri_base.back());
-#pragma omp parallel for schedule(dynamic) if (parallel)
-    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(slab_tris.size()); ++k) {
-        std::copy(slab_tris[k].begin(), slab_tris[k].end(), mesh.triangles.begin() + std::ptrdiff_t(tri_base[k]));
-        std::vector<Tri>().swap(slab_tris[k]);
-    }
+    contour::concatenate_in_order(slab_tris, mesh.triangles, parallel);
     return mesh;
 }
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io_common.hpp"
+#include "read_whole_file.hpp"
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
 #include "text_scan.hpp"
@@ -27,22 +28,6 @@ using detail::in_quotes;
 using detail::next_token;
 using detail::parse_number;
 constexpr std::uint32_t kNone = std::uint32_t(-1);
-
-struct FileCloser {
-    void operator()(std::FILE* file) const { std::fclose(file); }
-};
-
-std::string read_file(const std::string& path) {
-    errno = 0;
-    const std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
-    if (!file) throw IoError("cannot open '" + path + "': " + std::strerror(errno != 0 ? errno : EIO));
-    std::string data;
-    char block[1 << 16];
-    std::size_t got;
-    while ((got = std::fread(block, 1, sizeof block, file.get())) > 0) data.append(block, got);
-    if (std::ferror(file.get())) throw IoError("cannot read '" + path + "': " + std::strerror(errno != 0 ? errno : EIO));
-    return data;
-}
 
 // Gives equal coordinate triples one shared vertex: open addressing on the bits
 // of the three doubles (-0 counts as 0), growing to stay at most half full.
@@ -410,7 +395,7 @@ Mesh read_mesh(const std::string& path) {
     else if (ext == ".ply") parse = read_ply;
     else if (ext == ".obj") parse = read_obj;
     else throw InputError(path + ": unsupported mesh file extension '" + ext + "' (supported: .stl, .ply, .obj)");
-    const std::string data = read_file(path);
+    const std::string data = detail::read_whole_file(path);
     return parse(data, path);
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "io_common.hpp"
+#include "read_whole_file.hpp"
 #include "point_readers.hpp"
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
@@ -30,33 +31,6 @@ Parser parser_for(const std::string& path) {
                      "' (supported: .ply, .xyz, .pts, .txt, .obj, .off)");
 }
 
-struct FileCloser {
-    void operator()(std::FILE* file) const { std::fclose(file); }
-};
-
-std::string read_whole_file(const std::string& path) {
-    errno = 0;
-    const std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
-    if (!file) throw IoError("cannot open '" + path + "': " + std::strerror(errno != 0 ? errno : EIO));
-    // Sized from the file system so a regular file takes one fread; the loop
-    // still copes with files that grow or report no size.
-    std::error_code ignored;
-    const std::uintmax_t size = std::filesystem::file_size(path, ignored);
-    std::size_t block = ignored ? std::size_t(1) << 20 : std::size_t(size) + 1;
-    std::string data;
-    for (;;) {
-        const std::size_t old = data.size();
-        data.resize(old + block);
-        errno = 0;
-        const std::size_t got = std::fread(&data[old], 1, block, file.get());
-        data.resize(old + got);
-        if (got < block) break;
-        block = std::max(block, data.size());
-    }
-    if (std::ferror(file.get())) throw IoError("cannot read '" + path + "': " + std::strerror(errno != 0 ? errno : EIO));
-    return data;
-}
-
 void check_points(const PointSet& points, const std::string& path) {
     if (points.empty()) throw InputError(path + ": no points (the point cloud is empty)");
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -72,7 +46,7 @@ void check_points(const PointSet& points, const std::string& path) {
 
 PointSet read_points(const std::string& path) {
     const Parser parse = parser_for(path);
-    const std::string data = read_whole_file(path);
+    const std::string data = detail::read_whole_file(path);
     PointSet points = parse(data, path);
     check_points(points, path);
     return points;
