@@ -239,6 +239,9 @@ Command reconstruct_command(ReconstructOptions& o) {
          "auto: an OpenCL GPU, else an OpenCL CPU, else OpenMP);\n"
          "see 'snvr-cl devices'",
          store(p.device)},
+        {"--fairing", "", "N",
+         fmt("passes of Taubin smoothing over the mesh, 0 for the raw\nisosurface (default %d)", snvr::MeshFairing{}.passes),
+         store(o.fairing.passes), "Mesh"},
         {"--quiet", "", "", "no progress or summary (errors and warnings still show)", set_flag(o.quiet),
          "Other"},
         help_option(),
@@ -352,6 +355,7 @@ std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::strin
     // Out-of-range values are the command line's fault, so a usage error, not a failure.
     try {
         o.params.validate();
+        o.fairing.validate();
     } catch (const snvr::ParameterError& e) {
         throw UsageError(e.what());
     }

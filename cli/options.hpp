@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "snvr/mesh.hpp"
 #include "snvr/parameters.hpp"
 
 namespace cli {
@@ -24,6 +25,7 @@ int parse_int(const std::string& option, const std::string& text);
 struct ReconstructOptions {
     std::string input, output, volume;
     snvr::Parameters params;
+    snvr::MeshFairing fairing;
     bool quiet = false;
 };
 

@@ -57,7 +57,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
 
     say("mesh: extracting the zero level set");
     snvr::DepthGuardReport guard;
-    const snvr::Mesh mesh = snvr::shell_mesh(result, points, &guard);
+    const snvr::Mesh mesh = snvr::shell_mesh(result, points, &guard, o.fairing);
     seconds.mesh = stage.lap();
     if (guard.moved_vertices) {
         const std::string except =

@@ -21,9 +21,14 @@
 #include "snvr/mesh.hpp"
 #include "triangle_grid.hpp"  // point_triangle_dist_sq
 #include "vec3_math.hpp"
+#include "vertex_lists.hpp"
 
 namespace snvr {
 namespace {
+
+using detail::fans;
+using detail::rings;
+using detail::VertexLists;
 
 // Vertices are aimed this far (in voxels) beyond the depth: a triangle about a voxel
 // across on a ball of radius 2 voxels sags about 0.1 voxel between its corners.
@@ -36,32 +41,6 @@ constexpr int kRepairRounds = 8;
 constexpr int kUntangleRounds = 16;
 constexpr std::ptrdiff_t kParallel = 4096;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// One list per vertex, as compressed rows: item(triangle index, corner) for every
-// corner of every triangle, filed under that corner's vertex.
-struct VertexLists {
-    std::vector<std::size_t> start;
-    std::vector<std::uint32_t> items;
-    template <class Item>
-    VertexLists(const Mesh& m, Item item) : start(m.vertices.size() + 1, 0) {
-        for (const auto& t : m.triangles)
-            for (std::uint32_t v : t) ++start[v + 1];
-        for (std::size_t v = 0; v < m.vertices.size(); ++v) start[v + 1] += start[v];
-        items.resize(start.back());
-        std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-        for (std::uint32_t t = 0; t < m.triangles.size(); ++t)
-            for (int c = 0; c < 3; ++c) items[fill[m.triangles[t][c]]++] = item(t, c);
-    }
-};
-
-// Each vertex's neighbours along edges (each edge seen from one of its two triangles).
-VertexLists rings(const Mesh& m) {
-    return VertexLists(m, [&m](std::uint32_t t, int c) { return m.triangles[t][(c + 1) % 3]; });
-}
-// The triangles around each vertex.
-VertexLists fans(const Mesh& m) {
-    return VertexLists(m, [](std::uint32_t t, int) { return t; });
-}
 
 // Widens each lift to the vertex's ring, then averages it over the ring: a lift on one
 // vertex becomes a smooth bump over two rings.

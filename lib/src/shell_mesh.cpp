@@ -1,6 +1,7 @@
 // The default mesher of a reconstruction, in one place for the CLI, benchmarks and tests:
 // dual marching cubes (a third of the tetrahedra mesher's triangles, smoother normals),
-// then the tube's depth made good between grid nodes.
+// faired at the vertex scale, then the tube's depth made good between grid nodes (after
+// the fairing, so that nothing undoes it).
 #include <limits>
 
 #include "snvr/mesh.hpp"
@@ -8,8 +9,9 @@
 
 namespace snvr {
 
-Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* guard) {
+Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* guard, const MeshFairing& fairing) {
     Mesh mesh = extract_dual_isosurface(result.phi, result.domain, 0.0, Interpolation::PhaseField);
+    fair_mesh(mesh, fairing);
     DepthGuardReport report;
     // Where the offset is below the points' spacing the shell is a chain of beads around
     // single points; lifting each bead's top made it grainier (undersampled torus: 8.1 ->

@@ -54,6 +54,21 @@ struct MeshReport {
 
 MeshReport check_mesh(const Mesh& mesh);
 
+// Taubin's lambda|mu smoothing of the vertex positions (lib/src/mesh_fairing.cpp):
+// damps what is a few vertices across, keeps larger shapes where they are (no shrinking).
+// The default mesher runs it before the depth guard: on the bunny at 512 cells
+// (l = 5 voxels) two passes took the normal noise from 1.55 to 1.45 deg and the
+// dihedral from 3.75 to 3.51 deg, and moved the offset error by 0.002 voxel.
+struct MeshFairing {
+    int passes = 2;           // lambda-then-mu pairs; 0 leaves the mesh as it is
+    double lambda = 0.5;      // the shrinking step, in (0, 1)
+    double pass_band = 0.1;   // k_PB = 1/lambda + 1/mu, in (0, 1)
+    void validate() const;    // throws ParameterError naming the bad value
+};
+
+// Moves vertices only; the triangles stay as they are.
+void fair_mesh(Mesh& mesh, const MeshFairing& fairing = {});
+
 // What keep_points_deep did.
 struct DepthGuardReport {
     std::size_t near_vertices = 0;   // vertices nearer than the depth (plus a margin) to a point

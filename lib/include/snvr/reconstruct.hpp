@@ -64,11 +64,12 @@ Result reconstruct(const PointSet& points, const Parameters& params,
                    const ProgressCallback& progress = {});
 
 // The shell's surface: the zero level set of result.phi, meshed the way snvr-cl does
-// (closed, manifold, outward), and, when the run kept a tube, lifted where the mesh dips
+// (closed, manifold, outward), faired (fair_mesh), and, when the run kept a tube, lifted where the mesh dips
 // nearer to a point than the tube's inner wall (keep_points_deep; every point when the
 // offset is at least the sampling gap, else the points with a neighbour within the
 // offset). `points` are the reconstruction's input. One place for the default mesher.
-Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* guard = nullptr);
+Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* guard = nullptr,
+                const MeshFairing& fairing = {});
 
 // Clusters of points linked by distances below link_distance. A shell of offset l joins
 // points closer than 2l, so a result with more solid pieces (MeshReport::solids) than
