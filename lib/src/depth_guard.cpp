@@ -27,6 +27,7 @@ namespace snvr {
 namespace {
 
 using detail::fans;
+using detail::kParallelVertices;
 using detail::rings;
 using detail::VertexLists;
 
@@ -39,7 +40,6 @@ constexpr int kSpreadRounds = 2;
 // nearest triangle of each such point by what it lacks.
 constexpr int kRepairRounds = 8;
 constexpr int kUntangleRounds = 16;
-constexpr std::ptrdiff_t kParallel = 4096;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Widens each lift to the vertex's ring, then averages it over the ring: a lift on one
@@ -48,13 +48,13 @@ void spread(const VertexLists& rings, std::vector<double>& lift) {
     const std::ptrdiff_t nv = std::ptrdiff_t(lift.size());
     std::vector<double> wide(lift.size());
     for (int round = 0; round < kSpreadRounds; ++round) {
-#pragma omp parallel for schedule(static) if (nv > kParallel)
+#pragma omp parallel for schedule(static) if (nv > kParallelVertices)
         for (std::ptrdiff_t v = 0; v < nv; ++v) {
             double m = lift[v];
             for (std::size_t r = rings.start[v]; r < rings.start[v + 1]; ++r) m = std::max(m, lift[rings.items[r]]);
             wide[v] = m;
         }
-#pragma omp parallel for schedule(static) if (nv > kParallel)
+#pragma omp parallel for schedule(static) if (nv > kParallelVertices)
         for (std::ptrdiff_t v = 0; v < nv; ++v) {
             double sum = wide[v];
             for (std::size_t r = rings.start[v]; r < rings.start[v + 1]; ++r) sum += wide[rings.items[r]];
@@ -105,7 +105,7 @@ void untangle(Mesh& mesh, const std::vector<Vec3>& start, std::vector<Vec3>& shi
 std::vector<PointIndex::Hit> nearest_points(const Mesh& mesh, const PointIndex& index, double bound) {
     const std::ptrdiff_t nv = std::ptrdiff_t(mesh.vertices.size());
     std::vector<PointIndex::Hit> hits(mesh.vertices.size());
-#pragma omp parallel for schedule(dynamic, 1024) if (nv > kParallel)
+#pragma omp parallel for schedule(dynamic, 1024) if (nv > kParallelVertices)
     for (std::ptrdiff_t v = 0; v < nv; ++v) hits[v] = index.nearest(mesh.vertices[v], bound * bound);
     return hits;
 }
@@ -184,7 +184,7 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double dep
     std::vector<std::uint8_t> kept(points.size(), 1);
     if (std::isfinite(lone)) {
         const std::ptrdiff_t np = std::ptrdiff_t(points.size());
-#pragma omp parallel for schedule(dynamic, 1024) if (np > kParallel)
+#pragma omp parallel for schedule(dynamic, 1024) if (np > kParallelVertices)
         for (std::ptrdiff_t p = 0; p < np; ++p) kept[p] = index.nearest_other(std::size_t(p)) <= lone;
         for (std::uint8_t k : kept) report.lone_points += !k;
     }

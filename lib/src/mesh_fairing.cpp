@@ -34,16 +34,17 @@ void fair_mesh(Mesh& mesh, const MeshFairing& fairing) {
     for (int step = 0; step < 2 * fairing.passes; ++step) {
         const double f = step % 2 == 0 ? fairing.lambda : mu;
         const std::vector<Vec3>& x = mesh.vertices;
-#pragma omp parallel for schedule(static) if (nv > 4096)
+#pragma omp parallel for schedule(static) if (nv > detail::kParallelVertices)
         for (std::ptrdiff_t v = 0; v < nv; ++v) {
             const std::size_t b = ring.start[std::size_t(v)], e = ring.start[std::size_t(v) + 1];
-            next[std::size_t(v)] = x[std::size_t(v)];
+            const Vec3& here = x[std::size_t(v)];
+            Vec3& moved = next[std::size_t(v)];
+            moved = here;
             if (b == e) continue;  // a vertex no triangle uses
             Vec3 mean{0, 0, 0};
             for (std::size_t i = b; i < e; ++i)
                 for (int d = 0; d < 3; ++d) mean[d] += x[ring.items[i]][d];
-            for (int d = 0; d < 3; ++d)
-                next[std::size_t(v)][d] += f * (mean[d] / double(e - b) - x[std::size_t(v)][d]);
+            for (int d = 0; d < 3; ++d) moved[d] += f * (mean[d] / double(e - b) - here[d]);
         }
         mesh.vertices.swap(next);
     }

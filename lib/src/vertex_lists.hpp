@@ -9,6 +9,10 @@
 
 namespace snvr::detail {
 
+// Per-vertex loops of the mesh passes run threaded above this many items: below it,
+// waking threads costs more than it saves.
+constexpr std::ptrdiff_t kParallelVertices = 4096;
+
 // item(triangle index, corner) for every corner of every triangle, filed under that
 // corner's vertex.
 struct VertexLists {
