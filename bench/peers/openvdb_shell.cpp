@@ -92,6 +92,9 @@ PeerShell openvdb_shell(const PointSet& points, double voxel, double offset, int
 
     {
         openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*grid);
+        filter.setSpatialScheme(openvdb::math::FIRST_BIAS);  // see kPeerHalfWidth
+        filter.setTemporalScheme(openvdb::math::TVD_RK1);
+        filter.setNormCount(1);  // one renormalisation sweep per step (default: the half width)
         for (int s = 0; s < curvature_steps; ++s) filter.meanCurvature();
     }
     out.seconds_filter = stage.lap();
