@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "coarse_inverse.hpp"
+#include "solver/coarse_inverse.hpp"
 #include "opencl/runtime.hpp"
 #include "prepared_solver.hpp"
 

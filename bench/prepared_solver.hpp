@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "backend.hpp"
-#include "band_distance.hpp"
-#include "domain_plan.hpp"
-#include "hierarchy.hpp"
-#include "multigrid.hpp"
+#include "solver/backend.hpp"
+#include "geometry/band_distance.hpp"
+#include "geometry/domain_plan.hpp"
+#include "solver/hierarchy.hpp"
+#include "solver/multigrid.hpp"
 #include "snvr/snvr.hpp"
 
 #include <cstdio>

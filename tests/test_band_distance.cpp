@@ -5,12 +5,12 @@
 #include <cstdio>
 #include <random>
 
-#include "backend.hpp"
-#include "band_distance.hpp"
-#include "hierarchy.hpp"
-#include "multigrid.hpp"
+#include "solver/backend.hpp"
+#include "geometry/band_distance.hpp"
+#include "solver/hierarchy.hpp"
+#include "solver/multigrid.hpp"
 #include "openmp/openmp_backend.hpp"
-#include "point_index.hpp"
+#include "geometry/point_index.hpp"
 
 using namespace snvr;
 

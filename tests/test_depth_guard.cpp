@@ -9,8 +9,8 @@
 #include "mesh_fields.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
-#include "triangle_grid.hpp"
-#include "vec3_math.hpp"
+#include "mesh/triangle_grid.hpp"
+#include "geometry/vec3_math.hpp"
 
 using namespace snvr;
 using namespace snvr::testing;

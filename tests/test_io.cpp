@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "atomic_file.hpp"
+#include "io/atomic_file.hpp"
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
 #include "temp_dir.hpp"

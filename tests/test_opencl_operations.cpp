@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "backend.hpp"
+#include "solver/backend.hpp"
 #include "backend_compare.hpp"
-#include "coarse_inverse.hpp"
-#include "hierarchy.hpp"
+#include "solver/coarse_inverse.hpp"
+#include "solver/hierarchy.hpp"
 #include "opencl/opencl_backend.hpp"
 #include "openmp/openmp_backend.hpp"
 

@@ -22,7 +22,7 @@
 #include "snvr/quality.hpp"
 #include "snvr/shapes.hpp"
 #include "temp_dir.hpp"
-#include "triangle_grid.hpp"
+#include "mesh/triangle_grid.hpp"
 
 using namespace snvr;
 using snvr::testing::TempDir;

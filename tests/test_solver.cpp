@@ -6,10 +6,10 @@
 #include <cstdio>
 #include <random>
 
-#include "coarse_inverse.hpp"
+#include "solver/coarse_inverse.hpp"
 
-#include "backend.hpp"
-#include "hierarchy.hpp"
+#include "solver/backend.hpp"
+#include "solver/hierarchy.hpp"
 #include "openmp/openmp_backend.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"

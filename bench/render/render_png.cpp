@@ -12,7 +12,7 @@
 #include <limits>
 #include <vector>
 
-#include "atomic_file.hpp"
+#include "io/atomic_file.hpp"
 #include "snvr/error.hpp"
 
 namespace snvr::render {

@@ -54,7 +54,7 @@ struct MeshReport {
 
 MeshReport check_mesh(const Mesh& mesh);
 
-// Taubin's lambda|mu smoothing of the vertex positions (lib/src/mesh_fairing.cpp):
+// Taubin's lambda|mu smoothing of the vertex positions (lib/src/mesh/mesh_fairing.cpp):
 // damps what is a few vertices across, keeps larger shapes where they are (no shrinking).
 // The default mesher runs it before the depth guard: on the bunny at 512 cells
 // (l = 5 voxels) two passes took the normal noise from 1.55 to 1.45 deg and the

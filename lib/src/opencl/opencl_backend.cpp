@@ -3,7 +3,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "brick_grid.hpp"
+#include "solver/brick_grid.hpp"
 #include "opencl/runtime.hpp"
 
 namespace snvr {

@@ -1,6 +1,6 @@
 #include "openmp/openmp_backend.hpp"
-#include "brick_grid.hpp"
-#include "reduction.hpp"
+#include "solver/brick_grid.hpp"
+#include "solver/reduction.hpp"
 
 #include <omp.h>
 

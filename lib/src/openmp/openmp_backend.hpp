@@ -3,7 +3,7 @@
 #pragma once
 #include <memory>
 
-#include "backend.hpp"
+#include "solver/backend.hpp"
 
 namespace snvr {
 

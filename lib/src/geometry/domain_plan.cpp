@@ -1,0 +1,167 @@
+// Fitting the grid to the points: voxel size, padding, multigrid-friendly sizes,
+// the default offset, and a memory estimate made before anything is allocated.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "geometry/domain_plan.hpp"
+#include "geometry/sampling_gap.hpp"
+#include "snvr/error.hpp"
+#include "snvr/reconstruct.hpp"
+#include "solver/solver_memory.hpp"
+
+namespace snvr {
+
+namespace {
+
+struct Box {
+    Vec3 lo, hi;
+    double extent(int a) const { return hi[a] - lo[a]; }
+    double longest() const { return std::max({extent(0), extent(1), extent(2)}); }
+};
+
+Box bounding_box(const PointSet& points) {
+    Box b{points[0], points[0]};
+    for (const Vec3& p : points)
+        for (int a = 0; a < 3; ++a) {
+            b.lo[a] = std::min(b.lo[a], p[a]);
+            b.hi[a] = std::max(b.hi[a], p[a]);
+        }
+    return b;
+}
+
+std::string fmt(double v) {
+    std::ostringstream s;
+    s.precision(4);
+    s << v;
+    return s.str();
+}
+
+// Cells of padding beyond the offset: the tanh profile decays over 8 xi to within
+// 3e-5 of -1, plus two cells so the field is -1 on the boundary for the mesher.
+double padding_cells(double xi_cells) { return 8.0 * eps_of_cells(xi_cells, 1.0) + 2.0; }
+
+// Multigrid depth: coarsest longest axis of at least 8 cells (so the coarse solve is
+// cheap) and every axis a multiple of 2^(levels-1).
+int choose_levels(int longest) {
+    int levels = 1;
+    while (longest / (1 << levels) >= 8 && levels < 12) ++levels;
+    return levels;
+}
+
+int round_up(int n, int m) { return (n + m - 1) / m * m; }
+
+std::size_t available_memory() {
+    std::ifstream in("/proc/meminfo");
+    std::string key;
+    std::size_t kb = 0;
+    while (in >> key >> kb) {
+        if (key == "MemAvailable:") return kb * 1024;
+        in.ignore(256, '\n');
+    }
+    return std::size_t(1) << 40;  // unknown: do not refuse
+}
+
+}  // namespace
+
+DomainPlan plan_domain(const PointSet& points, const Parameters& params) {
+    if (points.empty()) throw InputError("the point set is empty");
+    return plan_domain(points, params, PointIndex(points));
+}
+
+DomainPlan plan_domain(const PointSet& points, const Parameters& params, const PointIndex& index) {
+    params.validate();
+    if (points.empty()) throw InputError("the point set is empty");
+    const Box box = params.box ? Box{(*params.box)[0], (*params.box)[1]} : bounding_box(points);
+
+    DomainPlan plan;
+    plan.gap = sampling_gap(points, index);
+    std::optional<double> offset = params.offset;
+    if (params.thickness) offset = *params.thickness / 2;
+
+    // xi in cells, whether given in cells or in world units (then it depends on h).
+    auto xi_in_cells = [&](double h) { return params.xi ? *params.xi / eps_of_cells(1.0, h) : params.xi_cells; };
+
+    double h = 0;
+    if (params.box) {
+        h = box.longest() / params.resolution;
+    } else if (params.voxel) {
+        h = *params.voxel;
+    } else {
+        // N h = E + 2 (l + pad h): solve for h with the offset fixed (given or gap), or l = 2.5 h.
+        const double E = box.longest();
+        const double pad = padding_cells(params.xi ? 4.0 : params.xi_cells);
+        const double free_cells = params.resolution - 2 * pad;
+        if (free_cells < 8)
+            throw ParameterError("resolution " + std::to_string(params.resolution) +
+                                 " leaves no room for the points inside the padding; use at least " +
+                                 std::to_string(int(2 * pad + 16)));
+        const double fixed_l = offset ? *offset : plan.gap;
+        h = (E + 2 * fixed_l) / free_cells;
+        if (!offset && plan.gap < 2.5 * h) h = E / (free_cells - 5);
+        if (!(h > 0))
+            throw InputError("all " + std::to_string(points.size()) +
+                             " points coincide: give --voxel or --offset to set the scale");
+    }
+
+    if (offset) {
+        plan.offset = *offset;
+        plan.offset_reason = "given";
+    } else if (plan.gap > 2.5 * h) {
+        plan.offset = plan.gap;
+        plan.offset_reason = "sampling gap (99th percentile of nearest-neighbour distances, " + fmt(plan.gap / h) +
+                             " voxels)";
+    } else {
+        plan.offset = 2.5 * h;
+        plan.offset_reason = "2.5 voxels (paper default; sampling gap " + fmt(plan.gap / h) + " voxels)";
+    }
+    if (plan.offset < h)
+        throw ParameterError("offset " + fmt(plan.offset) + " is smaller than one voxel (" + fmt(h) +
+                             "): the shell cannot be resolved; raise the offset or the resolution");
+
+    const double xi_cells = xi_in_cells(h);
+    plan.xi = eps_of_cells(xi_cells, h);
+    plan.eps = params.eps ? *params.eps : eps_of_cells(params.eps_cells, h);
+
+    Domain& d = plan.domain;
+    d.h = h;
+    int n[3];
+    const double pad_world = params.box ? 0.0 : plan.offset + padding_cells(xi_cells) * h;
+    for (int a = 0; a < 3; ++a) {
+        const double cells = (box.extent(a) + 2 * pad_world) / h;
+        if (!(cells < 1e6)) throw ParameterError("the grid would need " + fmt(cells) + " cells on one axis");
+        n[a] = std::max(1, int(std::ceil(cells - 1e-9)));
+    }
+    d.levels = choose_levels(std::max({n[0], n[1], n[2]}));
+    const int m = 1 << (d.levels - 1);
+    for (int a = 0; a < 3; ++a) {
+        n[a] = round_up(n[a], m);
+        const double centre = 0.5 * (box.lo[a] + box.hi[a]);
+        d.origin[a] = centre - 0.5 * n[a] * h;
+    }
+    d.nx = n[0];
+    d.ny = n[1];
+    d.nz = n[2];
+
+    const double L = d.length_scale();
+    plan.dt = params.dt ? *params.dt : params.dt_cells * (h / L) * (h / L);
+    plan.steps = params.steps ? *params.steps
+                              : int(std::ceil(params.smoothing_cells * (h / L) * (h / L) / plan.dt - 1e-9));
+    if (params.keep_offset) {
+        plan.tube_inner = params.tube_inner * plan.offset;
+        plan.tube_outer = params.tube_outer * plan.offset;
+    }
+
+    plan.estimated_bytes = estimate_solver_bytes(d, params.precision);
+    const std::size_t avail = available_memory();
+    if (plan.estimated_bytes > avail / 10 * 9)
+        throw ResourceError("a " + std::to_string(d.nx) + "x" + std::to_string(d.ny) + "x" + std::to_string(d.nz) +
+                            " grid needs about " + fmt(double(plan.estimated_bytes) / (1 << 30)) +
+                            " GiB but only " + fmt(double(avail) / (1 << 30)) +
+                            " GiB of memory is available; lower the resolution or raise the voxel size");
+    return plan;
+}
+
+}  // namespace snvr

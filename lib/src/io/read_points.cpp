@@ -1,0 +1,55 @@
+// read_points: picks the parser from the file extension, loads the whole file
+// with one read (parsers then work on memory, not streams) and rejects sets
+// that no later stage could use.
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "io/io_common.hpp"
+#include "io/read_whole_file.hpp"
+#include "io/point_readers.hpp"
+#include "snvr/error.hpp"
+#include "snvr/io.hpp"
+
+namespace snvr {
+namespace {
+
+using Parser = PointSet (*)(std::string_view, const std::string&);
+
+Parser parser_for(const std::string& path) {
+    const std::string ext = detail::lower_extension(path);
+    if (ext == ".ply") return detail::parse_ply;
+    if (ext == ".xyz" || ext == ".pts" || ext == ".txt") return detail::parse_xyz;
+    if (ext == ".obj") return detail::parse_obj;
+    if (ext == ".off") return detail::parse_off;
+    throw InputError(path + ": unsupported point file extension '" + ext +
+                     "' (supported: .ply, .xyz, .pts, .txt, .obj, .off)");
+}
+
+void check_points(const PointSet& points, const std::string& path) {
+    if (points.empty()) throw InputError(path + ": no points (the point cloud is empty)");
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const Vec3& p = points[i];
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+            throw InputError(path + ": point " + std::to_string(i) + " has a non-finite coordinate (" +
+                             detail::format_number(p[0]) + " " + detail::format_number(p[1]) + " " +
+                             detail::format_number(p[2]) + ")");
+    }
+}
+
+}  // namespace
+
+PointSet read_points(const std::string& path) {
+    const Parser parse = parser_for(path);
+    const std::string data = detail::read_whole_file(path);
+    PointSet points = parse(data, path);
+    check_points(points, path);
+    return points;
+}
+
+}  // namespace snvr

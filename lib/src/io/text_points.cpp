@@ -1,0 +1,118 @@
+// Line-based point formats: XYZ/PTS/TXT columns, OBJ "v" lines and OFF vertex
+// blocks. '#' starts a comment in all of them.
+#include <algorithm>
+#include <cstdint>
+#include <string>
+
+#include "io/point_readers.hpp"
+#include "snvr/error.hpp"
+#include "io/text_scan.hpp"
+
+namespace snvr::detail {
+namespace {
+
+[[noreturn]] void line_error(const std::string& path, std::size_t line, const std::string& what) {
+    throw InputError(path + ": line " + std::to_string(line) + ": " + what);
+}
+
+// Splits off up to `max` leading tokens of a line, comments removed; returns
+// how many. One pass per line keeps large files fast.
+std::size_t leading_tokens(std::string_view line, std::string_view* tokens, std::size_t max) {
+    line = strip_comment(line);
+    std::size_t n = 0;
+    while (n < max && !(tokens[n] = next_token(line)).empty()) ++n;
+    return n;
+}
+
+// Leading tokens of the next line that has any; 0 at the end of the data.
+std::size_t next_tokens(LineScanner& lines, std::string_view* tokens, std::size_t max) {
+    std::string_view line;
+    std::size_t count = 0;
+    while (count == 0 && lines.next(line)) count = leading_tokens(line, tokens, max);
+    return count;
+}
+
+// The first three of `count` tokens as a point.
+Vec3 to_point(const std::string_view* tokens, std::size_t count, const std::string& path, std::size_t line) {
+    if (count < 3) line_error(path, line, "expected x y z, found " + std::to_string(count) + " value(s)");
+    Vec3 point{};
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+        if (!parse_number(tokens[axis], point[axis]))
+            line_error(path, line, "expected a number, found " + in_quotes(tokens[axis]));
+    }
+    return point;
+}
+
+// One point per line is typical, so the newline count is a good (and bounded) reservation.
+PointSet reserved_points(std::string_view data) {
+    PointSet points;
+    points.reserve(std::size_t(std::count(data.begin(), data.end(), '\n')) + 1);
+    return points;
+}
+
+// OFF, COFF, NOFF, STOFF, ...: optional prefixes whose vertex lines still start with x y z.
+bool is_off_keyword(std::string_view token) {
+    if (token.size() < 3 || token.substr(token.size() - 3) != "OFF") return false;
+    const std::string_view prefix = token.substr(0, token.size() - 3);
+    return prefix.find_first_not_of("STCN") == std::string_view::npos;
+}
+
+}  // namespace
+
+PointSet parse_xyz(std::string_view data, const std::string& path) {
+    PointSet points = reserved_points(data);
+    LineScanner lines(data);
+    std::string_view line, tokens[3];
+    while (lines.next(line)) {
+        const std::size_t count = leading_tokens(line, tokens, 3);
+        if (count == 0) continue;
+        if (count == 1) {  // a lone number is a PTS point count, not a point
+            double ignored = 0;
+            if (!parse_number(tokens[0], ignored))
+                line_error(path, lines.line_number(), "expected a number, found " + in_quotes(tokens[0]));
+            continue;
+        }
+        points.push_back(to_point(tokens, count, path, lines.line_number()));
+    }
+    return points;
+}
+
+PointSet parse_obj(std::string_view data, const std::string& path) {
+    PointSet points = reserved_points(data);
+    LineScanner lines(data);
+    std::string_view line, tokens[4];
+    while (lines.next(line)) {
+        const std::size_t count = leading_tokens(line, tokens, 4);
+        if (count > 0 && tokens[0] == "v") points.push_back(to_point(tokens + 1, count - 1, path, lines.line_number()));
+    }
+    return points;
+}
+
+PointSet parse_off(std::string_view data, const std::string& path) {
+    LineScanner lines(data);
+    std::string_view tokens[3];
+    std::size_t count = next_tokens(lines, tokens, 2);
+    if (count == 0 || !is_off_keyword(tokens[0])) throw InputError(path + ": missing 'OFF' header on the first line");
+    // The counts may share the header line ("OFF 8 6 12") or follow it.
+    std::string_view vertex_count = tokens[1];
+    if (count == 1) {
+        if (next_tokens(lines, tokens, 1) == 0)
+            throw InputError(path + ": missing vertex/face counts after the 'OFF' header");
+        vertex_count = tokens[0];
+    }
+    std::uint64_t expected = 0;
+    if (!parse_count(vertex_count, expected))
+        line_error(path, lines.line_number(), "expected the vertex count, found " + in_quotes(vertex_count));
+    PointSet points;
+    points.reserve(std::size_t(std::min<std::uint64_t>(expected, data.size() / 6)));
+    while (points.size() < expected) {
+        count = next_tokens(lines, tokens, 3);
+        if (count == 0)
+            throw InputError(path + ": " + ends_early(expected, points.size(), "vertices") + " (line " +
+                             std::to_string(lines.line_number()) + ")");
+        points.push_back(to_point(tokens, count, path, lines.line_number()));
+    }
+    return points;
+}
+
+}  // namespace snvr::detail

@@ -1,0 +1,525 @@
+// Dual marching cubes on the cell-centred sample grid.
+//
+// Grid cubes span 2x2x2 neighbouring samples.  Inside a cube, the crossings on its
+// sign-changing edges are joined face by face into segments (a face with two
+// crossings has one segment; an ambiguous face, four crossings, has two, chosen by
+// the asymptotic decider on that face's four values alone), and the segments chain
+// into cycles: the cube's patches, i.e. the polygons of a marching-cubes surface.
+// Every patch gets one vertex, the mean of its crossings (in a one-patch cube then
+// moved onto the surface by Newton steps on the trilinear interpolant, in the space
+// the crossings interpolate in, staying inside the cube); every sign-changing grid
+// edge gets the polygon through the patches holding its crossing in the four cubes
+// around it, ordered around the edge and oriented from its inside end outward.
+//
+// Why the result is a closed, oriented 2-manifold when no edge on the grid boundary
+// changes sign:
+//  - both cubes sharing a face see the same values, so they cut it into the same
+//    segments: the marching-cubes polygons form a closed manifold, and our mesh is its
+//    dual (vertex per polygon, face per crossing);
+//  - a segment s on the face between cubes A and B gives one mesh edge, from A's patch
+//    of s to B's, and lies on exactly the two polygons of its two crossings;
+//  - a crossing lies in exactly one cycle of each cube, once, and consecutive
+//    crossings of a cycle share a segment, so the polygons around a patch vertex form
+//    a single fan (the cycle);
+//  - neighbouring polygons traverse their shared edge in opposite directions, both
+//    being oriented by the same inside/outside sides of the face they cross.
+// The dual is a polygon mesh whose edges are distinct as vertex pairs, except in one
+// configuration: an ambiguous face both of whose segments belong to a single patch on
+// both sides (a tunnel through the face).  Its two mesh edges would join the same two
+// vertices; instead each runs through an extra vertex at its segment's midpoint, and
+// the polygons that gain such vertices are fanned from one of them.  Every edge is
+// then a distinct vertex pair (the only vertices two polygons share are their common
+// edge's ends), and quads are split along a diagonal between cubes that meet only at
+// that grid edge, which no other polygon contains.
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mesh/isosurface_grid.hpp"
+#include "snvr/error.hpp"
+#include "snvr/mesh.hpp"
+
+namespace snvr {
+namespace {
+
+using contour::crossing;
+using contour::ctz;
+using contour::Grid;
+using contour::Samples;
+using contour::SignBits;
+using Tri = std::array<std::uint32_t, 3>;
+
+constexpr std::size_t kParallelSamples = 1 << 16;  // below this, waking threads costs more than it saves
+constexpr int kNone = 15;                          // patch id of an edge without a crossing
+
+// Cube corners are bit sets (bit 0 = +x, bit 1 = +y, bit 2 = +z).  Cube edge
+// axis*4 + o runs along `axis` from the corner whose other two coordinates are the
+// bits of o (lower axis first).
+int edge_index(int axis, int corner) {
+    const int a1 = axis == 0 ? 1 : 0, a2 = axis == 2 ? 1 : 2;
+    return axis * 4 + (corner >> a1 & 1) + 2 * (corner >> a2 & 1);
+}
+int edge_corner(int e) {
+    const int axis = e / 4, a1 = axis == 0 ? 1 : 0, a2 = axis == 2 ? 1 : 2;
+    return (e & 1) << a1 | (e >> 1 & 1) << a2;
+}
+
+// Face n*2 + s has normal axis n and lies at coordinate s; u < v span it.
+// Corners in face order 00, 10, 01, 11 ((u, v) bits); edges u0, u1 (along u at
+// v = 0, 1) and v0, v1 (along v at u = 0, 1).
+struct Face {
+    std::array<int, 4> corner;
+    int u0, u1, v0, v1;
+};
+Face face(int f) {
+    const int n = f / 2, s = f % 2, u = n == 0 ? 1 : 0, v = n == 2 ? 1 : 2;
+    Face r{};
+    for (int q = 0; q < 4; ++q) r.corner[q] = s << n | (q & 1) << u | (q >> 1) << v;
+    r.u0 = edge_index(u, r.corner[0]);
+    r.u1 = edge_index(u, r.corner[2]);
+    r.v0 = edge_index(v, r.corner[0]);
+    r.v1 = edge_index(v, r.corner[1]);
+    return r;
+}
+
+// A cube's surface topology: the patch (0..3) holding each edge's crossing, 4 bits
+// per edge, and the number of patches in bits 48..51.
+using Topology = std::uint64_t;
+int patch_of(Topology t, int e) { return int(t >> (4 * e) & 15); }
+int patch_count(Topology t) { return int(t >> 48 & 15); }
+
+struct Tables {
+    std::array<Face, 6> faces{};
+    std::array<std::uint8_t, 256> ambiguous{};   // bit f: face f has four crossings
+    std::vector<Topology> topology;              // by mask * 64 + face decisions
+};
+
+// Segments of face f: pairs of its crossing edges.  An ambiguous face is cut at
+// corners 00 and 11 exactly when corner 00's side does not own the face centre.
+int face_segments(const Face& fc, int mask, bool centre_inside, int seg[2][2]) {
+    const bool in00 = mask >> fc.corner[0] & 1, in10 = mask >> fc.corner[1] & 1, in01 = mask >> fc.corner[2] & 1,
+               in11 = mask >> fc.corner[3] & 1;
+    int cut[4], n = 0;
+    if (in00 != in10) cut[n++] = fc.u0;
+    if (in01 != in11) cut[n++] = fc.u1;
+    if (in00 != in01) cut[n++] = fc.v0;
+    if (in10 != in11) cut[n++] = fc.v1;
+    if (n == 2) {
+        seg[0][0] = cut[0];
+        seg[0][1] = cut[1];
+        return 1;
+    }
+    if (n != 4) return 0;
+    const bool cut00 = in00 != centre_inside;
+    seg[0][0] = fc.u0;
+    seg[0][1] = cut00 ? fc.v0 : fc.v1;
+    seg[1][0] = fc.u1;
+    seg[1][1] = cut00 ? fc.v1 : fc.v0;
+    return 2;
+}
+
+Tables make_tables() {
+    Tables t;
+    for (int f = 0; f < 6; ++f) t.faces[f] = face(f);
+    for (int mask = 0; mask < 256; ++mask)
+        for (int f = 0; f < 6; ++f) {
+            const auto& c = t.faces[f].corner;
+            const int a = mask >> c[0] & 1, b = mask >> c[1] & 1, d = mask >> c[2] & 1, e = mask >> c[3] & 1;
+            if (a == e && b == d && a != b) t.ambiguous[mask] |= std::uint8_t(1 << f);
+        }
+    t.topology.resize(256 * 64);
+    for (int mask = 0; mask < 256; ++mask)
+        for (int dec = 0; dec < 64; ++dec) {
+            // Each crossing has one partner on each of its two faces: the cycles are the patches.
+            int adj[12][2], deg[12] = {};
+            for (int f = 0; f < 6; ++f) {
+                int seg[2][2];
+                const int n = face_segments(t.faces[f], mask, dec >> f & 1, seg);
+                for (int q = 0; q < n; ++q) {
+                    adj[seg[q][0]][deg[seg[q][0]]++] = seg[q][1];
+                    adj[seg[q][1]][deg[seg[q][1]]++] = seg[q][0];
+                }
+            }
+            Topology topo = 0;
+            int id[12], patches = 0;
+            for (int e = 0; e < 12; ++e) id[e] = kNone;
+            for (int e = 0; e < 12; ++e) {
+                if (deg[e] == 0 || id[e] != kNone) continue;
+                if (deg[e] != 2) throw Error("dual marching cubes: bad face segments");
+                for (int prev = adj[e][1], cur = e; id[cur] == kNone;) {
+                    id[cur] = patches;
+                    const int next = adj[cur][0] != prev ? adj[cur][0] : adj[cur][1];
+                    prev = cur;
+                    cur = next;
+                }
+                ++patches;
+            }
+            if (patches > 4) throw Error("dual marching cubes: more than four patches in a cube");
+            for (int e = 0; e < 12; ++e) topo |= Topology(id[e]) << (4 * e);
+            t.topology[mask * 64 + dec] = topo | Topology(patches) << 48;
+        }
+    return t;
+}
+
+const Tables& tables() {
+    static const Tables t = make_tables();
+    return t;
+}
+
+// Asymptotic decider: does the bilinear interpolant's saddle on face f lie inside?
+// g holds the corner values minus iso in the space the crossings interpolate in.
+bool centre_inside(const Face& fc, const double g[8]) {
+    const double a = g[fc.corner[0]], b = g[fc.corner[1]], c = g[fc.corner[2]], d = g[fc.corner[3]];
+    return (a * d - b * c) / (a + d - b - c) > 0;
+}
+
+struct CubeTopology {
+    Topology topo = 0;
+    int decisions = 0;  // bit f: face f's centre is inside
+};
+
+CubeTopology cube_topology(const Tables& tab, int mask, const double value[8], double iso, Interpolation mode) {
+    CubeTopology r;
+    const int amb = tab.ambiguous[mask];
+    if (amb) {
+        double g[8];
+        const double iso_g = mode == Interpolation::PhaseField ? contour::unfold(iso) : iso;
+        for (int c = 0; c < 8; ++c)
+            g[c] = (mode == Interpolation::PhaseField ? contour::unfold(value[c]) : value[c]) - iso_g;
+        for (int f = 0; f < 6; ++f)
+            if (amb >> f & 1 && centre_inside(tab.faces[f], g)) r.decisions |= 1 << f;
+    }
+    r.topo = tab.topology[mask * 64 + r.decisions];
+    return r;
+}
+
+// A cube with a sign change.  Its vertices are `first` (counted within its slab),
+// one per patch, then two per doubled upper face (segment 0, the one through edge
+// u0, then segment 1).
+struct CubeRecord {
+    std::uint32_t cell = 0;  // i + (nx - 1) * j
+    std::uint32_t first = 0;
+    Topology topo = 0;
+    std::uint8_t doubled = 0;  // bit n: the face at +n is a tunnel face (see the header comment)
+    std::uint8_t cut00 = 0;    // bit n: that face's segments cut its corners 00 and 11
+};
+
+Vec3 corner_pos(int c) { return {double(c & 1), double(c >> 1 & 1), double(c >> 2)}; }
+
+// Trilinear interpolant of the corner values g over the unit cube, and its gradient.
+double trilinear(const double g[8], const Vec3& x, Vec3& grad) {
+    double f = 0;
+    grad = {0, 0, 0};
+    for (int c = 0; c < 8; ++c) {
+        double w[3], dw[3];
+        for (int a = 0; a < 3; ++a) {
+            w[a] = c >> a & 1 ? x[a] : 1 - x[a];
+            dw[a] = c >> a & 1 ? 1 : -1;
+        }
+        f += g[c] * w[0] * w[1] * w[2];
+        grad[0] += g[c] * dw[0] * w[1] * w[2];
+        grad[1] += g[c] * w[0] * dw[1] * w[2];
+        grad[2] += g[c] * w[0] * w[1] * dw[2];
+    }
+    return f;
+}
+
+// Newton steps from x towards the zero set of the corner values' trilinear
+// interpolant.  Each step is capped, as the interpolant's gradient may nearly vanish
+// in a cube; the result stays strictly inside the cube, so it never meets another
+// cube's vertex nor a tunnel vertex on a face.
+Vec3 project(const double g[8], Vec3 x) {
+    constexpr int kSteps = 2;            // a second step gains little; the mean is already close
+    constexpr double kMaxStep = 0.25;    // in cube sides
+    constexpr double kMargin = 1e-3;     // from the cube's faces, in cube sides
+    for (int it = 0; it < kSteps; ++it) {
+        Vec3 grad;
+        const double f = trilinear(g, x, grad);
+        const double gg = grad[0] * grad[0] + grad[1] * grad[1] + grad[2] * grad[2];
+        if (!(gg > 0) || !std::isfinite(f)) break;
+        double scale = -f / gg;
+        const double len = std::fabs(scale) * std::sqrt(gg);
+        if (len > kMaxStep) scale *= kMaxStep / len;
+        for (int a = 0; a < 3; ++a) x[a] = std::clamp(x[a] + scale * grad[a], kMargin, 1 - kMargin);
+    }
+    return x;
+}
+
+struct Slab {
+    std::vector<CubeRecord> cubes;
+    std::vector<Vec3> vertices;
+};
+
+}  // namespace
+
+Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double iso, Interpolation interpolation) {
+    const std::string who = "extract_dual_isosurface: ";
+    if (field.nx != domain.nx || field.ny != domain.ny || field.nz != domain.nz)
+        throw ParameterError(who + "field is " + std::to_string(field.nx) + "x" + std::to_string(field.ny) + "x" +
+                             std::to_string(field.nz) + " but the domain is " + std::to_string(domain.nx) + "x" +
+                             std::to_string(domain.ny) + "x" + std::to_string(domain.nz));
+    if (field.nx < 0 || field.ny < 0 || field.nz < 0) throw ParameterError(who + "negative grid size");
+    const bool dbl = field.precision == Precision::Double;
+    const std::size_t stored = dbl ? field.f64.size() : field.f32.size();
+    if (stored != field.size())
+        throw InputError(who + "field stores " + std::to_string(stored) + " values, expected " +
+                         std::to_string(field.size()));
+    Mesh mesh;
+    if (field.nx < 2 || field.ny < 2 || field.nz < 2) return mesh;  // no cubes
+    if (std::size_t(field.nx) * std::size_t(field.ny) >= std::numeric_limits<std::uint32_t>::max())
+        throw ResourceError(who + "grid planes too large for 32-bit cube keys");
+
+    const Grid g{field.nx, field.ny, field.nz, (field.nx + 63) / 64};
+    const Samples s{dbl ? field.f64.data() : nullptr, dbl ? nullptr : field.f32.data()};
+    const Tables& tab = tables();
+    const bool unfolded = interpolation == Interpolation::PhaseField;
+    const double iso_g = unfolded ? contour::unfold(iso) : iso;
+    const bool parallel = field.size() >= kParallelSamples;
+    const SignBits sb(g, s, iso, parallel);
+    const int cx = g.nx - 1, cy = g.ny - 1, cz = g.nz - 1;  // cubes per axis
+    const auto cube_values = [&](int i, int j, int k, double value[8]) {
+        for (int c = 0; c < 8; ++c) value[c] = s[g.at(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2))];
+    };
+    const auto cube_mask = [&](const double value[8]) {
+        int mask = 0;
+        for (int c = 0; c < 8; ++c) mask |= int(value[c] > iso) << c;
+        return mask;
+    };
+
+    // Pass 1, one slab of cubes at a time: patches, their vertices, tunnel faces.
+    std::vector<Slab> slabs(cz);
+    std::atomic<long long> boundary_cube{-1};
+#pragma omp parallel for schedule(dynamic) if (parallel)
+    for (int k = 0; k < cz; ++k) {
+        Slab& slab = slabs[k];
+        for (int j = 0; j < cy; ++j)
+            for (int w = 0; w < g.words; ++w) {
+                std::uint64_t any = 0, all = ~std::uint64_t(0);
+                for (int c = 0; c < 8; ++c) {
+                    const std::uint64_t bits = sb.word(j + (c >> 1 & 1), k + (c >> 2), w, c & 1);
+                    any |= bits;
+                    all &= bits;
+                }
+                for (std::uint64_t mixed = any & ~all & sb.valid(w, 1); mixed; mixed &= mixed - 1) {
+                    const int i = 64 * w + ctz(mixed);
+                    double value[8];
+                    cube_values(i, j, k, value);
+                    const int mask = cube_mask(value);
+                    const CubeTopology ct = cube_topology(tab, mask, value, iso, interpolation);
+
+                    // A crossing on the grid boundary would leave the mesh open there.
+                    const int lo[3] = {i, j, k}, hi[3] = {cx, cy, cz};
+                    for (int n = 0; n < 3; ++n)
+                        for (int side = 0; side < 2; ++side) {
+                            if (side ? lo[n] != hi[n] - 1 : lo[n] != 0) continue;
+                            const Face& fc = tab.faces[2 * n + side];
+                            for (int e : {fc.u0, fc.u1, fc.v0, fc.v1})
+                                if (patch_of(ct.topo, e) != kNone)
+                                    boundary_cube = (long long)(i) + (long long)(g.nx) * (j + (long long)(g.ny) * k);
+                        }
+
+                    CubeRecord rec;
+                    rec.cell = std::uint32_t(i) + std::uint32_t(cx) * std::uint32_t(j);
+                    rec.first = std::uint32_t(slab.vertices.size());
+                    rec.topo = ct.topo;
+                    // Values minus iso in the space the crossings interpolate in, unfolded once per corner.
+                    double gv[8];
+                    for (int c = 0; c < 8; ++c) gv[c] = (unfolded ? contour::unfold(value[c]) : value[c]) - iso_g;
+                    Vec3 local[12];
+                    for (int e = 0; e < 12; ++e) {
+                        if (patch_of(ct.topo, e) == kNone) continue;
+                        const int c0 = edge_corner(e), axis = e / 4;
+                        local[e] = corner_pos(c0);
+                        local[e][axis] += crossing(gv[c0], gv[c0 | 1 << axis], 0.0);
+                    }
+                    const int patches = patch_count(ct.topo);
+                    Vec3 sum[4] = {};
+                    int count[4] = {};
+                    for (int e = 0; e < 12; ++e) {
+                        const int p = patch_of(ct.topo, e);
+                        if (p == kNone) continue;
+                        for (int d = 0; d < 3; ++d) sum[p][d] += local[e][d];
+                        ++count[p];
+                    }
+                    const Vec3 base = domain.cell_center(i, j, k);
+                    const auto world = [&](const Vec3& l) {
+                        return Vec3{base[0] + domain.h * l[0], base[1] + domain.h * l[1], base[2] + domain.h * l[2]};
+                    };
+                    // The mean of a curved patch's crossings lies towards its centre of
+                    // curvature; a one-patch cube moves it onto the surface.  Several
+                    // patches keep the mean: their interpolant may pull it to another patch.
+                    for (int p = 0; p < patches; ++p) {
+                        const Vec3 mean{sum[p][0] / count[p], sum[p][1] / count[p], sum[p][2] / count[p]};
+                        slab.vertices.push_back(world(patches == 1 ? project(gv, mean) : mean));
+                    }
+
+                    // Tunnel faces at +n: ambiguous, and one patch holds all four crossings on both sides.
+                    for (int n = 0; n < 3; ++n) {
+                        const Face& fc = tab.faces[2 * n + 1];
+                        if (!(tab.ambiguous[mask] >> (2 * n + 1) & 1) || lo[n] + 1 >= hi[n]) continue;
+                        const int p = patch_of(ct.topo, fc.u0);
+                        if (patch_of(ct.topo, fc.u1) != p || patch_of(ct.topo, fc.v0) != p ||
+                            patch_of(ct.topo, fc.v1) != p)
+                            continue;
+                        double other[8];
+                        cube_values(i + (n == 0), j + (n == 1), k + (n == 2), other);
+                        const Topology ot = cube_topology(tab, cube_mask(other), other, iso, interpolation).topo;
+                        const Face& oc = tab.faces[2 * n];
+                        const int q = patch_of(ot, oc.u0);
+                        if (patch_of(ot, oc.u1) != q || patch_of(ot, oc.v0) != q || patch_of(ot, oc.v1) != q) continue;
+                        const bool cut00 = bool(mask >> fc.corner[0] & 1) != bool(ct.decisions >> (2 * n + 1) & 1);
+                        rec.doubled |= std::uint8_t(1 << n);
+                        rec.cut00 |= std::uint8_t(cut00 << n);
+                        const int segs[2][2] = {{fc.u0, cut00 ? fc.v0 : fc.v1}, {fc.u1, cut00 ? fc.v1 : fc.v0}};
+                        for (const auto& sg : segs) {
+                            Vec3 m;
+                            for (int d = 0; d < 3; ++d) m[d] = 0.5 * (local[sg[0]][d] + local[sg[1]][d]);
+                            slab.vertices.push_back(world(m));
+                        }
+                    }
+                    slab.cubes.push_back(rec);
+                }
+            }
+    }
+    if (boundary_cube >= 0) {
+        const long long c = boundary_cube;
+        throw InputError(who + "the field crosses iso on the boundary of the grid (at sample " +
+                         std::to_string(c % g.nx) + ", " + std::to_string(c / g.nx % g.ny) + ", " +
+                         std::to_string(c / g.nx / g.ny) +
+                         "), which would leave the mesh open; the field must stay on one side of iso there");
+    }
+
+    std::vector<std::size_t> vbase(cz + 1, 0);
+    for (int k = 0; k < cz; ++k) vbase[k + 1] = vbase[k] + slabs[k].vertices.size();
+    if (vbase[cz] >= std::numeric_limits<std::uint32_t>::max())
+        throw ResourceError(who + "more than 2^32 vertices");
+    mesh.vertices.resize(vbase[cz]);
+#pragma omp parallel for schedule(dynamic) if (parallel)
+    for (int k = 0; k < cz; ++k) {
+        std::copy(slabs[k].vertices.begin(), slabs[k].vertices.end(), mesh.vertices.begin() + std::ptrdiff_t(vbase[k]));
+        std::vector<Vec3>().swap(slabs[k].vertices);
+    }
+
+    // Pass 2, one plane of samples at a time: a polygon across each sign-changing
+    // edge leaving it (along x and y within it, along z to the next plane).
+    std::vector<std::vector<Tri>> plane_tris(g.nz);
+#pragma omp parallel if (parallel)
+    {
+        // Record index by cube for the slabs below and above the plane.  Stale
+        // entries are harmless: only cubes around sign-changing edges are read.
+        const std::size_t cells = std::size_t(cx) * cy;
+        const std::unique_ptr<std::uint32_t[]> below(new std::uint32_t[cells]);
+        const std::unique_ptr<std::uint32_t[]> above(new std::uint32_t[cells]);
+#pragma omp for schedule(dynamic)
+        for (int k = 0; k < g.nz; ++k) {
+            if (k >= 1)
+                for (std::size_t r = 0; r < slabs[k - 1].cubes.size(); ++r)
+                    below[slabs[k - 1].cubes[r].cell] = std::uint32_t(r);
+            if (k < cz)
+                for (std::size_t r = 0; r < slabs[k].cubes.size(); ++r) above[slabs[k].cubes[r].cell] = std::uint32_t(r);
+            std::vector<Tri>& tris = plane_tris[k];
+
+            // Edge (i, j, k) along `axis`; (b, c) with b x c = axis lists the
+            // cubes around it counter-clockwise seen from +axis.
+            const auto emit = [&](int i, int j, int axis, bool inside_low) {
+                const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+                const int ob[4] = {-1, 0, 0, -1}, oc[4] = {-1, -1, 0, 0};
+                const CubeRecord* rec[4];
+                int off[4][3], local[4];
+                std::size_t first[4];
+                for (int t = 0; t < 4; ++t) {
+                    int o[3] = {0, 0, 0};
+                    o[b] = ob[t];
+                    o[c] = oc[t];
+                    for (int d = 0; d < 3; ++d) off[t][d] = o[d];
+                    const int ck = k + o[2];
+                    const std::uint32_t cell = std::uint32_t(i + o[0]) + std::uint32_t(cx) * std::uint32_t(j + o[1]);
+                    rec[t] = &slabs[ck].cubes[(ck == k ? above : below)[cell]];
+                    first[t] = vbase[ck] + rec[t]->first;
+                    local[t] = edge_index(axis, (-o[b]) << b | (-o[c]) << c);
+                }
+                std::uint32_t ring[8];
+                int size = 0, fan = -1;
+                for (int t = 0; t < 4; ++t) {
+                    ring[size++] = std::uint32_t(first[t] + std::size_t(patch_of(rec[t]->topo, local[t])));
+                    const int u = (t + 1) % 4, n = ob[t] != ob[u] ? b : c;
+                    const int low = off[t][n] < off[u][n] ? t : u;
+                    const CubeRecord& lr = *rec[low];
+                    if (!(lr.doubled >> n & 1)) continue;
+                    const Face& fc = tab.faces[2 * n + 1];
+                    const int e = local[low];
+                    const int seg = e == fc.u0 || e == ((lr.cut00 >> n & 1) ? fc.v0 : fc.v1) ? 0 : 1;
+                    const int rank = __builtin_popcount(unsigned(lr.doubled) & ((1u << n) - 1));
+                    if (fan < 0) fan = size;
+                    ring[size++] = std::uint32_t(vbase[k + (off[low][2])] + lr.first +
+                                                 std::uint32_t(patch_count(lr.topo) + 2 * rank + seg));
+                }
+                if (!inside_low) std::reverse(ring, ring + size);
+                if (size > 4) {  // fan from a tunnel vertex: it shares no other polygon's vertices
+                    const int m = inside_low ? fan : size - 1 - fan;
+                    for (int q = 1; q + 1 < size; ++q)
+                        tris.push_back({ring[m], ring[(m + q) % size], ring[(m + q + 1) % size]});
+                    return;
+                }
+                const Vec3 *p[4];
+                for (int t = 0; t < 4; ++t) p[t] = &mesh.vertices[ring[t]];
+                const auto sub = [](const Vec3& x, const Vec3& y) { return Vec3{x[0] - y[0], x[1] - y[1], x[2] - y[2]}; };
+                const auto cross = [](const Vec3& x, const Vec3& y) {
+                    return Vec3{x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+                };
+                const auto dot = [](const Vec3& x, const Vec3& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+                const auto agreement = [&](int a0, int a1, int a2, int b0, int b1, int b2) {
+                    const Vec3 na = cross(sub(*p[a1], *p[a0]), sub(*p[a2], *p[a0]));
+                    const Vec3 nb = cross(sub(*p[b1], *p[b0]), sub(*p[b2], *p[b0]));
+                    const double l = std::sqrt(dot(na, na) * dot(nb, nb));
+                    return l > 0 ? dot(na, nb) / l : -1.0;
+                };
+                // Split where the two triangles' normals agree best (no fold); on a
+                // near tie, along the shorter diagonal.
+                const double a02 = agreement(0, 1, 2, 0, 2, 3), a13 = agreement(0, 1, 3, 1, 2, 3);
+                bool split02 = a02 > a13;
+                if (std::abs(a02 - a13) < 1e-3) {
+                    const Vec3 d02 = sub(*p[2], *p[0]), d13 = sub(*p[3], *p[1]);
+                    split02 = dot(d02, d02) <= dot(d13, d13);
+                }
+                if (split02) {
+                    tris.push_back({ring[0], ring[1], ring[2]});
+                    tris.push_back({ring[0], ring[2], ring[3]});
+                } else {
+                    tris.push_back({ring[0], ring[1], ring[3]});
+                    tris.push_back({ring[1], ring[2], ring[3]});
+                }
+            };
+
+            for (int j = 0; j < g.ny; ++j)
+                for (int w = 0; w < g.words; ++w) {
+                    const std::uint64_t here = sb.word(j, k, w, 0);
+                    std::uint64_t change[3] = {0, 0, 0};
+                    if (k >= 1 && k + 1 < g.nz) {
+                        if (j >= 1 && j + 1 < g.ny) change[0] = (here ^ sb.word(j, k, w, 1)) & sb.valid(w, 1);
+                        if (j + 1 < g.ny) change[1] = (here ^ sb.word(j + 1, k, w, 0)) & sb.valid(w, 0);
+                    }
+                    if (k + 1 < g.nz && j >= 1 && j + 1 < g.ny)
+                        change[2] = (here ^ sb.word(j, k + 1, w, 0)) & sb.valid(w, 0);
+                    for (int axis = 0; axis < 3; ++axis)
+                        for (std::uint64_t bits = change[axis]; bits; bits &= bits - 1) {
+                            const int i = 64 * w + ctz(bits);
+                            if (axis != 0 && (i == 0 || i + 1 == g.nx)) continue;  // on the grid boundary
+                            emit(i, j, axis, here >> (i - 64 * w) & 1);
+                        }
+                }
+        }
+    }
+
+    contour::concatenate_in_order(plane_tris, mesh.triangles, parallel);
+    return mesh;
+}
+
+}  // namespace snvr

@@ -1,0 +1,55 @@
+#include <omp.h>
+
+#include "solver/backend.hpp"
+#include "opencl/opencl_backend.hpp"
+#include "opencl/runtime.hpp"
+#include "openmp/openmp_backend.hpp"
+#include "snvr/devices.hpp"
+#include "snvr/error.hpp"
+
+namespace snvr {
+
+template <class Real>
+std::unique_ptr<Backend<Real>> make_backend(const std::string& device, std::string& notice) {
+    if (device == "openmp" || device == "omp") return make_openmp_backend<Real>();
+    if (device == "auto") {
+        // Any OpenCL device (a GPU first); no platform, no fp64 or a failed build is not
+        // an error here: the reference backend runs instead.
+        try {
+            return make_opencl_backend<Real>("auto");
+        } catch (const Error& e) {
+            const std::string why = e.what();  // its first line: a build log can be long
+            notice = "OpenCL not usable (" + why.substr(0, why.find('\n')) + "); running on the OpenMP reference backend";
+            return make_openmp_backend<Real>();
+        }
+    }
+    return make_opencl_backend<Real>(device);
+}
+
+template std::unique_ptr<Backend<double>> make_backend<double>(const std::string&, std::string&);
+template std::unique_ptr<Backend<float>> make_backend<float>(const std::string&, std::string&);
+
+std::vector<DeviceInfo> list_devices() {
+    DeviceInfo omp;
+    omp.id = "openmp";
+    omp.name = "OpenMP reference backend";
+    omp.kind = "cpu";
+    omp.compute_units = omp_get_max_threads();
+    omp.fp64 = true;
+    omp.note = "reference and fallback";
+    std::vector<DeviceInfo> out{omp};
+    for (const opencl::DeviceEntry& e : opencl::devices()) {
+        DeviceInfo d;
+        d.id = "opencl:" + std::to_string(e.platform) + ":" + std::to_string(e.index);
+        d.name = e.name;
+        d.kind = e.gpu ? "gpu" : "cpu/other";
+        d.compute_units = e.compute_units;
+        d.memory_bytes = e.memory;
+        d.fp64 = e.fp64;
+        d.note = e.platform_name + ", " + e.version;
+        out.push_back(d);
+    }
+    return out;
+}
+
+}  // namespace snvr

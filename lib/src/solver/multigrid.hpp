@@ -1,0 +1,46 @@
+// The linear half of a time step, phi* - dt g Lap_h phi* = phi^n (eq. 8), solved by
+// geometric multigrid V-cycles with red-black Gauss-Seidel smoothing (eq. 9). The
+// schedule is written once here, on top of the backend operations.
+#pragma once
+#include <vector>
+
+#include "solver/backend.hpp"
+#include "solver/hierarchy.hpp"
+
+namespace snvr {
+
+struct MultigridSettings {
+    double dt = 5e-5;       // normalised
+    double tol = 1e-7;      // on sqrt(sum r^2 / N) over the finest grid
+    int max_cycles = 50;
+    int pre_smooth = 2, post_smooth = 2;
+    double omega = 1.2;     // over-relaxation of the smoother
+    bool trilinear = true;
+    bool exact_coarse = false;  // solve a small coarse level exactly (prepare_coarse_levels)
+    int exact_level = -1;       // the level the backend holds the inverse of; -1: none
+};
+
+struct LinearSolveStats {
+    int cycles = 0;
+    bool converged = false;
+    double initial_residual = 0;
+    std::vector<double> residuals;  // after each cycle
+    double bytes_moved = 0;         // least memory traffic of the operations run (see multigrid.cpp)
+};
+
+// Coarse coefficients for every level (once per run: g never changes) and, when
+// s.exact_coarse, the inverse of the finest coarse level with at most
+// kMaxCoarseInverse coupled cells: V-cycles stop there and solve it exactly. The band
+// thins out with depth (bunny at 256: 275k, 28k, 2040, 4, 0 coupled cells on levels
+// 1-5), so the coarsest levels often hold nothing to solve. Returns that level, or -1.
+template <class Real>
+int prepare_coarse_levels(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s);
+
+// Solves with phi (level 0) as both the right-hand side and the initial guess.
+// Least bytes the nonlinear step must move: read phi, g and the distance, write phi, on active bricks.
+double nonlinear_bytes(const Hierarchy& hierarchy, std::size_t real_size);
+
+template <class Real>
+LinearSolveStats solve_linear(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s);
+
+}  // namespace snvr
