@@ -3,7 +3,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
+#include <string>
 
 #include "solver/backend.hpp"
 #include "geometry/band_distance.hpp"
@@ -56,6 +58,149 @@ TEST_CASE("band distance equals brute force wherever it is inside the band") {
         CHECK(mismatched == 0);
         CHECK(bd.active_cells == in_band);
     }
+}
+
+namespace {
+
+// Checks band_distance against the nearest point found by trying every point, with the
+// squared distance written as the kd-tree query evaluated it ((x^2 + y^2) + z^2,
+// x = q - p per axis; ISO C++ mode, so no fused multiply-add), so the values must match
+// bit for bit; only cells within a hair of the band radius may go either way.
+template <class Real>
+void check_exact(const PointSet& points, const Domain& d, const Band& band, const char* what) {
+    const std::string label = what;
+    CAPTURE(label);
+    const PointIndex index(points);
+    const BandDistance<Real> bd = band_distance<Real>(points, index, d, band);
+    REQUIRE(bd.distance.size() == d.cells());
+    const Hierarchy shapes = make_levels(Domain{d.origin, d.h, d.nx, d.ny, d.nz, 1});
+    const Level& lv = shapes.levels[0];
+    std::vector<std::uint8_t> near(lv.brick_count(), 0);
+    std::size_t cells_near = 0;
+    for (std::size_t t = 0; t < bd.near_bricks.size(); ++t) {
+        const std::uint32_t b = bd.near_bricks[t];
+        REQUIRE(b < near.size());
+        if (t > 0) CHECK(bd.near_bricks[t - 1] < b);  // ascending, no repeats
+        near[b] = 1;
+        const CellRange r = lv.range(b);
+        cells_near += std::size_t(r.i1 - r.i0) * std::size_t(r.j1 - r.j0) * std::size_t(r.k1 - r.k0);
+    }
+    CHECK(bd.queried_cells == cells_near);
+
+    const double L = d.length_scale();
+    const double reach = (band.offset + band.cut) * L;
+    const Real far = Real(band.offset + 2 * band.cut);
+    std::size_t inside = 0, wrong = 0, not_far = 0, missing = 0;
+    for (std::uint32_t b = 0; b < lv.brick_count(); ++b) {
+        const CellRange r = lv.range(b);
+        for (int k = r.k0; k < r.k1; ++k)
+            for (int j = r.j0; j < r.j1; ++j)
+                for (int i = r.i0; i < r.i1; ++i) {
+                    const Vec3 q = d.cell_center(i, j, k);
+                    double best = std::numeric_limits<double>::infinity();
+                    for (const Vec3& p : points) {
+                        const double x = q[0] - p[0], y = q[1] - p[1], z = q[2] - p[2];
+                        best = std::min(best, x * x + y * y + z * z);
+                    }
+                    const double nearest = std::sqrt(best);
+                    const Real exact = Real(nearest / L), got = bd.distance[d.index(i, j, k)];
+                    if (nearest < reach * (1 - 1e-7)) {
+                        ++inside;
+                        missing += !near[b];
+                        wrong += got != exact;
+                    } else if (nearest > reach * (1 + 1e-7)) {
+                        not_far += got != far;
+                    } else {
+                        wrong += got != exact && got != far;
+                    }
+                }
+    }
+    std::printf("%-44s %s: %zu cells within reach\n", what, sizeof(Real) == 4 ? "float " : "double", inside);
+    CHECK(inside > 0);
+    CHECK(missing == 0);
+    CHECK(wrong == 0);
+    CHECK(not_far == 0);
+}
+
+template <class Real>
+void check_clouds() {
+    std::mt19937 rng(2024);
+    std::uniform_real_distribution<double> unit(0, 1);
+    // 37 x 21 x 50 cells: bricks and 4^3 blocks cut at every far edge.
+    Domain d;
+    d.origin = {0.1, -0.2, 0.3};
+    d.h = 0.01;
+    d.nx = 37, d.ny = 21, d.nz = 50;
+    const double L = d.length_scale();
+    auto spot = [&](double spill) {  // uniform over the grid's box, widened by `spill` of it
+        Vec3 p;
+        const int n[3] = {d.nx, d.ny, d.nz};
+        for (int a = 0; a < 3; ++a) p[a] = d.origin[a] + (unit(rng) * (1 + 2 * spill) - spill) * n[a] * d.h;
+        return p;
+    };
+    const Band band{0.03 / L, 0.02 / L};  // reach 5 cells
+
+    PointSet scattered;
+    for (int n = 0; n < 400; ++n) scattered.push_back(spot(0.15));  // some beyond the grid
+    for (int n = 0; n < 60; ++n) scattered.push_back(scattered[rng() % scattered.size()]);  // duplicates
+    check_exact<Real>(scattered, d, band, "scattered, spilling out, with duplicates");
+
+    PointSet clusters;
+    for (int c = 0; c < 8; ++c) {
+        const Vec3 m = spot(0.05);
+        std::normal_distribution<double> jitter(0, 1e-5);
+        for (int n = 0; n < 150; ++n) clusters.push_back({m[0] + jitter(rng), m[1] + jitter(rng), m[2] + jitter(rng)});
+        for (int n = 0; n < 30; ++n) clusters.push_back(m);
+    }
+    check_exact<Real>(clusters, d, band, "tight clusters of near and exact duplicates");
+
+    check_exact<Real>({spot(0)}, d, band, "a single point");
+    check_exact<Real>({Vec3{0.1 - 0.02, -0.2 + 0.1, 0.3 + 0.25}}, d, band, "a single point beyond the grid");
+    check_exact<Real>({d.cell_center(36, 20, 49), d.cell_center(0, 0, 0)}, d, band, "points in the corner cells");
+
+    // Points exactly on cell centres: those cells are at distance 0.
+    PointSet centred = scattered;
+    for (int n = 0; n < 40; ++n) centred.push_back(d.cell_center(int(rng() % 37), int(rng() % 21), int(rng() % 50)));
+    check_exact<Real>(centred, d, band, "points on cell centres");
+
+    check_exact<Real>(scattered, d, Band{0.2 / L, 0.05 / L}, "a band many bricks wide");
+    check_exact<Real>({spot(0), spot(0.1)}, d, Band{0.2 / L, 0.05 / L}, "two points, a band many bricks wide");
+    // Just past multiples of 4 and 8 cells, with reaches just past 8 and 16 cells: where
+    // coarse bounds on whole blocks of cells or points (bricks, buckets) cut it closest.
+    for (double reach : {8.8, 16.7}) {
+        const PointSet edgy = {{d.origin[0] + 16.1 * d.h, d.origin[1] + 8.1 * d.h, d.origin[2] + 24.1 * d.h},
+                               {d.origin[0] + 7.9 * d.h, d.origin[1] + 7.9 * d.h, d.origin[2] + 40.02 * d.h},
+                               {d.origin[0] + 32.1 * d.h, d.origin[1] + 16.1 * d.h, d.origin[2] + 8.05 * d.h},
+                               {d.origin[0] + 23.9 * d.h, d.origin[1] + 0.1 * d.h, d.origin[2] + 31.9 * d.h}};
+        check_exact<Real>(edgy, d, Band{3 * d.h / L, (reach - 3) * d.h / L}, "points just past block edges");
+    }
+
+    // Far from the origin: the rounding slack must scale with the coordinates.
+    Domain shifted = d;
+    shifted.origin = {1e6 + 0.1, -2e6 - 0.2, 5e5 + 0.3};
+    PointSet moved = scattered;
+    for (Vec3& p : moved)
+        for (int a = 0; a < 3; ++a) p[a] += shifted.origin[a] - d.origin[a];
+    check_exact<Real>(moved, shifted, band, "a million units from the origin");
+
+    // A cloud far denser than the cells (two sheets, about 60 points per cell each):
+    // bricks there take the per-cell kd-tree path.
+    Domain coarse;
+    coarse.origin = {0, 0, 0};
+    coarse.h = 1.0 / 16;
+    coarse.nx = coarse.ny = coarse.nz = 16;
+    PointSet sheets;
+    for (double z : {0.43, 0.57})
+        for (int n = 0; n < 16 * 16 * 60; ++n) sheets.push_back({unit(rng), unit(rng), z});
+    for (int n = 0; n < 6; ++n) sheets.push_back(coarse.cell_center(3 + 2 * n, 5 + n, 0));  // alone on cell centres
+    check_exact<Real>(sheets, coarse, Band{0.1, 0.15}, "two dense sheets");
+}
+
+}  // namespace
+
+TEST_CASE("band distance is the exact nearest distance on awkward clouds and grids") {
+    check_clouds<double>();
+    check_clouds<float>();
 }
 
 TEST_CASE("solved fields satisfy the dense equation on odd grids with partial and constant bricks") {
