@@ -22,7 +22,7 @@ using namespace snvr;
 template <class Real>
 int run(const char* file, Parameters params, int repeat) {
     bench::PreparedSolver<Real> solver(read_points(file), params);
-    Backend<Real>* backend = solver.backend.get();
+    Backend<Real>* backend = solver.backend;
     const Domain& dom = solver.domain;
     const Hierarchy& hier = solver.hierarchy;
     const Level& lv = hier.levels[0];

@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
     std::vector<int> resolutions{128, 256}, steps{-1, 4};
     bool scale_dt = false;
     std::string device = "auto";
-    bool exact_coarse = true;
+    bool exact_coarse = snvr::Parameters{}.exact_coarse;
     for (int a = 1; a + 1 < argc; a += 2) {
         const std::string opt = argv[a], val = argv[a + 1];
         if (opt == "--resolutions") resolutions = int_list(val);

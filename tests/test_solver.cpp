@@ -83,15 +83,15 @@ TEST_CASE("every V-cycle contracts the residual at least 20-fold and the solve e
 TEST_CASE("the nonlinear step matches a fine integration of phi_t = g (phi - phi^3) / eps^2") {
     Domain d;
     d.nx = 16, d.ny = 8, d.nz = 8, d.levels = 1;
-    Hierarchy hier = make_levels(d);
-    set_active_bricks(hier, std::vector<std::uint8_t>(hier.levels[0].brick_count(), 1));
-    auto backend = make_openmp_backend<double>();
-    backend->setup(hier);
     // Distances spread across the whole profile, so phi0 and g take many values.
     std::vector<double> dist(d.cells());
     for (std::size_t n = 0; n < dist.size(); ++n) dist[n] = 0.2 * double(n) / double(dist.size());
     const double l = 0.1, xi = 0.01, cut = 1.0, dt = 5e-5, eps = 0.02;
-    backend->init_phase(dist.data(), l, 1 / (std::sqrt(2.0) * xi), cut);
+    const BrickLayout layout =
+        make_layout<double>(d, std::vector<std::uint8_t>(make_levels(d).levels[0].brick_count(), 1), dist.data(), l);
+    auto backend = make_openmp_backend<double>();
+    backend->setup(layout);
+    backend->init_phase(pack_level0(layout, dist.data()).data(), l, 1 / (std::sqrt(2.0) * xi), cut);
     std::vector<double> before(d.cells()), after(d.cells());
     backend->download(0, FieldKind::phi, before.data());
     backend->nonlinear(2 * dt / (eps * eps), Tube<double>{});

@@ -24,10 +24,7 @@ public:
         bytes_moved += streams * double(h_.levels[std::size_t(level)].brick_cells) * sizeof(Real);
     }
 
-    Real coefficient(int level) const {
-        const double hl = h_.levels[std::size_t(level)].h;
-        return Real(s_.dt / (hl * hl));
-    }
+    Real coefficient(int level) const { return Real(dt_over_h2(s_.dt, h_.levels[std::size_t(level)])); }
 
     double residual_norm() {
         const Level& fine = h_.levels[0];
@@ -108,7 +105,7 @@ int prepare_coarse_levels(Backend<Real>& backend, const Hierarchy& hierarchy, co
     }
     if (chosen < 0) return -1;
     const Level& lv = hierarchy.levels[std::size_t(chosen)];
-    backend.set_coarse_inverse(chosen, coarse_inverse(lv, chosen_g, s.dt / (lv.h * lv.h)));
+    backend.set_coarse_inverse(chosen, coarse_inverse(lv, chosen_g, dt_over_h2(s.dt, lv)));
     return chosen;
 }
 

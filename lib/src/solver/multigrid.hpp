@@ -9,16 +9,20 @@
 
 namespace snvr {
 
+// Filled by multigrid_settings (problem.hpp) from Parameters, where the defaults live.
 struct MultigridSettings {
-    double dt = 5e-5;       // normalised
-    double tol = 1e-7;      // on sqrt(sum r^2 / N) over the finest grid
-    int max_cycles = 50;
-    int pre_smooth = 2, post_smooth = 2;
-    double omega = 1.2;     // over-relaxation of the smoother
-    bool trilinear = true;
+    double dt = 0;          // normalised
+    double tol = 0;         // on sqrt(sum r^2 / N) over the finest grid
+    int max_cycles = 0;
+    int pre_smooth = 0, post_smooth = 0;
+    double omega = 1;       // over-relaxation of the smoother
+    bool trilinear = false;
     bool exact_coarse = false;  // solve a small coarse level exactly (prepare_coarse_levels)
     int exact_level = -1;       // the level the backend holds the inverse of; -1: none
 };
+
+// The operator's coefficient on a level, dt / h_l^2 (both normalised).
+inline double dt_over_h2(double dt, const Level& level) { return dt / (level.h * level.h); }
 
 struct LinearSolveStats {
     int cycles = 0;
