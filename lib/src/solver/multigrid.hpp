@@ -29,7 +29,7 @@ struct LinearSolveStats {
     bool converged = false;
     double initial_residual = 0;
     std::vector<double> residuals;  // after each cycle
-    double bytes_moved = 0;         // least memory traffic of the operations run (see multigrid.cpp)
+    double bytes_moved = 0;         // least memory traffic of the operations run (operations.hpp)
 };
 
 // Coarse coefficients for every level (once per run: g never changes) and, when
@@ -41,9 +41,6 @@ template <class Real>
 int prepare_coarse_levels(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s);
 
 // Solves with phi (level 0) as both the right-hand side and the initial guess.
-// Least bytes the nonlinear step must move: read phi, g and the distance, write phi, on active bricks.
-double nonlinear_bytes(const Hierarchy& hierarchy, std::size_t real_size);
-
 template <class Real>
 LinearSolveStats solve_linear(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s);
 

@@ -6,6 +6,7 @@
 #include "geometry/band_distance.hpp"
 #include "geometry/domain_plan.hpp"
 #include "geometry/point_index.hpp"
+#include "solver/operations.hpp"
 #include "snvr/stopwatch.hpp"
 
 namespace snvr {
@@ -69,14 +70,17 @@ StepStats SolverSession<Real>::step() {
     st.step = ++steps_done_;
     const LinearSolveStats ls = solve_linear(*backend_, hierarchy(), problem_.multigrid);
     st.seconds_linear = clock.lap();
-    backend_->nonlinear(Real(problem_.nonlinear_rate), problem_.tube<Real>());
+    OperationArgs<Real> nonlinear;
+    nonlinear.rate = Real(problem_.nonlinear_rate);
+    nonlinear.tube = problem_.tube<Real>();
+    run_operation(*backend_, Operation::nonlinear, 0, nonlinear);
     backend_->finish();  // devices run asynchronously: charge the step its own time
     st.seconds_nonlinear = clock.lap();
     st.cycles = ls.cycles;
     st.converged = ls.converged;
     st.initial_residual = ls.initial_residual;
     st.cycle_residuals = ls.residuals;
-    st.bytes_moved = ls.bytes_moved + nonlinear_bytes(hierarchy(), sizeof(Real));
+    st.bytes_moved = ls.bytes_moved + operation_bytes(Operation::nonlinear, hierarchy(), 0, sizeof(Real));
     st.residual = ls.residuals.empty() ? ls.initial_residual : ls.residuals.back();
     return st;
 }
