@@ -12,7 +12,7 @@ namespace snvr {
 // Filled by multigrid_settings (problem.hpp) from Parameters, where the defaults live.
 struct MultigridSettings {
     double dt = 0;          // normalised
-    double tol = 0;         // on sqrt(sum r^2 / N) over the finest grid
+    double tol = 0;         // on sqrt(sum r^2 / N) over the finest level's active-brick cells
     int max_cycles = 0;
     int pre_smooth = 0, post_smooth = 0;
     double omega = 1;       // over-relaxation of the smoother
