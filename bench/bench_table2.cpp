@@ -5,7 +5,7 @@
 //
 //   bench_table2 [--resolutions 128,256] [--steps 4,8] [--dt-scaling fixed|h2] [--device D]
 //   --steps -1 is the default flow (dt and steps from the defaults in cells).
-//                [--coarse exact|sweeps]
+//                [--coarse exact|sweeps] [--precision double|float]
 //   --dt-scaling h2 keeps dt / h^2 at its 128^3 value (dt = 5e-5 (128 / N)^2).
 #include <cmath>
 #include <cstdio>
@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
     std::vector<int> resolutions{128, 256}, steps{-1, 4};
     bool scale_dt = false;
     std::string device = "auto";
-    bool exact_coarse = true;
+    bool exact_coarse = snvr::Parameters{}.exact_coarse;
+    snvr::Precision precision = snvr::Parameters{}.precision;
     for (int a = 1; a + 1 < argc; a += 2) {
         const std::string opt = argv[a], val = argv[a + 1];
         if (opt == "--resolutions") resolutions = int_list(val);
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
         else if (opt == "--dt-scaling") scale_dt = val == "h2";
         else if (opt == "--device") device = val;
         else if (opt == "--coarse") exact_coarse = val != "sweeps";
+        else if (opt == "--precision") precision = val == "float" ? snvr::Precision::Single : snvr::Precision::Double;
         else {
             std::fprintf(stderr, "unknown option %s\n", opt.c_str());
             return 2;
@@ -58,6 +60,7 @@ int main(int argc, char** argv) {
                 if (scale_dt) p.dt = 5e-5 * (128.0 / n) * (128.0 / n);
                 p.device = device;
                 p.exact_coarse = exact_coarse;
+                p.precision = precision;
                 const snvr::Result r = snvr::reconstruct(points, p);
                 const snvr::Mesh mesh = snvr::extract_isosurface(r.phi, r.domain, 0.0, snvr::Interpolation::PhaseField);
                 const snvr::table2::Errors e = snvr::table2::surface_errors(mesh, shape, 0.05);

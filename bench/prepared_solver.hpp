@@ -1,6 +1,6 @@
-// A solver ready to run, for the operation benchmarks: a point cloud's domain, band
-// and hierarchy, and a backend set up and initialised on it (coarse levels prepared,
-// rhs loaded), plus a best-of-N timer that waits for the device.
+// A solver ready to run, for the operation benchmarks: a solver session (the same
+// set-up as reconstruct()) with rhs loaded, its parts at hand, plus a best-of-N timer
+// that waits for the device.
 #pragma once
 #include <algorithm>
 #include <chrono>
@@ -11,12 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "solver/backend.hpp"
-#include "geometry/band_distance.hpp"
-#include "geometry/domain_plan.hpp"
-#include "solver/hierarchy.hpp"
-#include "solver/multigrid.hpp"
 #include "snvr/snvr.hpp"
+#include "solver/session.hpp"
 
 #include <cstdio>
 
@@ -24,37 +20,25 @@ namespace snvr::bench {
 
 template <class Real>
 struct PreparedSolver {
+    SolverSession<Real> session;  // the very set-up reconstruct() runs
     Domain domain;
-    Hierarchy hierarchy;
-    std::unique_ptr<Backend<Real>> backend;
+    const Hierarchy& hierarchy;
+    Backend<Real>* backend;
     Real coefficient = 0;  // dt / h^2 on level 0
     int exact_level = -1;  // the coarse level solved exactly, if any
     Tube<Real> tube;       // the run's tube
     double dt = 0;         // normalised
 
-    PreparedSolver(const PointSet& points, const Parameters& params) {
-        const PointIndex index(points);
-        const DomainPlan plan = plan_domain(points, params, index);
-        domain = plan.domain;
-        const double L = domain.length_scale();
-        const Band band = band_of(plan, params.band_xi);
-        BandDistance<Real> dist = band_distance<Real>(points, index, domain, band);
-        classify_band(dist, domain, band);
-        hierarchy = make_levels(domain);
-        set_active_bricks(hierarchy, dist.brick_mask);
-        std::string notice;
-        backend = make_backend<Real>(params.device, notice);
-        backend->setup(hierarchy);
-        backend->init_phase(dist.distance.data(), Real(band.offset), Real(1 / (std::sqrt(2.0) * plan.xi / L)), Real(band.cut));
-        MultigridSettings ms;
-        ms.dt = plan.dt;
-        tube = tube_of<Real>(plan);
-        dt = plan.dt;
-        ms.exact_coarse = params.exact_coarse;
-        exact_level = prepare_coarse_levels(*backend, hierarchy, ms);
+    PreparedSolver(const PointSet& points, const Parameters& params)
+        : session(points, params),
+          domain(session.domain()),
+          hierarchy(session.hierarchy()),
+          backend(&session.backend()),
+          coefficient(Real(dt_over_h2(session.multigrid().dt, hierarchy.levels[0]))),
+          exact_level(session.multigrid().exact_level),
+          tube(session.problem().template tube<Real>()),
+          dt(session.multigrid().dt) {
         backend->load_rhs();
-        const double h = hierarchy.levels[0].h;
-        coefficient = Real(plan.dt / (h * h));
     }
 
     // Seconds of `repeat` runs of f, each waited for, after one run that is not counted

@@ -2,18 +2,13 @@
 #include "commands.hpp"
 
 #include <algorithm>
-#include <cerrno>
-#include <cstdint>
-#include <cstdio>
-#include <cstring>
-#include <fstream>
 #include <iostream>
-#include <limits>
 
 #include "options.hpp"
 #include "report.hpp"
 #include "snvr/devices.hpp"
 #include "snvr/error.hpp"
+#include "snvr/io.hpp"
 #include "snvr/shapes.hpp"
 
 namespace cli {
@@ -37,46 +32,6 @@ void print_table(std::ostream& out, const std::vector<std::vector<std::string>>&
         for (std::size_t c = 0; c < row.size(); ++c)
             line += row[c] + (c + 1 < row.size() ? std::string(width[c] - row[c].size() + 2, ' ') : "");
         out << line << '\n';
-    }
-}
-
-void put_le32(std::ostream& out, float value) {
-    std::uint32_t bits;
-    std::memcpy(&bits, &value, sizeof bits);
-    const char bytes[4] = {char(bits & 0xff), char((bits >> 8) & 0xff), char((bits >> 16) & 0xff),
-                           char((bits >> 24) & 0xff)};
-    out.write(bytes, 4);
-}
-
-void write_points_to(std::ostream& out, const snvr::PointSet& points, const std::string& ext,
-                     const std::string& comment) {
-    if (ext == ".ply") {
-        out << "ply\nformat binary_little_endian 1.0\ncomment " << comment << "\nelement vertex "
-            << points.size() << "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
-        for (const snvr::Vec3& p : points)
-            for (double v : p) put_le32(out, float(v));
-    } else {
-        // Enough digits that the text reads back to the same doubles.
-        out.precision(std::numeric_limits<double>::max_digits10);
-        for (const snvr::Vec3& p : points) out << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
-    }
-}
-
-// Same discipline as the library's writers: a temporary next to the target, renamed
-// only once complete, removed on any failure.
-void write_points(const snvr::PointSet& points, const std::string& path, const std::string& comment) {
-    const std::string tmp = path + ".tmp";
-    try {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw snvr::IoError("cannot open '" + tmp + "' for writing: " + std::strerror(errno));
-        write_points_to(out, points, lower_extension(path), comment);
-        out.close();
-        if (!out) throw snvr::IoError("failed writing '" + tmp + "'");
-        if (std::rename(tmp.c_str(), path.c_str()) != 0)
-            throw snvr::IoError("cannot rename '" + tmp + "' to '" + path + "': " + std::strerror(errno));
-    } catch (...) {
-        std::remove(tmp.c_str());
-        throw;
     }
 }
 
@@ -107,7 +62,7 @@ int run_sample(const std::vector<std::string>& args) {
     } catch (const snvr::ParameterError& e) {
         throw UsageError(e.what());  // an unknown shape name or a bad spacing came from the command line
     }
-    write_points(points, parsed->output, fmt("snvr-cl sample %s --spacing %g", parsed->shape.c_str(), parsed->spacing));
+    snvr::write_points(points, parsed->output, fmt("snvr-cl sample %s --spacing %g", parsed->shape.c_str(), parsed->spacing));
     std::cerr << "wrote " << grouped(points.size()) << " points to " << parsed->output << '\n';
     return 0;
 }

@@ -228,12 +228,13 @@ Command reconstruct_command(ReconstructOptions& o) {
          store(p.xi_cells)},
         {"--xi", "", "X", "xi instead of --xi-cells, world units", store(p.xi)},
         {"--tol", "", "X",
-         fmt("l2 norm of the residual at which a step's multigrid solve\nstops (default %g)", defaults.tol),
+         fmt("RMS residual over the band at which a step's multigrid\nsolve stops (default %g: moves the surface ~1e-3 voxels)", defaults.tol),
          store(p.tol)},
         {"--max-cycles", "", "N",
          fmt("V-cycles per step at most; reaching it is a warning (default %d)", defaults.max_cycles),
          store(p.max_cycles)},
-        {"--precision", "", "double|float", "floating point type of the solver (default double)", precision},
+        {"--precision", "", "double|float", fmt("floating point type of the solver's fields (default %s)",
+                 defaults.precision == snvr::Precision::Double ? "double" : "float"), precision},
         {"--device", "", "DEV",
          "auto | openmp | opencl | opencl:P:D | a name substring (default\n"
          "auto: an OpenCL GPU, else an OpenCL CPU, else OpenMP);\n"

@@ -99,7 +99,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
     const snvr::MeshQuality quality = snvr::measure_quality(mesh, points, result.offset, result.domain.h);
     const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
     seconds.check = stage.lap();
-    for (const std::string& w : mesh_warnings(quality.report, quality.points_inside, points.size(), clusters)) warn(w);
+    for (const std::string& w : snvr::shell_warnings(quality, points.size(), clusters)) warn(w);
     seconds.total = seconds.written + total.lap();
 
     if (!o.quiet)

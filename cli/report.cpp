@@ -122,25 +122,4 @@ void print_summary(std::ostream& out, const RunSummary& run) {
     out.flush();
 }
 
-std::vector<std::string> mesh_warnings(const snvr::MeshReport& m, std::size_t inside, std::size_t points,
-                                       std::size_t clusters) {
-    std::vector<std::string> out;
-    if (m.solids > clusters)
-        out.push_back(fmt("the shell fell apart into %zu solid pieces, but the points form %zu cluster%s at twice "
-                          "the offset: raise --offset (or lower the resolution) to close the gaps",
-                          m.solids, clusters, clusters == 1 ? "" : "s"));
-    if (!m.closed()) out.push_back(fmt("the mesh is not closed: %zu boundary edges", m.boundary_edges));
-    if (!m.manifold())
-        out.push_back(fmt("the mesh is not manifold: %zu non-manifold edges, %zu non-manifold vertices, "
-                          "%zu degenerate triangles",
-                          m.nonmanifold_edges, m.nonmanifold_vertices, m.degenerate_triangles));
-    if (!m.oriented())
-        out.push_back(fmt("the mesh is not consistently oriented: %zu misoriented edges, volume %.6g",
-                          m.misoriented_edges, m.volume));
-    if (inside < points)
-        out.push_back(fmt("the shell encloses %s of %s points; a larger --offset or a finer grid may help",
-                          grouped(inside).c_str(), grouped(points).c_str()));
-    return out;
-}
-
 }  // namespace cli

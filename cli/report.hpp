@@ -42,12 +42,6 @@ struct RunSummary {
 };
 void print_summary(std::ostream& out, const RunSummary& run);
 
-// Not closed / manifold / oriented, or not every point enclosed.
-// `clusters`: snvr::count_point_clusters at twice the offset (a broken shell has more
-// solid pieces than clusters; extra components that bound cavities are fine).
-std::vector<std::string> mesh_warnings(const snvr::MeshReport& mesh, std::size_t inside, std::size_t points,
-                                       std::size_t clusters);
-
 // Peak resident set size of this process in bytes (0 if unknown).
 std::size_t peak_rss_bytes();
 

@@ -11,6 +11,7 @@
 #include "geometry/band_distance.hpp"
 #include "solver/hierarchy.hpp"
 #include "solver/multigrid.hpp"
+#include "solver/problem.hpp"
 #include "openmp/openmp_backend.hpp"
 #include "geometry/point_index.hpp"
 
@@ -228,11 +229,11 @@ TEST_CASE("solved fields satisfy the dense equation on odd grids with partial an
 
     // Coarse levels 10x14x18 and 5x7x9: the coarsest by sweeps, or the finest small one by its inverse.
     for (bool exact : {false, true}) {
+    const BrickLayout layout = make_layout<double>(d, mask, dist.data(), l);
     auto backend = make_openmp_backend<double>();
-    backend->setup(hier);
-    backend->init_phase(dist.data(), l, 1 / (std::sqrt(2.0) * xi), cut);
-    MultigridSettings s;
-    s.dt = dt;
+    backend->setup(layout);
+    backend->init_phase(pack_level0(layout, dist.data()).data(), l, 1 / (std::sqrt(2.0) * xi), cut);
+    MultigridSettings s = multigrid_settings(Parameters{}, dt);
     s.tol = 1e-13;
     s.exact_coarse = exact;
     s.exact_level = prepare_coarse_levels(*backend, hier, s);
@@ -244,7 +245,7 @@ TEST_CASE("solved fields satisfy the dense equation on odd grids with partial an
     CHECK(st.converged);
 
     // r = rhs - (phi - dt g Lap phi), mirror boundary, plain loops on the flat arrays.
-    const double c = dt / (hier.levels[0].h * hier.levels[0].h);
+    const double c = dt_over_h2(dt, hier.levels[0]);
     double worst = 0;
     for (int k = 0; k < d.nz; ++k)
         for (int j = 0; j < d.ny; ++j)

@@ -471,3 +471,18 @@ TEST_CASE("atomic writes") {
         CHECK(dir.entries() == 1);
     }
 }
+
+TEST_CASE("write_points: PLY and text read back; a bad extension writes nothing") {
+    const TempDir dir("io");
+    const PointSet points{{0.1, -2.5, 3e-7}, {1.0 / 3.0, 1e10, -0.0}};
+    snvr::write_points(points, dir.file("p.xyz"));
+    const PointSet text = snvr::read_points(dir.file("p.xyz"));
+    CHECK(text == points);  // text keeps every double exactly
+    snvr::write_points(points, dir.file("p.ply"), "from a test");
+    const PointSet ply = snvr::read_points(dir.file("p.ply"));
+    REQUIRE(ply.size() == points.size());
+    for (std::size_t n = 0; n < points.size(); ++n)
+        for (std::size_t a = 0; a < 3; ++a) CHECK(ply[n][a] == double(float(points[n][a])));
+    CHECK_THROWS_AS(snvr::write_points(points, dir.file("p.stl")), snvr::InputError);
+    CHECK(dir.entries() == 2);  // no temporary and no p.stl left
+}

@@ -10,6 +10,7 @@
 #include "mesh_fields.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
+#include "snvr/quality.hpp"
 
 #if __has_include(<omp.h>)
 #include <omp.h>
@@ -406,3 +407,28 @@ TEST_CASE("extraction and checks do not depend on the thread count") {
     require_watertight(r1);
 }
 #endif
+
+TEST_CASE("shell_warnings: one sentence per defect, none for a good shell") {
+    snvr::MeshQuality q;
+    q.report.triangles = 8;
+    q.report.volume = 1;
+    q.report.solids = 1;
+    q.points_inside = 10;
+    CHECK(snvr::shell_warnings(q, 10, 1).empty());
+    q.report.solids = 3;  // two more solid pieces than the points' clusters
+    q.report.boundary_edges = 4;
+    q.report.misoriented_edges = 2;
+    q.points_inside = 7;
+    const std::vector<std::string> w = snvr::shell_warnings(q, 10, 1);
+    REQUIRE(w.size() == 4);
+    CHECK(w[0].find("fell apart into 3 solid pieces") != std::string::npos);
+    CHECK(w[1].find("4 boundary edges") != std::string::npos);
+    CHECK(w[2].find("2 misoriented edges") != std::string::npos);
+    CHECK(w[3].find("encloses 7 of 10 points") != std::string::npos);
+    q.report.solids = 1;  // cavities' extra components are no defect
+    q.report.components = 2;
+    q.report.boundary_edges = 0;
+    q.report.misoriented_edges = 0;
+    q.points_inside = 10;
+    CHECK(snvr::shell_warnings(q, 10, 1).empty());
+}

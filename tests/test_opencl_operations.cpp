@@ -52,12 +52,14 @@ struct Pair {
         for (auto& m : mask) m = std::uint8_t(rng() % 3 != 0);
         mask[0] = 1;
         set_active_bricks(hier, mask);
-        ref->setup(hier);
-        dev->setup(hier);
         // Level 0's inactive bricks take the sign of l - d at their first cell.
         const std::vector<Real> distance = random(0, Real(0), Real(2), 0);
-        ref->init_phase(distance.data(), Real(1), Real(3), Real(0.8));
-        dev->init_phase(distance.data(), Real(1), Real(3), Real(0.8));
+        const BrickLayout layout = make_layout<Real>(d, mask, distance.data(), Real(1));
+        ref->setup(layout);
+        dev->setup(layout);
+        const std::vector<Real> packed = pack_level0(layout, distance.data());
+        ref->init_phase(packed.data(), Real(1), Real(3), Real(0.8));
+        dev->init_phase(packed.data(), Real(1), Real(3), Real(0.8));
         this->distance = random(0, Real(0), Real(1), 0);
     }
 

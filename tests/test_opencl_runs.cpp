@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "backend_compare.hpp"
+#include "opencl/runtime.hpp"
 #include "snvr/snvr.hpp"
 
 using namespace snvr;
@@ -78,3 +79,19 @@ void compare_runs(Precision precision, double bound) {
 TEST_CASE("whole runs on OpenCL agree with the reference: double within 1e-10") { compare_runs(Precision::Double, kDoubleBound); }
 
 TEST_CASE("whole runs on OpenCL agree with the reference: float") { compare_runs(Precision::Single, kFloatBound); }
+
+TEST_CASE("the OpenCL program is built once per device and precision in a process") {
+    for (bool single : {false, true}) {
+        warmup("opencl", single);
+        const std::size_t builds = opencl::program_builds();
+        Parameters p;
+        p.resolution = 32;
+        p.steps = 1;
+        p.device = "opencl";
+        p.precision = single ? Precision::Single : Precision::Double;
+        for (int run = 0; run < 2; ++run) CHECK(reconstruct(shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.02), p).backend.rfind("opencl", 0) == 0);
+        CHECK(opencl::program_builds() == builds);
+    }
+    warmup("openmp");  // nothing to build, and no error
+    CHECK_THROWS_AS(warmup("no-such-device"), ParameterError);
+}

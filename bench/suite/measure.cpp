@@ -6,6 +6,7 @@
 
 #include "host_measures.hpp"
 #include "prepared_solver.hpp"
+#include "solver/operations.hpp"
 #include "table2.hpp"
 
 namespace snvr::bench {
@@ -36,29 +37,22 @@ template <class Real>
 std::vector<Record> roofline(const std::string& label, const PointSet& points, const Parameters& params, int repeat) {
     PreparedSolver<Real> solver(points, params);
     Backend<Real>& b = *solver.backend;
-    const Level& lv = solver.hierarchy.levels[0];
-    const double stream_gb = double(lv.brick_cells) * sizeof(Real) / 1e9;
-    const Real omega = Real(params.omega);
-    struct Kernel {
-        const char* name;
-        double streams;  // fields streamed over the active bricks (multigrid.cpp's model)
-        std::function<void()> run;
-    };
-    const std::vector<Kernel> kernels = {
-        {"copy", 2, [&] { b.load_rhs(); }},
-        {"smooth (one colour)", 4, [&] { b.smooth(0, 0, solver.coefficient, omega); }},
-        {"residual norm", 3, [&] { b.residual_sum_squares(0, solver.coefficient); }},
-        {"nonlinear", 4, [&] { b.nonlinear(Real(1e-3), solver.tube); }},
-    };
+    OperationArgs<Real> args;
+    args.coefficient = solver.coefficient;
+    args.omega = Real(params.omega);
+    args.trilinear = params.trilinear;
+    args.rate = Real(1e-3);
+    args.tube = solver.tube;
     std::vector<Record> out;
     double copy_gbs = 0;
-    for (const Kernel& k : kernels) {
-        const Spread s = spread_of(solver.samples(repeat, k.run));
-        const double gb = k.streams * stream_gb, gbs = gb / s.median;
+    for (const OperationInfo& op : kOperations) {
+        if (op.op == Operation::coarse_solve) continue;  // coarse levels only
+        const Spread s = spread_of(solver.samples(repeat, [&] { run_operation(b, op.op, 0, args); }));
+        const double gb = operation_bytes(op.op, solver.hierarchy, 0, sizeof(Real)) / 1e9, gbs = gb / s.median;
         if (copy_gbs == 0) copy_gbs = gbs;
         Record r;
         describe(r, "roofline", label, params);
-        r.set("backend", b.name()).set("kernel", k.name).set("ms", s.median * 1e3).set("ms_min", s.min * 1e3).set("ms_max", s.max * 1e3);
+        r.set("backend", b.name()).set("kernel", op.name).set("ms", s.median * 1e3).set("ms_min", s.min * 1e3).set("ms_max", s.max * 1e3);
         r.set("gb", gb).set("gbps", gbs).set("of_copy", gbs / copy_gbs);
         out.push_back(r);
     }

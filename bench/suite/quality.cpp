@@ -188,14 +188,7 @@ Record measure_quality_run(const QualityRun& run, const std::string& data_dir) {
         p.voxel = in.voxel;
         p.offset = in.offset;
         p.device = run.device;
-        {
-            // Loads (or compiles) the device's kernels outside the timed run.
-            Parameters tiny = p;
-            tiny.voxel.reset();
-            tiny.offset.reset();
-            tiny.resolution = 32;
-            reconstruct(shapes::by_name("sphere", 0.05), tiny);
-        }
+        warmup(p.device, p.precision == Precision::Single);  // the kernels' build stays out of the timed run
         Stopwatch clock;
         const Result res = reconstruct(in.points, p);
         const double reconstruct_s = clock.lap();

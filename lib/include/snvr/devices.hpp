@@ -19,4 +19,12 @@ struct DeviceInfo {
 
 std::vector<DeviceInfo> list_devices();
 
+// Readies a device for reconstruct(): builds the OpenCL program (once per device and
+// precision in a process) and runs every kernel once on a small sphere, so that later
+// runs do not pay the compilation. For benchmarks and long-lived services; a plain
+// reconstruct() does the same on its own the first time. Takes the same device names
+// as Parameters::device; single: the float program instead of the double one.
+// Throws what reconstruct() would throw for that device.
+void warmup(const std::string& device = "auto", bool single = false);
+
 }  // namespace snvr

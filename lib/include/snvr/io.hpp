@@ -27,6 +27,11 @@ Mesh read_mesh(const std::string& path);
 // Chooses the format from the extension: .stl (binary), .ply (binary little endian), .obj.
 void write_mesh(const Mesh& mesh, const std::string& path);
 
+// Writes points as binary little-endian PLY (.ply, float32 x y z, `comment` in the
+// header) or text (.xyz/.pts/.txt, one "x y z" line each, digits that read back
+// exactly), atomically like write_mesh. Throws InputError for another extension.
+void write_points(const PointSet& points, const std::string& path, const std::string& comment = "");
+
 // Writes the field as VTK image data (.vti, raw appended binary) or NRRD (.nrrd),
 // with the origin at the centre of cell (0,0,0) (domain.origin + h/2) and spacing h.
 void write_field(const Field& field, const Domain& domain, const std::string& path);

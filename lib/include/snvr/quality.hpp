@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "snvr/geometry.hpp"
 #include "snvr/mesh.hpp"
@@ -67,6 +68,12 @@ MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double off
 // inward normal to the first surface met (infinity if no ray meets anything).
 // The cheap part of measure_quality, for a closing summary.
 double thinnest_wall(const Mesh& mesh);
+
+// What keeps a shell from being the print the points ask for, one sentence each (none:
+// nothing): more solid pieces than the points have clusters at twice the offset (the
+// shell fell apart; components that bound cavities are fine), an open, non-manifold
+// or misoriented mesh, points left outside. `clusters`: count_point_clusters(points, 2 l).
+std::vector<std::string> shell_warnings(const MeshQuality& quality, std::size_t points, std::size_t clusters);
 
 // One readable block, several lines, ending with a newline.
 std::string format_quality(const MeshQuality& q);

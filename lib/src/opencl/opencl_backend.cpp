@@ -50,11 +50,11 @@ public:
         return "opencl:" + std::to_string(d.platform) + ":" + std::to_string(d.index) + " (" + d.name + ", " + d.platform_name + ")";
     }
 
-    void setup(const Hierarchy& hier) override {
+    void setup(const BrickLayout& layout) override {
         guarded("setup", [&] {
+            const Hierarchy& hier = layout.hierarchy;
             hier_ = hier;
-            grids_.clear();
-            for (const Level& lv : hier.levels) grids_.emplace_back(lv);
+            grids_ = layout.grids;
             // Fail before allocating, with the sizes, rather than at the first launch.
             std::size_t need = 0;
             for (std::size_t l = 0; l < grids_.size(); ++l) need += (l == 0 ? 4 : 3) * grids_[l].storage() * sizeof(Real);
@@ -98,15 +98,9 @@ public:
 
     void init_phase(const Real* d, Real offset, Real s, Real cut) override {
         guarded("init_phase", [&] {
-            const Level& lv = hier_.levels[0];
-            assign_constant_slots(grids_[0], lv, d, offset);
-            write_slots(0);
             if (levels_[0].active == 0) return;
-            // The distance of the active bricks only, packed like the fields.
-            std::vector<Real> packed(levels_[0].cells, Real(0));
-            pack_active(grids_[0], lv, d, packed.data());
             const LevelBuffers& b = levels_[0];
-            rt_.queue().enqueueWriteBuffer(b.distance, CL_TRUE, 0, packed.size() * sizeof(Real), packed.data());
+            rt_.queue().enqueueWriteBuffer(b.distance, CL_TRUE, 0, b.cells * sizeof(Real), d);
             launch(init_, b.active * kBrickCells, kCellGroup, b.distance, b.phi, b.g, b.bricks, b.slot, shape(0), offset, s, cut);
             rt_.queue().finish();
         });

@@ -1,8 +1,12 @@
 #include "opencl/runtime.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
+#include <mutex>
+#include <tuple>
 
 #include "opencl/kernel_sources.hpp"
 
@@ -108,37 +112,77 @@ DeviceEntry choose_device(const std::string& spec) {
     throw ParameterError("unknown device '" + spec + "'; run 'snvr-cl devices' to list what can run");
 }
 
+namespace {
+
+struct BuiltProgram {
+    cl::Context context;
+    cl::Program program;
+};
+
+struct ProgramCache {
+    std::mutex mutex;
+    std::map<std::tuple<int, int, std::string>, BuiltProgram> built;  // (platform, device, options)
+    std::atomic<std::size_t> builds{0};
+};
+
+// Never destroyed: releasing OpenCL objects from a static destructor at exit can run
+// after the driver has been unloaded.
+ProgramCache& program_cache() {
+    static ProgramCache* cache = new ProgramCache;
+    return *cache;
+}
+
+BuiltProgram build_program(const DeviceEntry& device, const std::string& options) {
+    BuiltProgram b;
+    guarded("set-up", [&] { b.context = cl::Context(device.device); });
+    cl::Program::Sources sources;
+    for (const KernelSource& s : kernel_sources()) sources.emplace_back(s.text);
+    guarded("program", [&] { b.program = cl::Program(b.context, sources); });
+    try {
+        b.program.build(std::vector<cl::Device>{device.device}, options.c_str());
+    } catch (const cl::Error& e) {
+        std::string log;
+        try {
+            log = b.program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device.device);
+        } catch (const cl::Error&) {
+            log = "(no build log)";
+        }
+        throw ResourceError("OpenCL program build failed on '" + device.name + "' (" + error_name(e.err()) + ", options " +
+                            options + "):\n" + log);
+    }
+    ++program_cache().builds;
+    return b;
+}
+
+}  // namespace
+
+std::size_t program_builds() { return program_cache().builds; }
+
 Runtime::Runtime(DeviceEntry device, const std::string& real_type) : device_(std::move(device)) {
     if (real_type == "double" && !device_.fp64)
         throw ParameterError("OpenCL device '" + device_.name + "' has no double precision (fp64); use --precision float");
     if (device_.max_group < 256)
         throw ResourceError("OpenCL device '" + device_.name + "' allows work-groups of " + std::to_string(device_.max_group) +
                             " work-items; the kernels need 256");
-    guarded("set-up", [&] {
-        context_ = cl::Context(device_.device);
-        queue_ = cl::CommandQueue(context_, device_.device);
-    });
-    cl::Program::Sources sources;
-    for (const KernelSource& s : kernel_sources()) sources.emplace_back(s.text);
     std::string options = "-cl-std=CL1.2 -DREAL=" + real_type + (real_type == "double" ? " -DSNVR_DOUBLE" : "") + (device_.fp64 ? " -DSNVR_FP64 -DACC=double" : " -DACC=float");
     // Float division and sqrt are correctly rounded in C++; ask the same of the device.
     const cl_device_fp_config single = guarded("device query", [&] { return device_.device.getInfo<CL_DEVICE_SINGLE_FP_CONFIG>(); });
     if (single & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) options += " -cl-fp32-correctly-rounded-divide-sqrt";
     // Extra compiler options for experiments (and for testing the failure path).
     if (const char* extra = std::getenv("SNVR_OPENCL_OPTIONS")) options += std::string(" ") + extra;
-    guarded("program", [&] { program_ = cl::Program(context_, sources); });
-    try {
-        program_.build(std::vector<cl::Device>{device_.device}, options.c_str());
-    } catch (const cl::Error& e) {
-        std::string log;
-        try {
-            log = program_.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_.device);
-        } catch (const cl::Error&) {
-            log = "(no build log)";
-        }
-        throw ResourceError("OpenCL program build failed on '" + device_.name + "' (" + error_name(e.err()) + ", options " +
-                            options + "):\n" + log);
+
+    ProgramCache& cache = program_cache();
+    {
+        // Held while building: a second session on the same device waits for this build
+        // instead of starting its own.
+        std::lock_guard<std::mutex> lock(cache.mutex);
+        const auto key = std::make_tuple(device_.platform, device_.index, options);
+        auto it = cache.built.find(key);
+        if (it == cache.built.end()) it = cache.built.emplace(key, build_program(device_, options)).first;
+        context_ = it->second.context;
+        program_ = it->second.program;
     }
+    guarded("set-up", [&] { queue_ = cl::CommandQueue(context_, device_.device); });
 }
 
 cl::Kernel Runtime::kernel(const char* name) const {

@@ -46,7 +46,12 @@ std::vector<DeviceEntry> devices();
 // or a substring of the device or platform name. Throws ParameterError when none matches.
 DeviceEntry choose_device(const std::string& spec);
 
-// A context, a queue and the program for one precision on one device.
+// How many times this process has built the kernels' program (the cache's misses).
+std::size_t program_builds();
+
+// A queue of its own, and the context and program for one precision on one device.
+// The context and the built program are made once per device and build options in a
+// process and shared by every Runtime after (building costs 0.2-0.5 s under PoCL).
 class Runtime {
 public:
     // real_type: "double" or "float". Throws ResourceError with the build log on failure,
@@ -64,7 +69,7 @@ public:
 
 private:
     DeviceEntry device_;
-    cl::Context context_;
+    cl::Context context_;  // shared through the program cache
     cl::CommandQueue queue_;
     cl::Program program_;
 };

@@ -47,12 +47,11 @@ class OpenMPBackend final : public Backend<Real> {
 public:
     std::string name() const override { return "openmp (" + std::to_string(openmp_threads()) + " threads)"; }
 
-    void setup(const Hierarchy& hier) override {
-        hier_ = hier;
-        grids_.clear();
-        fields_.assign(hier.levels.size(), {});
-        for (std::size_t l = 0; l < hier.levels.size(); ++l) {
-            grids_.emplace_back(hier.levels[l]);
+    void setup(const BrickLayout& layout) override {
+        hier_ = layout.hierarchy;
+        grids_ = layout.grids;
+        fields_.assign(hier_.levels.size(), {});
+        for (std::size_t l = 0; l < hier_.levels.size(); ++l) {
             const std::size_t n = grids_[l].storage();
             fields_[l].phi.assign(n, Real(0));
             fields_[l].rhs.assign(n, Real(0));
@@ -72,11 +71,10 @@ public:
     void init_phase(const Real* d, Real l, Real s, Real cut) override {
         Real* phi = fields_[0].phi.data();
         Real* g = fields_[0].g.data();
-        const Level& lv = hier_.levels[0];
-        assign_constant_slots(grids_[0], lv, d, l);
-        pack_active(grids_[0], lv, d, fields_[0].distance.data());
-        for_cells(0, [&](std::size_t c, int i, int j, int k) {
-            const Real diff = l - d[std::size_t(i) + std::size_t(lv.nx) * (std::size_t(j) + std::size_t(lv.ny) * std::size_t(k))];
+        Real* distance = fields_[0].distance.data();
+        for_cells(0, [&](std::size_t c, int, int, int) {
+            distance[c] = d[c];
+            const Real diff = l - d[c];
             if (std::abs(diff) > cut) {
                 phi[c] = diff > 0 ? Real(1) : Real(-1);
                 g[c] = 0;

@@ -13,6 +13,7 @@
 
 #include "solver/coarse_inverse.hpp"
 #include "solver/hierarchy.hpp"
+#include "solver/layout.hpp"
 
 namespace snvr {
 
@@ -35,13 +36,14 @@ public:
     virtual ~Backend() = default;
     virtual std::string name() const = 0;
 
-    // Allocates every level's fields (zero) for these shapes and active bricks.
-    virtual void setup(const Hierarchy& hierarchy) = 0;
+    // Allocates every level's fields (zero, constant bricks filled) for this layout.
+    virtual void setup(const BrickLayout& layout) = 0;
     virtual std::size_t bytes() const = 0;
 
     // Level 0, whole grid: phi = tanh((l - d) / (sqrt(2) xi)), g = 1 - phi^2 (eqs. 4-5),
-    // and phi = sign(l - d), g = 0 where |l - d| > cut. `distance` is normalised; the
-    // backend keeps it (FieldKind::distance, level 0) for the tube.
+    // and phi = sign(l - d), g = 0 where |l - d| > cut. `distance` is normalised and in
+    // level 0's brick storage (BrickGrid::storage() values, pack_active); the backend
+    // keeps it (FieldKind::distance, level 0) for the tube.
     virtual void init_phase(const Real* distance, Real offset, Real inv_sqrt2_xi, Real cut) = 0;
     // g on level+1: harmonic mean of the 8 children's g (0 if any child is 0).
     virtual void restrict_coefficient(int level) = 0;
@@ -77,9 +79,17 @@ public:
     virtual void download(int level, FieldKind field, Real* dense) = 0;
 };
 
-// "auto", "openmp", "opencl[:P:D]" or a device name substring. Throws ParameterError
-// for a device that does not exist; under "auto" never fails.
+// The backend rule, in one place (backend_factory.cpp).
+// make_backend: "auto" (an OpenCL GPU, else an OpenCL CPU, else OpenMP), "openmp",
+// "opencl[:P:D]" or a device name substring. Throws ParameterError for a device that
+// does not exist; under "auto" never fails (why OpenCL was passed over goes to `notes`).
 template <class Real>
-std::unique_ptr<Backend<Real>> make_backend(const std::string& device, std::string& notice);
+std::unique_ptr<Backend<Real>> make_backend(const std::string& device, std::vector<std::string>& notes);
+
+// Sets the backend up on the layout. Under "auto", an OpenCL device too small for it
+// hands over to the OpenMP backend (the host may hold it), with a note saying so.
+template <class Real>
+void setup_backend(std::unique_ptr<Backend<Real>>& backend, const std::string& device, const BrickLayout& layout,
+                   std::vector<std::string>& notes);
 
 }  // namespace snvr

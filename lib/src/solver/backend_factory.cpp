@@ -10,7 +10,7 @@
 namespace snvr {
 
 template <class Real>
-std::unique_ptr<Backend<Real>> make_backend(const std::string& device, std::string& notice) {
+std::unique_ptr<Backend<Real>> make_backend(const std::string& device, std::vector<std::string>& notes) {
     if (device == "openmp" || device == "omp") return make_openmp_backend<Real>();
     if (device == "auto") {
         // Any OpenCL device (a GPU first); no platform, no fp64 or a failed build is not
@@ -19,15 +19,33 @@ std::unique_ptr<Backend<Real>> make_backend(const std::string& device, std::stri
             return make_opencl_backend<Real>("auto");
         } catch (const Error& e) {
             const std::string why = e.what();  // its first line: a build log can be long
-            notice = "OpenCL not usable (" + why.substr(0, why.find('\n')) + "); running on the OpenMP reference backend";
+            notes.push_back("OpenCL not usable (" + why.substr(0, why.find('\n')) +
+                            "); running on the OpenMP reference backend");
             return make_openmp_backend<Real>();
         }
     }
     return make_opencl_backend<Real>(device);
 }
 
-template std::unique_ptr<Backend<double>> make_backend<double>(const std::string&, std::string&);
-template std::unique_ptr<Backend<float>> make_backend<float>(const std::string&, std::string&);
+template <class Real>
+void setup_backend(std::unique_ptr<Backend<Real>>& backend, const std::string& device, const BrickLayout& layout,
+                   std::vector<std::string>& notes) {
+    try {
+        backend->setup(layout);
+    } catch (const ResourceError& e) {
+        if (device != "auto" || backend->name().rfind("opencl", 0) != 0) throw;
+        notes.push_back(std::string(e.what()) + "; running on the OpenMP reference backend");
+        backend = make_openmp_backend<Real>();
+        backend->setup(layout);
+    }
+}
+
+template std::unique_ptr<Backend<double>> make_backend<double>(const std::string&, std::vector<std::string>&);
+template std::unique_ptr<Backend<float>> make_backend<float>(const std::string&, std::vector<std::string>&);
+template void setup_backend<double>(std::unique_ptr<Backend<double>>&, const std::string&, const BrickLayout&,
+                                    std::vector<std::string>&);
+template void setup_backend<float>(std::unique_ptr<Backend<float>>&, const std::string&, const BrickLayout&,
+                                   std::vector<std::string>&);
 
 std::vector<DeviceInfo> list_devices() {
     DeviceInfo omp;

@@ -86,7 +86,9 @@ void pack_active(const BrickGrid& bg, const Level& lv, const Real* dense, Real* 
 
 template <class Real>
 void unpack(const BrickGrid& bg, const Real* storage, Real* dense) {
+#ifdef _OPENMP  // also included where OpenMP is off (tests): serial there
 #pragma omp parallel for schedule(static)
+#endif
     for (int k = 0; k < bg.nz; ++k)
         for (int j = 0; j < bg.ny; ++j)
             for (int i = 0; i < bg.nx; ++i)

@@ -1,18 +1,13 @@
 #include "solver/multigrid.hpp"
 
+#include "solver/operations.hpp"
+
+#include <algorithm>
 #include <cmath>
 
 namespace snvr {
 
 namespace {
-
-// Memory traffic model: each operation streams its fields once over the active bricks
-// (a stencil's neighbours come from cache). Streams counted per cell of the level:
-// half sweep reads phi, rhs, g and writes phi; the residual reads three fields; the
-// restriction reads three fine fields and writes two coarse ones (and reads coarse g);
-// prolongation reads g and phi and writes phi, plus the coarse phi.
-constexpr double kSweepStreams = 4, kResidualStreams = 3, kRestrictFine = 3, kRestrictCoarse = 3,
-                 kProlongFine = 3, kProlongCoarse = 1, kCopyStreams = 2;
 
 template <class Real>
 class VCycle {
@@ -20,25 +15,26 @@ public:
     VCycle(Backend<Real>& b, const Hierarchy& h, const MultigridSettings& s) : b_(b), h_(h), s_(s) {}
 
     double bytes_moved = 0;
-    void count(int level, double streams) {
-        bytes_moved += streams * double(h_.levels[std::size_t(level)].brick_cells) * sizeof(Real);
+
+    // Runs an operation (operations.hpp) on a level and counts its traffic.
+    double run(Operation op, int level) {
+        bytes_moved += operation_bytes(op, h_, level, sizeof(Real));
+        OperationArgs<Real> a;
+        a.coefficient = Real(dt_over_h2(s_.dt, h_.levels[std::size_t(level)]));
+        a.omega = Real(s_.omega);
+        a.trilinear = s_.trilinear;
+        return run_operation(b_, op, level, a);
     }
 
-    Real coefficient(int level) const {
-        const double hl = h_.levels[std::size_t(level)].h;
-        return Real(s_.dt / (hl * hl));
-    }
-
+    // RMS over the cells of the active bricks: the band's, not the box's (outside them
+    // the residual is zero, and a box-wide mean would loosen tol as the box grows).
     double residual_norm() {
-        const Level& fine = h_.levels[0];
-        count(0, kResidualStreams);
-        return std::sqrt(b_.residual_sum_squares(0, coefficient(0)) / double(fine.cells()));
+        return std::sqrt(run(Operation::residual, 0) / double(std::max<std::size_t>(h_.levels[0].brick_cells, 1)));
     }
 
-    void run(int level) {
+    void cycle(int level) {
         if (level == s_.exact_level) {
-            b_.coarse_solve(level);
-            count(level, kCopyStreams);  // rhs in, phi out; the matrix stays in cache
+            run(Operation::coarse_solve, level);
             return;
         }
         if (level == int(h_.levels.size()) - 1) {
@@ -46,37 +42,26 @@ public:
             return;
         }
         sweeps(level, s_.pre_smooth);
-        b_.restrict_residual(level, coefficient(level));
-        count(level, kRestrictFine);
-        count(level + 1, kRestrictCoarse);
-        run(level + 1);
-        b_.prolong_correct(level, s_.trilinear);
-        count(level, kProlongFine);
-        count(level + 1, kProlongCoarse);
+        run(Operation::restrict_residual, level);
+        cycle(level + 1);
+        run(Operation::prolong_correct, level);
         sweeps(level, s_.post_smooth);
     }
 
 private:
     void sweeps(int level, int times) {
-        for (int n = 0; n < times; ++n) {
-            b_.smooth(level, 0, coefficient(level), Real(s_.omega));
-            b_.smooth(level, 1, coefficient(level), Real(s_.omega));
-            count(level, kSweepStreams);  // two half sweeps each touch half the cells
-        }
+        for (int n = 0; n < times; ++n) run(Operation::sweep, level);
     }
 
     // The coarsest grid is small (about 8 cells on its longest axis): sweep until the
     // residual has dropped a thousandfold. Its operator is an M-matrix, so this converges
     // for any dt; at the default dt a few sweeps suffice.
     void solve_coarsest(int level) {
-        const Real c = coefficient(level);
-        const double start = b_.residual_sum_squares(level, c);
-        count(level, kResidualStreams);
+        const double start = run(Operation::residual, level);
         if (start == 0) return;
         for (int n = 0; n < 500; n += 4) {
             sweeps(level, 4);
-            count(level, kResidualStreams);
-            if (b_.residual_sum_squares(level, c) <= 1e-6 * start) return;
+            if (run(Operation::residual, level) <= 1e-6 * start) return;
         }
     }
 
@@ -108,33 +93,32 @@ int prepare_coarse_levels(Backend<Real>& backend, const Hierarchy& hierarchy, co
     }
     if (chosen < 0) return -1;
     const Level& lv = hierarchy.levels[std::size_t(chosen)];
-    backend.set_coarse_inverse(chosen, coarse_inverse(lv, chosen_g, s.dt / (lv.h * lv.h)));
+    backend.set_coarse_inverse(chosen, coarse_inverse(lv, chosen_g, dt_over_h2(s.dt, lv)));
     return chosen;
 }
 
 template <class Real>
 LinearSolveStats solve_linear(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s) {
     VCycle<Real> cycle(backend, hierarchy, s);
-    backend.load_rhs();
-    cycle.count(0, kCopyStreams);
+    cycle.run(Operation::load_rhs, 0);
     LinearSolveStats st;
     // The residual of the initial guess phi^n is dt g Lap phi^n.
     double r = cycle.residual_norm();
     st.initial_residual = r;
     while (r >= s.tol && st.cycles < s.max_cycles) {
-        cycle.run(0);
+        cycle.cycle(0);
+        const double before = r;
         r = cycle.residual_norm();
         st.residuals.push_back(r);
         ++st.cycles;
         if (!std::isfinite(r)) break;
+        // A cycle that gains less than a tenth has met the rounding floor of the field's
+        // type (in float about dt / h^2 x 1e-7): more cycles would only spin.
+        if (r > 0.9 * before) break;
     }
     st.converged = r < s.tol;
     st.bytes_moved = cycle.bytes_moved;
     return st;
-}
-
-double nonlinear_bytes(const Hierarchy& hierarchy, std::size_t real_size) {
-    return 4.0 * double(hierarchy.levels[0].brick_cells) * double(real_size);
 }
 
 template int prepare_coarse_levels<double>(Backend<double>&, const Hierarchy&, const MultigridSettings&);

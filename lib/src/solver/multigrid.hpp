@@ -9,23 +9,27 @@
 
 namespace snvr {
 
+// Filled by multigrid_settings (problem.hpp) from Parameters, where the defaults live.
 struct MultigridSettings {
-    double dt = 5e-5;       // normalised
-    double tol = 1e-7;      // on sqrt(sum r^2 / N) over the finest grid
-    int max_cycles = 50;
-    int pre_smooth = 2, post_smooth = 2;
-    double omega = 1.2;     // over-relaxation of the smoother
-    bool trilinear = true;
+    double dt = 0;          // normalised
+    double tol = 0;         // on sqrt(sum r^2 / N) over the finest level's active-brick cells
+    int max_cycles = 0;
+    int pre_smooth = 0, post_smooth = 0;
+    double omega = 1;       // over-relaxation of the smoother
+    bool trilinear = false;
     bool exact_coarse = false;  // solve a small coarse level exactly (prepare_coarse_levels)
     int exact_level = -1;       // the level the backend holds the inverse of; -1: none
 };
+
+// The operator's coefficient on a level, dt / h_l^2 (both normalised).
+inline double dt_over_h2(double dt, const Level& level) { return dt / (level.h * level.h); }
 
 struct LinearSolveStats {
     int cycles = 0;
     bool converged = false;
     double initial_residual = 0;
     std::vector<double> residuals;  // after each cycle
-    double bytes_moved = 0;         // least memory traffic of the operations run (see multigrid.cpp)
+    double bytes_moved = 0;         // least memory traffic of the operations run (operations.hpp)
 };
 
 // Coarse coefficients for every level (once per run: g never changes) and, when
@@ -37,9 +41,6 @@ template <class Real>
 int prepare_coarse_levels(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s);
 
 // Solves with phi (level 0) as both the right-hand side and the initial guess.
-// Least bytes the nonlinear step must move: read phi, g and the distance, write phi, on active bricks.
-double nonlinear_bytes(const Hierarchy& hierarchy, std::size_t real_size);
-
 template <class Real>
 LinearSolveStats solve_linear(Backend<Real>& backend, const Hierarchy& hierarchy, const MultigridSettings& s);
 

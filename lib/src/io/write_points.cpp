@@ -1,0 +1,43 @@
+// write_points: binary PLY (float32 x y z) or text (one point per line, round-trip
+// digits), through an AtomicFile like every writer of the library.
+#include <string>
+
+#include "io/atomic_file.hpp"
+#include "io/io_common.hpp"
+#include "snvr/error.hpp"
+#include "snvr/io.hpp"
+
+namespace snvr {
+
+void write_points(const PointSet& points, const std::string& path, const std::string& comment) {
+    const std::string ext = detail::lower_extension(path);
+    const bool ply = ext == ".ply";
+    if (!ply && ext != ".xyz" && ext != ".pts" && ext != ".txt")
+        throw InputError(path + ": unsupported point file extension '" + ext + "' (supported: .ply, .xyz, .pts, .txt)");
+    if (comment.find('\n') != std::string::npos) throw InputError(path + ": the comment must be one line");
+    AtomicFile out(path);
+    if (ply) {
+        out.write("ply\nformat binary_little_endian 1.0\n" + (comment.empty() ? "" : "comment " + comment + "\n") +
+                  "element vertex " + std::to_string(points.size()) +
+                  "\nproperty float x\nproperty float y\nproperty float z\nend_header\n");
+        char record[12];
+        for (const Vec3& p : points) {
+            for (std::size_t a = 0; a < 3; ++a) detail::store_le(float(p[a]), record + 4 * a);
+            out.write(record, sizeof record);
+        }
+    } else {
+        std::string line;
+        for (const Vec3& p : points) {
+            line.clear();
+            for (std::size_t a = 0; a < 3; ++a) {
+                if (a) line += ' ';
+                detail::append_number(line, p[a]);
+            }
+            line += '\n';
+            out.write(line);
+        }
+    }
+    out.commit();
+}
+
+}  // namespace snvr

@@ -1,0 +1,96 @@
+#include "solver/session.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "geometry/band_distance.hpp"
+#include "geometry/domain_plan.hpp"
+#include "geometry/point_index.hpp"
+#include "solver/operations.hpp"
+#include "snvr/stopwatch.hpp"
+
+namespace snvr {
+
+namespace {
+
+void report(const ProgressCallback& cb, const std::string& stage, const std::string& message) {
+    if (!cb) return;
+    Progress p;
+    p.stage = stage;
+    p.message = message;
+    cb(p);
+}
+
+}  // namespace
+
+template <class Real>
+SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& params, const ProgressCallback& progress) {
+    Stopwatch clock;
+    const PointIndex index(points);
+    problem_ = make_problem(plan_domain(points, params, index), params);
+    const Domain& dom = domain();
+    backend_ = make_backend<Real>(params.device, facts_.notes);
+    facts_.seconds_domain = clock.lap();
+    report(progress, "domain",
+           "grid " + std::to_string(dom.nx) + "x" + std::to_string(dom.ny) + "x" + std::to_string(dom.nz) + ", " +
+               std::to_string(dom.levels) + " multigrid levels, backend " + backend_->name());
+
+    const Band& band = problem_.band;
+    BandDistance<Real> dist = band_distance<Real>(points, index, dom, band);
+    classify_band(dist, dom, band);
+    facts_.queried_cells = dist.queried_cells;
+    facts_.active_cells = dist.active_cells;
+    facts_.seconds_distance = clock.lap();
+    report(progress, "distance",
+           std::to_string(dist.queried_cells) + " cells queried, " + std::to_string(dist.active_cells) + " in the band");
+
+    layout_ = make_layout<Real>(dom, dist.brick_mask, dist.distance.data(), Real(band.offset));
+    facts_.active_bricks = layout_.level(0).bricks.size();
+    facts_.total_bricks = layout_.level(0).brick_count();
+    setup_backend(backend_, params.device, layout_, facts_.notes);
+    facts_.backend = backend_->name();
+    {
+        const std::vector<Real> packed = pack_level0(layout_, dist.distance.data());
+        facts_.solver_bytes = backend_->bytes() + dist.distance.size() * sizeof(Real);
+        dist.distance = std::vector<Real>();  // the backend holds the band's distance from here on
+        backend_->init_phase(packed.data(), Real(band.offset), Real(problem_.profile_slope), Real(band.cut));
+    }
+    problem_.multigrid.exact_level = prepare_coarse_levels(*backend_, hierarchy(), problem_.multigrid);
+    backend_->finish();
+    facts_.seconds_init = clock.lap();
+    report(progress, "init",
+           "phase field on " + std::to_string(facts_.active_bricks) + " of " + std::to_string(facts_.total_bricks) +
+               " bricks, " + std::to_string(facts_.solver_bytes >> 20) + " MiB of fields");
+}
+
+template <class Real>
+StepStats SolverSession<Real>::step() {
+    Stopwatch clock;
+    StepStats st;
+    st.step = ++steps_done_;
+    const LinearSolveStats ls = solve_linear(*backend_, hierarchy(), problem_.multigrid);
+    st.seconds_linear = clock.lap();
+    OperationArgs<Real> nonlinear;
+    nonlinear.rate = Real(problem_.nonlinear_rate);
+    nonlinear.tube = problem_.tube<Real>();
+    run_operation(*backend_, Operation::nonlinear, 0, nonlinear);
+    backend_->finish();  // devices run asynchronously: charge the step its own time
+    st.seconds_nonlinear = clock.lap();
+    st.cycles = ls.cycles;
+    st.converged = ls.converged;
+    st.initial_residual = ls.initial_residual;
+    st.cycle_residuals = ls.residuals;
+    st.bytes_moved = ls.bytes_moved + operation_bytes(Operation::nonlinear, hierarchy(), 0, sizeof(Real));
+    st.residual = ls.residuals.empty() ? ls.initial_residual : ls.residuals.back();
+    return st;
+}
+
+template <class Real>
+void SolverSession<Real>::field(Real* dense) {
+    backend_->download(0, FieldKind::phi, dense);
+}
+
+template class SolverSession<double>;
+template class SolverSession<float>;
+
+}  // namespace snvr

@@ -1,0 +1,62 @@
+// One solver session: everything the method does between the points and the phase
+// field, in the order it does it, written once. reconstruct(), the benchmarks and the
+// tests all drive this type:
+//   SolverSession<double> s(points, params);   // plan, distance, layout, backend, phi0
+//   while (s.steps_done() < s.problem().steps) s.step();
+//   s.field(dense);                            // phi, x-fastest
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "solver/backend.hpp"
+#include "solver/layout.hpp"
+#include "solver/problem.hpp"
+#include "snvr/reconstruct.hpp"
+
+namespace snvr {
+
+// What preparing a session found and cost.
+struct SessionFacts {
+    std::string backend;                 // which backend runs it
+    std::vector<std::string> notes;      // fallbacks and why
+    std::size_t queried_cells = 0;       // cells that needed a nearest-point query
+    std::size_t active_cells = 0;        // cells with g > 0
+    std::size_t active_bricks = 0, total_bricks = 0;  // level 0
+    std::size_t solver_bytes = 0;        // fields held by the backend, plus the distance while it lived
+    double seconds_domain = 0, seconds_distance = 0, seconds_init = 0;
+};
+
+template <class Real>
+class SolverSession {
+public:
+    // Plans the grid, computes the band distance, builds the brick layout, sets a backend
+    // up on it (backend.hpp's rule), initialises phi and g and the coarse levels.
+    // `progress` hears "domain", "distance" and "init" as each is done.
+    SolverSession(const PointSet& points, const Parameters& params, const ProgressCallback& progress = {});
+
+    // One operator-split time step: the linear half by multigrid, then the exact
+    // nonlinear half held in the tube. Waits for the device, so its seconds are its own.
+    StepStats step();
+    int steps_done() const { return steps_done_; }
+
+    // phi on level 0 as a dense x-fastest array of the domain's cells.
+    void field(Real* dense);
+
+    const Problem& problem() const { return problem_; }
+    const Domain& domain() const { return problem_.plan.domain; }
+    const BrickLayout& layout() const { return layout_; }
+    const Hierarchy& hierarchy() const { return layout_.hierarchy; }
+    const MultigridSettings& multigrid() const { return problem_.multigrid; }
+    const SessionFacts& facts() const { return facts_; }
+    Backend<Real>& backend() { return *backend_; }
+
+private:
+    Problem problem_;
+    BrickLayout layout_;
+    std::unique_ptr<Backend<Real>> backend_;
+    SessionFacts facts_;
+    int steps_done_ = 0;
+};
+
+}  // namespace snvr
