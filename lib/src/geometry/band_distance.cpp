@@ -394,10 +394,6 @@ void brick_by_tree(const PointIndex& index, const Domain& d, const CellRange& r,
 
 }  // namespace
 
-Band band_of(const DomainPlan& plan, double band_xi) {
-    const double L = plan.domain.length_scale();
-    return {plan.offset / L, std::max(band_xi * plan.xi, plan.domain.h) / L};
-}
 
 // Per brick: the points within the radius of it, pruned to those that can be nearest to
 // some cell of it, then again per 4^3 block, whose cells are brute-forced against that

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "solver/backend.hpp"
+#include "solver/hierarchy.hpp"
 #include "geometry/point_index.hpp"
 #include "snvr/domain.hpp"
 #include "snvr/reconstruct.hpp"
@@ -19,23 +19,6 @@ struct Band {
     double offset;  // l
     double cut;     // |l - d| beyond this: phi0 = +-1, g = 0
 };
-
-// The band of a planned run: cut = band_xi * xi, but at least a cell, because d changes
-// by at most h from cell to cell: then no cell jumps across the band, and a brick
-// without band cells is all +1 or all -1.
-Band band_of(const DomainPlan& plan, double band_xi);
-
-// The tube of a planned run (backend.hpp), normalised; off for a free flow.
-template <class Real>
-Tube<Real> tube_of(const DomainPlan& plan) {
-    Tube<Real> t;
-    if (plan.tube_inner <= 0) return t;
-    const double L = plan.domain.length_scale();
-    t.inner = Real((plan.offset - plan.tube_inner) / L);
-    t.outer = Real((plan.offset + plan.tube_outer) / L);
-    t.s = Real(L / (std::sqrt(2.0) * plan.xi));
-    return t;
-}
 
 template <class Real>
 struct BandDistance {

@@ -1,8 +1,14 @@
 #include "solver/problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace snvr {
+
+Band band_of(const DomainPlan& plan, double band_xi) {
+    const double L = plan.domain.length_scale();
+    return {plan.offset / L, std::max(band_xi * plan.xi, plan.domain.h) / L};
+}
 
 MultigridSettings multigrid_settings(const Parameters& params, double dt) {
     MultigridSettings ms;

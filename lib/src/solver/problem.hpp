@@ -3,12 +3,32 @@
 // profile's slope, the time step and its count, the nonlinear rate, the tube and the
 // multigrid settings. The session, the benchmarks and the tests all start from this.
 #pragma once
+#include <cmath>
+
 #include "geometry/band_distance.hpp"
+#include "solver/backend.hpp"
 #include "solver/multigrid.hpp"
 #include "snvr/parameters.hpp"
 #include "snvr/reconstruct.hpp"
 
 namespace snvr {
+
+// The band of a planned run: cut = band_xi * xi, but at least a cell, because d changes
+// by at most h from cell to cell: then no cell jumps across the band, and a brick
+// without band cells is all +1 or all -1.
+Band band_of(const DomainPlan& plan, double band_xi);
+
+// The tube of a planned run (backend.hpp), normalised; off for a free flow.
+template <class Real>
+Tube<Real> tube_of(const DomainPlan& plan) {
+    Tube<Real> t;
+    if (plan.tube_inner <= 0) return t;
+    const double L = plan.domain.length_scale();
+    t.inner = Real((plan.offset - plan.tube_inner) / L);
+    t.outer = Real((plan.offset + plan.tube_outer) / L);
+    t.s = Real(L / (std::sqrt(2.0) * plan.xi));
+    return t;
+}
 
 struct Problem {
     DomainPlan plan;              // world units, as fitted to the points
