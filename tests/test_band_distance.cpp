@@ -39,6 +39,11 @@ TEST_CASE("band distance equals brute force wherever it is inside the band") {
         const Band band{0.05, 0.04};
         BandDistance<double> bd = band_distance<double>(points, index, d, band);
         classify_band(bd, d, band);
+        const std::vector<double> distance = bd.dense(d);
+        // The layout from the per-brick distance is the one the dense distance gives.
+        const BrickLayout from_bricks = make_layout(d, bd.brick_mask, bd.inside_bricks);
+        const BrickLayout from_dense = make_layout<double>(d, bd.brick_mask, distance.data(), band.offset);
+        CHECK(from_bricks.grid(0).slot == from_dense.grid(0).slot);
         std::size_t in_band = 0, mismatched = 0;
         double worst = 0;
         for (int k = 0; k < d.nz; ++k)
@@ -48,7 +53,7 @@ TEST_CASE("band distance equals brute force wherever it is inside the band") {
                     double best = 1e300;
                     for (const Vec3& p : points)
                         best = std::min(best, std::hypot(c[0] - p[0], c[1] - p[1], c[2] - p[2]));
-                    const double got = bd.distance[d.index(i, j, k)];
+                    const double got = distance[d.index(i, j, k)];
                     const bool inside = std::abs(band.offset - best) <= band.cut;
                     in_band += inside;
                     if (inside) worst = std::max(worst, std::abs(got - best));
@@ -73,7 +78,8 @@ void check_exact(const PointSet& points, const Domain& d, const Band& band, cons
     CAPTURE(label);
     const PointIndex index(points);
     const BandDistance<Real> bd = band_distance<Real>(points, index, d, band);
-    REQUIRE(bd.distance.size() == d.cells());
+    const std::vector<Real> distance = bd.dense(d);
+    REQUIRE(distance.size() == d.cells());
     const Hierarchy shapes = make_levels(Domain{d.origin, d.h, d.nx, d.ny, d.nz, 1});
     const Level& lv = shapes.levels[0];
     std::vector<std::uint8_t> near(lv.brick_count(), 0);
@@ -104,7 +110,7 @@ void check_exact(const PointSet& points, const Domain& d, const Band& band, cons
                         best = std::min(best, x * x + y * y + z * z);
                     }
                     const double nearest = std::sqrt(best);
-                    const Real exact = Real(nearest / L), got = bd.distance[d.index(i, j, k)];
+                    const Real exact = Real(nearest / L), got = distance[d.index(i, j, k)];
                     if (nearest < reach * (1 - 1e-7)) {
                         ++inside;
                         missing += !near[b];

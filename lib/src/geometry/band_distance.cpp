@@ -1,11 +1,9 @@
 #include "geometry/band_distance.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <thread>
 #include <utility>
 
 #include "solver/hierarchy.hpp"
@@ -416,10 +414,9 @@ BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index
 
     BandDistance<Real> out;
     out.near_bricks = todo;
-    if (todo.empty()) {
-        out.distance.assign(d.cells(), far);
-        return out;
-    }
+    out.far = far;
+    out.near_values.assign(todo.size() * std::size_t(kBrick * kBrick * kBrick), far);
+    if (todo.empty()) return out;
 
     // Cell centres per axis, as Domain::cell_center computes them.
     std::vector<double> centre[3];
@@ -439,26 +436,9 @@ BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index
     for (int a = 0; a < 3; ++a) scale = std::max({scale, std::abs(centre[a].front()), std::abs(centre[a].back())});
     const double lim = radius + 1e-6 * d.h + 0x1p-40 * scale;
 
-    // Filling the dense array (a page fault every 4 KiB) takes one thread about as long as
-    // all the distances take the others. So one thread fills it, in slabs, while the
-    // others compute; each brick waits, if need be, until the fill has passed it. The
-    // storage is reserved first, so the fill never moves it.
-    out.distance.reserve(d.cells());
-    std::atomic<Real*> base{nullptr};    // the storage, once the fill has begun
-    std::atomic<std::size_t> filled{0};  // cells filled so far
     std::size_t queried = 0;
 #pragma omp parallel
     {
-#pragma omp single nowait
-        {
-            const std::size_t slab = std::size_t(1) << 16;
-            for (std::size_t at = 0; at < d.cells(); at += slab) {
-                out.distance.resize(std::min(d.cells(), at + slab), far);
-                base.store(out.distance.data(), std::memory_order_relaxed);
-                filled.store(out.distance.size(), std::memory_order_release);
-            }
-        }
-
         Candidates gathered, in_brick;
         std::vector<std::uint32_t> in_block;
         std::vector<std::pair<std::size_t, std::size_t>> runs;
@@ -481,13 +461,12 @@ BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index
                     brick_by_blocks(in_brick, centre, box_of, r, rr, L, far, in_block, values);
                 }
             }
-            const std::size_t last = d.index(r.i1 - 1, r.j1 - 1, r.k1 - 1);
-            while (filled.load(std::memory_order_acquire) <= last) std::this_thread::yield();
-            Real* const to = base.load(std::memory_order_relaxed);
+            Real* const to = out.near_values.data() + t * std::size_t(kBrick * kBrick * kBrick);
             for (int k = r.k0; k < r.k1; ++k)
-                for (int j = r.j0; j < r.j1; ++j)
-                    std::copy_n(values + kBrick * ((j - r.j0) + kBrick * (k - r.k0)), r.i1 - r.i0,
-                                to + d.index(r.i0, j, k));
+                for (int j = r.j0; j < r.j1; ++j) {
+                    const std::size_t row = std::size_t(kBrick) * std::size_t((j - r.j0) + kBrick * (k - r.k0));
+                    std::copy_n(values + row, r.i1 - r.i0, to + row);
+                }
         }
     }
     out.queried_cells = queried;
@@ -500,20 +479,43 @@ void classify_band(BandDistance<Real>& bd, const Domain& d, const Band& band) {
     const Level& lv = shapes.levels[0];
     const Real l = Real(band.offset), cut = Real(band.cut);
     bd.brick_mask.assign(lv.brick_count(), 0);
+    bd.inside_bricks.assign(lv.brick_count(), 0);
     std::size_t active = 0;
 #pragma omp parallel for schedule(static) reduction(+ : active)
     for (std::size_t t = 0; t < bd.near_bricks.size(); ++t) {
         const CellRange r = lv.range(bd.near_bricks[t]);
+        const Real* v = bd.brick_values(t);
         std::size_t here = 0;
         for (int k = r.k0; k < r.k1; ++k)
             for (int j = r.j0; j < r.j1; ++j)
-                for (int i = r.i0; i < r.i1; ++i) here += std::abs(l - bd.distance[d.index(i, j, k)]) <= cut;
+                for (int i = r.i0; i < r.i1; ++i)
+                    here += std::abs(l - v[(i - r.i0) + kBrick * ((j - r.j0) + kBrick * (k - r.k0))]) <= cut;
         if (here) bd.brick_mask[bd.near_bricks[t]] = 1;
+        // Without band cells a brick is all +1 or all -1 (see band_of): its first cell says which.
+        else bd.inside_bricks[bd.near_bricks[t]] = l - v[0] > 0;
         active += here;
     }
     bd.active_cells = active;
 }
 
+template <class Real>
+std::vector<Real> BandDistance<Real>::dense(const Domain& d) const {
+    const Hierarchy shapes = make_levels(Domain{d.origin, d.h, d.nx, d.ny, d.nz, 1});
+    const Level& lv = shapes.levels[0];
+    std::vector<Real> out(d.cells(), far);
+    for (std::size_t t = 0; t < near_bricks.size(); ++t) {
+        const CellRange r = lv.range(near_bricks[t]);
+        const Real* v = brick_values(t);
+        for (int k = r.k0; k < r.k1; ++k)
+            for (int j = r.j0; j < r.j1; ++j)
+                for (int i = r.i0; i < r.i1; ++i)
+                    out[d.index(i, j, k)] = v[(i - r.i0) + kBrick * ((j - r.j0) + kBrick * (k - r.k0))];
+    }
+    return out;
+}
+
+template struct BandDistance<double>;
+template struct BandDistance<float>;
 template BandDistance<double> band_distance<double>(const PointSet&, const PointIndex&, const Domain&, const Band&);
 template BandDistance<float> band_distance<float>(const PointSet&, const PointIndex&, const Domain&, const Band&);
 template void classify_band<double>(BandDistance<double>&, const Domain&, const Band&);

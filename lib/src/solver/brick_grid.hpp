@@ -47,18 +47,6 @@ struct BrickGrid {
     }
 };
 
-// Every inactive level-0 brick gets the constant it holds: +1 inside the shell
-// (offset > d), -1 outside. One value per brick decides it (see above).
-template <class Real>
-void assign_constant_slots(BrickGrid& bg, const Level& lv, const Real* distance, Real offset) {
-    for (std::uint32_t b = 0; b < bg.slot.size(); ++b) {
-        if (bg.slot[b] >= kConstantSlots) continue;
-        const CellRange r = lv.range(b);
-        const std::size_t first = std::size_t(r.i0) + std::size_t(lv.nx) * (std::size_t(r.j0) + std::size_t(lv.ny) * std::size_t(r.k0));
-        bg.slot[b] = offset - distance[first] > 0 ? kPlusSlot : kMinusSlot;
-    }
-}
-
 // Storage positions of cells given by x-fastest index.
 inline std::vector<std::uint32_t> storage_positions(const BrickGrid& bg, const std::vector<std::uint32_t>& cells) {
     std::vector<std::uint32_t> at;

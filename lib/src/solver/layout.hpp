@@ -21,8 +21,12 @@ struct BrickLayout {
 };
 
 // Levels of `domain`, active where `fine_mask` (one byte per level-0 brick) is set and
-// where any of a coarse brick's children is. Level 0's inactive bricks hold +1 (inside
-// the shell, offset > d) or -1, read from one cell of the dense normalised distance.
+// where any of a coarse brick's children is. Level 0's inactive bricks hold +1 where
+// `inside_bricks` is set (inside the shell, l > d), -1 elsewhere.
+BrickLayout make_layout(const Domain& domain, const std::vector<std::uint8_t>& fine_mask,
+                        const std::vector<std::uint8_t>& inside_bricks);
+
+// The same from a dense normalised distance: an inactive brick's first cell decides.
 template <class Real>
 BrickLayout make_layout(const Domain& domain, const std::vector<std::uint8_t>& fine_mask, const Real* distance,
                         Real offset);

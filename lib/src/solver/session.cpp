@@ -13,6 +13,26 @@ namespace snvr {
 
 namespace {
 
+// Level 0's distance in the layout's storage: the active bricks' cells (every active
+// brick is near the points), zero beyond the grid and in the constant bricks.
+template <class Real>
+std::vector<Real> pack_band(const BrickLayout& layout, const BandDistance<Real>& dist) {
+    const Level& lv = layout.level(0);
+    const BrickGrid& bg = layout.grid(0);
+    std::vector<Real> packed(bg.storage(), Real(0));
+    std::size_t t = 0;  // both brick lists ascend
+    for (std::uint32_t b : lv.bricks) {
+        while (dist.near_bricks[t] != b) ++t;
+        const CellRange r = lv.range(b);
+        const Real* from = dist.brick_values(t);
+        Real* to = packed.data() + bg.base(b);
+        for (int k = 0; k < r.k1 - r.k0; ++k)
+            for (int j = 0; j < r.j1 - r.j0; ++j)
+                for (int i = 0; i < r.i1 - r.i0; ++i) to[BrickGrid::local(i, j, k)] = from[BrickGrid::local(i, j, k)];
+    }
+    return packed;
+}
+
 void report(const ProgressCallback& cb, const std::string& stage, const std::string& message) {
     if (!cb) return;
     Progress p;
@@ -44,15 +64,15 @@ SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& par
     report(progress, "distance",
            std::to_string(dist.queried_cells) + " cells queried, " + std::to_string(dist.active_cells) + " in the band");
 
-    layout_ = make_layout<Real>(dom, dist.brick_mask, dist.distance.data(), Real(band.offset));
+    layout_ = make_layout(dom, dist.brick_mask, dist.inside_bricks);
     facts_.active_bricks = layout_.level(0).bricks.size();
     facts_.total_bricks = layout_.level(0).brick_count();
     setup_backend(backend_, params.device, layout_, facts_.notes);
     facts_.backend = backend_->name();
     {
-        const std::vector<Real> packed = pack_level0(layout_, dist.distance.data());
-        facts_.solver_bytes = backend_->bytes() + dist.distance.size() * sizeof(Real);
-        dist.distance = std::vector<Real>();  // the backend holds the band's distance from here on
+        const std::vector<Real> packed = pack_band(layout_, dist);
+        facts_.solver_bytes = backend_->bytes() + dist.near_values.size() * sizeof(Real);
+        dist.near_values = std::vector<Real>();  // the backend holds the band's distance from here on
         backend_->init_phase(packed.data(), Real(band.offset), Real(problem_.profile_slope), Real(band.cut));
     }
     problem_.multigrid.exact_level = prepare_coarse_levels(*backend_, hierarchy(), problem_.multigrid);
