@@ -87,7 +87,7 @@ struct DomainPlan {
     double dt = 0;                // normalised
     int steps = 0;
     double tube_inner = 0, tube_outer = 0;  // world units from the offset; 0: free flow
-    std::size_t estimated_bytes = 0;
+    std::size_t estimated_bytes = 0;  // the dense result and brick tables (the band's fields come later)
 };
 DomainPlan plan_domain(const PointSet& points, const Parameters& params);
 

@@ -2,7 +2,6 @@
 // the default offset, and a memory estimate made before anything is allocated.
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -52,17 +51,6 @@ int choose_levels(int longest) {
 }
 
 int round_up(int n, int m) { return (n + m - 1) / m * m; }
-
-std::size_t available_memory() {
-    std::ifstream in("/proc/meminfo");
-    std::string key;
-    std::size_t kb = 0;
-    while (in >> key >> kb) {
-        if (key == "MemAvailable:") return kb * 1024;
-        in.ignore(256, '\n');
-    }
-    return std::size_t(1) << 40;  // unknown: do not refuse
-}
 
 }  // namespace
 
@@ -154,13 +142,9 @@ DomainPlan plan_domain(const PointSet& points, const Parameters& params, const P
         plan.tube_outer = params.tube_outer * plan.offset;
     }
 
-    plan.estimated_bytes = estimate_solver_bytes(d, params.precision);
-    const std::size_t avail = available_memory();
-    if (plan.estimated_bytes > avail / 10 * 9)
-        throw ResourceError("a " + std::to_string(d.nx) + "x" + std::to_string(d.ny) + "x" + std::to_string(d.nz) +
-                            " grid needs about " + fmt(double(plan.estimated_bytes) / (1 << 30)) +
-                            " GiB but only " + fmt(double(avail) / (1 << 30)) +
-                            " GiB of memory is available; lower the resolution or raise the voxel size");
+    // The solver's fields follow the band and are checked once it is known (the session).
+    plan.estimated_bytes = estimate_plan_bytes(d, params.precision);
+    require_memory(plan.estimated_bytes, d);
     return plan;
 }
 

@@ -7,6 +7,7 @@
 #include "geometry/domain_plan.hpp"
 #include "geometry/point_index.hpp"
 #include "solver/operations.hpp"
+#include "solver/solver_memory.hpp"
 #include "snvr/stopwatch.hpp"
 
 namespace snvr {
@@ -65,6 +66,9 @@ SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& par
            std::to_string(dist.queried_cells) + " cells queried, " + std::to_string(dist.active_cells) + " in the band");
 
     layout_ = make_layout(dom, dist.brick_mask, dist.inside_bricks);
+    require_memory(layout_bytes(layout_, params.precision) + problem_.plan.estimated_bytes +
+                       dist.near_values.size() * sizeof(Real),
+                   dom);
     facts_.active_bricks = layout_.level(0).bricks.size();
     facts_.total_bricks = layout_.level(0).brick_count();
     setup_backend(backend_, params.device, layout_, facts_.notes);

@@ -1,22 +1,26 @@
-// What the solver will hold, estimated before anything is allocated.
+// What a run will hold, checked before it is allocated: first the dense result and the
+// brick tables (plan_domain, before any distance), then the solver's fields exactly,
+// from the brick layout (the session, before the backend allocates them).
 #pragma once
 #include <cstddef>
 
 #include "snvr/domain.hpp"
 #include "snvr/field.hpp"
+#include "solver/layout.hpp"
 
 namespace snvr {
 
 inline std::size_t real_size(Precision p) { return p == Precision::Double ? sizeof(double) : sizeof(float); }
 
-// At most: three fields (phi, rhs, g) on every level (fewer where bricks are inactive),
-// the distance on the finest (per near brick while it is computed, then kept by the
-// backend for the tube), and the dense copy of phi handed back in the result.
-inline std::size_t estimate_solver_bytes(const Domain& d, Precision p) {
-    std::size_t cells = 0;
-    for (int l = 0; l < d.levels; ++l)
-        cells += std::size_t(d.nx >> l) * std::size_t(d.ny >> l) * std::size_t(d.nz >> l);
-    return (3 * cells + 2 * d.cells()) * real_size(p);
-}
+// The dense copy of phi handed back in the result, and one slot entry per brick of
+// every level.
+std::size_t estimate_plan_bytes(const Domain& d, Precision p);
+
+// The solver's fields on this layout: phi, rhs and g on every level, and the distance
+// on level 0, each over the active bricks plus the shared constant bricks.
+std::size_t layout_bytes(const BrickLayout& layout, Precision p);
+
+// Throws ResourceError naming the grid when `bytes` exceed 90% of the memory available.
+void require_memory(std::size_t bytes, const Domain& d);
 
 }  // namespace snvr
