@@ -20,9 +20,14 @@
 #include "snvr/io.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/quality.hpp"
+#include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"
 #include "temp_dir.hpp"
 #include "mesh/triangle_grid.hpp"
+
+// The library's OpenMP runtime (linked with it): the tests compare thread counts.
+extern "C" void omp_set_num_threads(int);
+extern "C" int omp_get_max_threads();
 
 using namespace snvr;
 using snvr::testing::TempDir;
@@ -271,6 +276,136 @@ TEST_CASE("triangle grid: closest triangle and first hit agree with brute force"
     CHECK(point_triangle_dist_sq({1, 1, 0}, a, b, c) == doctest::Approx(0.5));
     CHECK(point_triangle_dist_sq({0.5, -1, 0}, a, b, c) == doctest::Approx(1));
     CHECK(point_triangle_dist_sq({3, 0, 0}, a, b, {2, 0, 0}) == doctest::Approx(1));  // degenerate
+}
+
+namespace {
+
+// f() run with n OpenMP threads.
+template <class F>
+auto with_threads(int n, F f) {
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(n);
+    auto r = f();
+    omp_set_num_threads(before);
+    return r;
+}
+
+// The brute-force first hit: the least t > t_min over the triangles without vertex skip.
+double first_hit_brute(const Mesh& mesh, const Vec3& p, const Vec3& d, double t_min, std::uint32_t skip) {
+    double first = kInf;
+    for (const auto& t : mesh.triangles) {
+        if (t[0] == skip || t[1] == skip || t[2] == skip) continue;
+        const double s = ray_triangle(p, d, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+        if (s > t_min && s < kInf) first = std::min(first, s);
+    }
+    return first;
+}
+
+}  // namespace
+
+TEST_CASE("triangle grid: bounds, rays along the axes and from the vertices agree with brute force") {
+    const Mesh& mesh = shell();
+    const TriangleGrid grid(mesh);
+    const auto brute_closest = [&](const Vec3& p) {
+        double best = kInf;
+        for (const auto& t : mesh.triangles)
+            best = std::min(best, point_triangle_dist_sq(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
+        return best;
+    };
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> coord(-1.0, 2.0), unit(-1, 1);
+    for (int n = 0; n < 100; ++n) {
+        // Far outside the grid as well as in it.
+        const Vec3 p{coord(rng), coord(rng), coord(rng)};
+        const double best = brute_closest(p);
+        CHECK(grid.closest(p).dist_sq == best);
+        // A bound just above the distance finds the same triangle; one below finds nothing.
+        const TriangleGrid::Closest above = grid.closest(p, best * (1 + 1e-6));
+        CHECK(above.dist_sq == best);
+        CHECK(above.triangle != TriangleGrid::none);
+        const TriangleGrid::Closest below = grid.closest(p, best * (1 - 1e-6));
+        CHECK(below.dist_sq == kInf);
+        CHECK(below.triangle == TriangleGrid::none);
+        // Rays along an axis (two direction components zero).
+        for (int axis = 0; axis < 3; ++axis)
+            for (double sign : {-1.0, 1.0}) {
+                Vec3 d{0, 0, 0};
+                d[axis] = sign;
+                const double first = first_hit_brute(mesh, p, d, 0, TriangleGrid::none);
+                const TriangleGrid::Hit hit = grid.first_hit(p, d, 0);
+                if (first == kInf)
+                    CHECK(hit.t == kInf);
+                else
+                    CHECK(hit.t == doctest::Approx(first).epsilon(1e-9));
+            }
+    }
+    // Rays from vertices inwards and outwards, their own triangles left out, as the walls are measured.
+    std::uniform_int_distribution<std::size_t> pick(0, mesh.vertices.size() - 1);
+    for (int n = 0; n < 100; ++n) {
+        const auto v = std::uint32_t(pick(rng));
+        Vec3 d{unit(rng), unit(rng), unit(rng)};
+        const double len = dist(d, {0, 0, 0});
+        for (double& x : d) x /= len;
+        const double first = first_hit_brute(mesh, mesh.vertices[v], d, 1e-9, v);
+        const TriangleGrid::Hit hit = grid.first_hit(mesh.vertices[v], d, 1e-9, v);
+        if (first == kInf)
+            CHECK(hit.t == kInf);
+        else
+            CHECK(hit.t == doctest::Approx(first).epsilon(1e-9));
+    }
+}
+
+TEST_CASE("quality: the same figures with one thread and with two") {
+    const Mesh& mesh = shell();  // big enough for every parallel path
+    const PointSet points = shapes::sphere(kCentre, kR, 0.01);
+    const auto json = [&](int threads) {
+        return with_threads(threads, [&] {
+            std::string s = quality_json(measure_quality(mesh, points, kL, kH));
+            return s.substr(0, s.find("\"seconds\""));
+        });
+    };
+    const std::string one = json(1);
+    CHECK(one == json(2));
+    CHECK(one == json(3));
+    CHECK(with_threads(1, [&] { return thinnest_wall(mesh); }) == with_threads(2, [&] { return thinnest_wall(mesh); }));
+    const MeshReport r1 = with_threads(1, [&] { return check_mesh(mesh); });
+    const MeshReport r2 = with_threads(2, [&] { return check_mesh(mesh); });
+    CHECK(r1.volume == r2.volume);
+    CHECK(r1.components == r2.components);
+    CHECK(r1.solids == r2.solids);
+    CHECK(with_threads(1, [&] { return count_points_inside(mesh, points); }) ==
+          with_threads(2, [&] { return count_points_inside(mesh, points); }));
+}
+
+TEST_CASE("count_point_clusters: the pieces of linking every pair closer than the distance") {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> coord(0, 1);
+    PointSet points;
+    for (int n = 0; n < 1500; ++n) points.push_back({coord(rng), coord(rng), 0.1 * coord(rng)});
+    points.push_back(points[17]);  // a duplicate
+    points.push_back({std::numeric_limits<double>::quiet_NaN(), 0.5, 0.5});  // never linked
+    points.push_back({kInf, 0.5, 0.5});
+    const auto brute = [&](double link) {
+        std::vector<std::size_t> parent(points.size());
+        for (std::size_t n = 0; n < parent.size(); ++n) parent[n] = n;
+        const auto root = [&](std::size_t n) {
+            while (parent[n] != n) n = parent[n] = parent[parent[n]];
+            return n;
+        };
+        for (std::size_t a = 0; a < points.size(); ++a)
+            for (std::size_t b = a + 1; b < points.size(); ++b) {
+                const double dx = points[a][0] - points[b][0], dy = points[a][1] - points[b][1],
+                             dz = points[a][2] - points[b][2];
+                if (dx * dx + dy * dy + dz * dz < link * link) parent[std::max(root(a), root(b))] = std::min(root(a), root(b));
+            }
+        std::size_t roots = 0;
+        for (std::size_t n = 0; n < points.size(); ++n) roots += root(n) == n;
+        return roots;
+    };
+    for (double link : {0.0, 0.005, 0.02, 0.03, 0.05, 0.2, 2.0}) {
+        CAPTURE(link);
+        CHECK(count_point_clusters(points, link) == brute(link));
+    }
 }
 
 TEST_CASE("read_mesh: round trip through write_mesh, and bad files") {

@@ -1,10 +1,12 @@
 // How many pieces the points themselves suggest: a shell of offset l joins points
 // closer than 2l, so clusters linked at that distance bound the pieces a correct
 // result can have (two sheets per closed piece, one per open piece).
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <numeric>
 #include <vector>
 
-#include "geometry/point_index.hpp"
 #include "snvr/reconstruct.hpp"
 
 namespace snvr {
@@ -16,20 +18,107 @@ std::size_t find_root(std::vector<std::size_t>& parent, std::size_t n) {
     return n;
 }
 
+bool finite(const Vec3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+
 }  // namespace
 
+// Points are linked when (dx^2 + dy^2) + dz^2 < link_distance^2, the test and the
+// sum PointIndex::for_each_within make. A uniform grid of cells link_distance
+// wide: each pair is looked at once, from the earlier cell (or the earlier point
+// in one cell), among the 13 neighbouring cells that come later plus its own.
 std::size_t count_point_clusters(const PointSet& points, double link_distance) {
     if (points.empty()) return 0;
-    const PointIndex index(points);
+    const double link_sq = link_distance * link_distance;
     std::vector<std::size_t> parent(points.size());
     std::iota(parent.begin(), parent.end(), std::size_t(0));
-    for (std::size_t n = 0; n < points.size(); ++n)
-        index.for_each_within(points[n], link_distance, [&](std::size_t m) {
-            const std::size_t a = find_root(parent, n), b = find_root(parent, m);
-            if (a != b) parent[std::max(a, b)] = std::min(a, b);
-        });
+    const auto unite = [&](std::size_t a, std::size_t b) {
+        a = find_root(parent, a);
+        b = find_root(parent, b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    };
+    // Points with a coordinate that is not finite are never linked (their squared
+    // distances are not finite); nor is anything when link_sq is not above 0.
+    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    std::size_t n = 0;
+    for (const Vec3& p : points)
+        if (finite(p)) {
+            ++n;
+            for (int d = 0; d < 3; ++d) {
+                lo[d] = std::min(lo[d], p[d]);
+                hi[d] = std::max(hi[d], p[d]);
+            }
+        }
+    if (n > 1 && link_sq > 0) {
+        // Cells no narrower than the link (so links only join neighbouring cells),
+        // and not many more than the points.
+        // (1 + 1e-9: the rounding of a cell index cannot put linked points two apart.)
+        double size = std::max(std::sqrt(link_sq) * (1 + 1e-9), 1e-9 * std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
+        std::array<int, 3> cells{1, 1, 1};
+        for (;;) {
+            double total = 1;
+            for (int d = 0; d < 3; ++d) {
+                cells[d] = std::max(1, int(std::min(1e9, std::ceil((hi[d] - lo[d]) / size))));
+                total *= cells[d];
+            }
+            if (!(size < INFINITY) || total <= 8.0 * double(n) + 4096) break;
+            size *= 1.25;
+        }
+        const auto cell = [&](int d, double v) {
+            const double x = (v - lo[d]) / size;
+            return !(x > 0) ? 0 : x >= cells[d] - 1 ? cells[d] - 1 : int(x);
+        };
+        const std::size_t n_cells = std::size_t(cells[0]) * std::size_t(cells[1]) * std::size_t(cells[2]);
+        const auto index = [&](int x, int y, int z) {
+            return std::size_t(x) + std::size_t(cells[0]) * (std::size_t(y) + std::size_t(cells[1]) * std::size_t(z));
+        };
+        // The points by cell (coordinates beside their indices, for locality).
+        constexpr std::size_t none = std::size_t(-1);
+        std::vector<std::size_t> start(n_cells + 1, 0), cell_of(points.size(), none);
+        for (std::size_t k = 0; k < points.size(); ++k)
+            if (finite(points[k])) {
+                cell_of[k] = index(cell(0, points[k][0]), cell(1, points[k][1]), cell(2, points[k][2]));
+                ++start[cell_of[k] + 1];
+            }
+        for (std::size_t c = 0; c < n_cells; ++c) start[c + 1] += start[c];
+        struct Item {
+            Vec3 p;
+            std::size_t index;
+        };
+        std::vector<Item> items(n);
+        {
+            std::vector<std::size_t> next(start.begin(), start.end() - 1);
+            for (std::size_t k = 0; k < points.size(); ++k)
+                if (cell_of[k] != none) items[next[cell_of[k]]++] = {points[k], k};
+        }
+        const auto linked = [&](const Vec3& a, const Vec3& b) {
+            const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+            return dx * dx + dy * dy + dz * dz < link_sq;
+        };
+        for (int z = 0; z < cells[2]; ++z)
+            for (int y = 0; y < cells[1]; ++y)
+                for (int x = 0; x < cells[0]; ++x) {
+                    const std::size_t c = index(x, y, z);
+                    if (start[c] == start[c + 1]) continue;
+                    // Within the cell.
+                    for (std::size_t i = start[c]; i < start[c + 1]; ++i)
+                        for (std::size_t j = i + 1; j < start[c + 1]; ++j)
+                            if (linked(items[i].p, items[j].p)) unite(items[i].index, items[j].index);
+                    // With the 13 neighbours that come after it in (z, y, x) order.
+                    for (int dz = 0; dz <= 1; ++dz)
+                        for (int dy = -1; dy <= 1; ++dy)
+                            for (int dx = -1; dx <= 1; ++dx) {
+                                if (dz == 0 && (dy < 0 || (dy == 0 && dx <= 0))) continue;
+                                const int nx = x + dx, ny = y + dy, nz = z + dz;
+                                if (nx < 0 || ny < 0 || nx >= cells[0] || ny >= cells[1] || nz >= cells[2]) continue;
+                                const std::size_t o = index(nx, ny, nz);
+                                for (std::size_t i = start[c]; i < start[c + 1]; ++i)
+                                    for (std::size_t j = start[o]; j < start[o + 1]; ++j)
+                                        if (linked(items[i].p, items[j].p)) unite(items[i].index, items[j].index);
+                            }
+                }
+    }
     std::size_t roots = 0;
-    for (std::size_t n = 0; n < points.size(); ++n) roots += find_root(parent, n) == n;
+    for (std::size_t k = 0; k < points.size(); ++k) roots += find_root(parent, k) == k;
     return roots;
 }
 

@@ -4,10 +4,13 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <omp.h>
 
 #include "geometry/disjoint_sets.hpp"
 #include "snvr/error.hpp"
@@ -15,6 +18,13 @@
 
 namespace snvr {
 namespace {
+
+// The threads a parallel region started here would get: one inside another
+// region (unless nested parallelism is on), where splitting work by thread
+// would only repeat it.
+int threads_here() {
+    return omp_get_active_level() >= omp_get_max_active_levels() ? 1 : std::max(1, omp_get_max_threads());
+}
 
 using Tri = std::array<std::uint32_t, 3>;
 
@@ -25,6 +35,10 @@ bool degenerate(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t
 
 void check_indices(const Mesh& mesh, const char* who) {
     const std::size_t nv = mesh.vertices.size();
+    // The largest index first (a loop without branches): there is rarely anything to report.
+    std::uint32_t top = 0;
+    for (const Tri& t : mesh.triangles) top = std::max(top, std::max(t[0], std::max(t[1], t[2])));
+    if (mesh.triangles.empty() || top < nv) return;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
         for (std::uint32_t v : mesh.triangles[t])
             if (v >= nv)
@@ -40,34 +54,52 @@ struct Buckets {
 };
 
 // ForEach(source, emit) calls emit(bucket, item) for each item of one source.
-// Sources run in parallel, so the order within a bucket is unspecified;
-// callers sort a bucket or do not depend on its order.
+// Each thread takes a range of buckets and goes through all sources in order, so
+// a bucket lists its items in source order whatever the number of threads (and
+// no two threads write to one counter: no atomics, no shared cache lines).
 template <class Item, class ForEach>
-Buckets<Item> bucket_items(std::size_t n_buckets, std::size_t n_sources, [[maybe_unused]] bool parallel,
-                            const ForEach& for_each) {
+Buckets<Item> bucket_items(std::size_t n_buckets, std::size_t n_sources, bool parallel, const ForEach& for_each) {
     Buckets<Item> b;
     b.start.assign(n_buckets + 1, 0);
+    const int parts = parallel ? std::max(1, threads_here()) : 1;
+    const auto part_start = [&](int k) { return std::size_t(double(n_buckets) * k / parts); };
     std::size_t* count = b.start.data() + 1;
-#pragma omp parallel for schedule(static) if (parallel)
-    for (std::ptrdiff_t src = 0; src < std::ptrdiff_t(n_sources); ++src)
-        for_each(std::size_t(src), [&](std::size_t bucket, Item) {
-#pragma omp atomic
-            ++count[bucket];
-        });
+#pragma omp parallel for schedule(static, 1) if (parts > 1)
+    for (int k = 0; k < parts; ++k) {
+        const std::size_t lo = part_start(k), hi = part_start(k + 1);
+        for (std::size_t src = 0; src < n_sources; ++src)
+            for_each(src, [&](std::size_t bucket, Item) {
+                if (bucket >= lo && bucket < hi) ++count[bucket];
+            });
+    }
     for (std::size_t i = 0; i < n_buckets; ++i) b.start[i + 1] += b.start[i];
     b.items.resize(b.start[n_buckets]);
     std::vector<std::size_t> cursor(b.start.begin(), b.start.end() - 1);
     std::size_t* next = cursor.data();
     Item* items = b.items.data();
-#pragma omp parallel for schedule(static) if (parallel)
-    for (std::ptrdiff_t src = 0; src < std::ptrdiff_t(n_sources); ++src)
-        for_each(std::size_t(src), [&](std::size_t bucket, Item item) {
-            std::size_t at;
-#pragma omp atomic capture
-            at = next[bucket]++;
-            items[at] = item;
-        });
+#pragma omp parallel for schedule(static, 1) if (parts > 1)
+    for (int k = 0; k < parts; ++k) {
+        const std::size_t lo = part_start(k), hi = part_start(k + 1);
+        for (std::size_t src = 0; src < n_sources; ++src)
+            for_each(src, [&](std::size_t bucket, Item item) {
+                if (bucket >= lo && bucket < hi) items[next[bucket]++] = item;
+            });
+    }
     return b;
+}
+
+// Sorts a short range in place (the buckets here hold a handful of items).
+void sort_small(std::uint64_t* first, std::uint64_t* last) {
+    if (last - first > 16) {
+        std::sort(first, last);
+        return;
+    }
+    for (std::uint64_t* i = first + (first != last); i < last; ++i) {
+        const std::uint64_t x = *i;
+        std::uint64_t* j = i;
+        for (; j != first && j[-1] > x; --j) *j = j[-1];
+        *j = x;
+    }
 }
 
 // ---- exact 2D orientation (Shewchuk-style filter with an expansion fallback)
@@ -145,111 +177,162 @@ int orient2d_perturbed(const Vec3& a, const Vec3& b, double qx, double qy) {
     return 0;
 }
 
-// A triangle's footprint seen from +z: its xy box, rounded outwards to
-// floats (a box only needs to contain the triangle) to halve the memory traffic.
-struct Footprint {
-    std::array<float, 2> lo, hi;
-    std::uint32_t tri;
-};
-
+// The float next to a finite f, up or down (std::nextafter is a library call).
+float next_float(float f, bool up) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    if (f == 0)
+        bits = up ? 1u : 0x80000001u;  // the smallest subnormal of either sign
+    else if ((f > 0) == up)
+        ++bits;
+    else
+        --bits;
+    std::memcpy(&f, &bits, sizeof f);
+    return f;
+}
 float round_down(double v) {
     const float f = float(v);
-    return double(f) > v ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+    return double(f) > v ? next_float(f, false) : f;
 }
 float round_up(double v) {
     const float f = float(v);
-    return double(f) < v ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+    return double(f) < v ? next_float(f, true) : f;
 }
 
-// Uniform grid over xy; each cell lists the footprints whose box meets it.
-class ColumnGrid {
+// The points bucketed by a uniform grid over their xy box, each bucket holding
+// its points' coordinates (in ascending index order) next to their indices.
+class PointColumns {
 public:
-    ColumnGrid(const std::vector<Footprint>& feet, bool parallel) {
+    explicit PointColumns(const PointSet& points) {
+        const std::size_t n = points.size();
         lo_ = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
         hi_ = {-lo_[0], -lo_[1]};
-        std::array<double, 2> extent{0, 0};  // summed box sizes
-        for (const Footprint& f : feet)
-            for (int d = 0; d < 2; ++d) {
-                lo_[d] = std::min<double>(lo_[d], f.lo[d]);
-                hi_[d] = std::max<double>(hi_[d], f.hi[d]);
-                extent[d] += f.hi[d] - f.lo[d];
-            }
-        if (feet.empty()) return;
-        // Cells twice the mean box: a box meets about two cells, a cell holds a
-        // few dozen boxes per sheet (building is bound by scattered writes, so
-        // finer cells cost more than they save); never more than ~2 cells per triangle.
-        const double n = double(feet.size());
-        std::array<double, 2> cells;
-        for (int d = 0; d < 2; ++d)  // width and extent > 0: no footprint is edge-on
-            cells[d] = std::clamp(std::floor((hi_[d] - lo_[d]) / (2 * extent[d] / n)), 1.0, 4096.0);
-        const double excess = cells[0] * cells[1] / (2 * n + 16);
+        for (const Vec3& p : points)
+            if (finite_xy(p))
+                for (int d = 0; d < 2; ++d) {
+                    lo_[d] = std::min(lo_[d], p[d]);
+                    hi_[d] = std::max(hi_[d], p[d]);
+                }
+        if (!(lo_[0] <= hi_[0])) return;  // no point with finite x and y
+        // About four cells per point: most cells a triangle's box meets are empty.
+        const double w = hi_[0] - lo_[0], h = hi_[1] - lo_[1];
+        const double cells = 4.0 * double(n) + 16;
+        double side = std::sqrt(w * h / cells);
+        if (!(side > 0)) side = std::max(w, h) / cells;
         for (int d = 0; d < 2; ++d) {
-            if (excess > 1) cells[d] = std::max(1.0, std::floor(cells[d] / std::sqrt(excess)));
-            n_[d] = int(cells[d]);
-            inv_[d] = n_[d] / (hi_[d] - lo_[d]);
+            const double span = d == 0 ? w : h;
+            n_[d] = side > 0 ? int(std::clamp(std::floor(span / side), 1.0, 4096.0)) : 1;
+            inv_[d] = span > 0 ? n_[d] / span : 0;
         }
-        const auto for_each = [&](std::size_t f, const auto& emit) {
-            const int x0 = cell(0, feet[f].lo[0]), x1 = cell(0, feet[f].hi[0]);
-            const int y0 = cell(1, feet[f].lo[1]), y1 = cell(1, feet[f].hi[1]);
-            for (int y = y0; y <= y1; ++y)
-                for (int x = x0; x <= x1; ++x) emit(std::size_t(x) + std::size_t(n_[0]) * y, std::uint32_t(f));
-        };
-        cells_ = bucket_items<std::uint32_t>(std::size_t(n_[0]) * n_[1], feet.size(), parallel, for_each);
+        const std::size_t n_cells = std::size_t(n_[0]) * std::size_t(n_[1]);
+        start_.assign(n_cells + 1, 0);
+        std::vector<std::uint32_t> cell_of(n);
+        for (std::size_t k = 0; k < n; ++k) {
+            const double x = points[k][0], y = points[k][1];
+            if (!finite_xy(points[k])) {
+                cell_of[k] = std::uint32_t(-1);  // left out: in no triangle's box that matters
+                continue;
+            }
+            cell_of[k] = std::uint32_t(cell(0, x) + std::size_t(n_[0]) * cell(1, y));
+            ++start_[cell_of[k] + 1];
+        }
+        for (std::size_t c = 0; c < n_cells; ++c) start_[c + 1] += start_[c];
+        items_.resize(start_[n_cells]);
+        std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
+        for (std::size_t k = 0; k < n; ++k)
+            if (cell_of[k] != std::uint32_t(-1)) items_[next[cell_of[k]]++] = {points[k], std::uint32_t(k)};
     }
-    bool covers(double x, double y) const { return x >= lo_[0] && x <= hi_[0] && y >= lo_[1] && y <= hi_[1]; }
-    // Footprints that may contain (x, y); the same monotone cell() for boxes and
-    // queries guarantees a point on a box's edge still finds the box.
-    std::pair<const std::uint32_t*, const std::uint32_t*> candidates(double x, double y) const {
-        const std::size_t c = std::size_t(cell(0, x)) + std::size_t(n_[0]) * cell(1, y);
-        return {cells_.items.data() + cells_.start[c], cells_.items.data() + cells_.start[c + 1]};
+
+    struct Item {
+        Vec3 p;
+        std::uint32_t index;
+    };
+    // Calls visit(item) for every point whose cell meets the box [x0, x1] x [y0, y1]
+    // (a superset of the points in the box: the caller tests them).
+    template <class Visit>
+    void for_each_near(double x0, double y0, double x1, double y1, const Visit& visit) const {
+        if (start_.empty() || x1 < lo_[0] || x0 > hi_[0] || y1 < lo_[1] || y0 > hi_[1]) return;
+        const int cx0 = cell(0, x0), cx1 = cell(0, x1), cy0 = cell(1, y0), cy1 = cell(1, y1);
+        for (int y = cy0; y <= cy1; ++y) {
+            const std::size_t row = std::size_t(n_[0]) * y;
+            for (std::uint32_t k = start_[row + cx0]; k < start_[row + cx1 + 1]; ++k) visit(items_[k]);
+        }
     }
 
 private:
-    int cell(int d, double v) const { return int(std::clamp(std::floor((v - lo_[d]) * inv_[d]), 0.0, n_[d] - 1.0)); }
+    static bool finite_xy(const Vec3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]); }
+    // Monotone in v, so the cells of a box's corners bound the cells of its points.
+    int cell(int d, double v) const {
+        const double x = (v - lo_[d]) * inv_[d];
+        if (!(x > 0)) return 0;
+        if (x >= n_[d] - 1) return n_[d] - 1;
+        return int(x);
+    }
     std::array<double, 2> lo_{}, hi_{}, inv_{};
     std::array<int, 2> n_{1, 1};
-    Buckets<std::uint32_t> cells_;
+    std::vector<std::uint32_t> start_;  // cell c holds items_[start_[c] .. start_[c + 1]); rows are contiguous
+    std::vector<Item> items_;
 };
 
 }  // namespace
 
-MeshReport check_mesh(const Mesh& mesh) {
-    check_indices(mesh, "check_mesh");
+namespace detail {
+
+// Shared with measure_quality, which needs the same adjacency; declared again in
+// mesh_quality.cpp (their only user besides check_mesh).
+void vertex_fans(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<std::uint32_t>& tri);
+void lower_edges(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<std::uint64_t>& items);
+MeshReport check_mesh_unchecked(const Mesh& mesh, const std::vector<std::size_t>& fan_start,
+                                const std::vector<std::uint32_t>& fan_tri, const std::vector<std::size_t>& edge_start,
+                                const std::vector<std::uint64_t>& edge_items, std::vector<std::uint32_t>* piece);
+
+// The proper triangles around each vertex, in ascending order: vertex v's are
+// tri[start[v] .. start[v + 1]).
+void vertex_fans(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<std::uint32_t>& tri) {
+    const auto& T = mesh.triangles;
+    Buckets<std::uint32_t> b = bucket_items<std::uint32_t>(
+        mesh.vertices.size(), T.size(), T.size() >= kParallelTriangles, [&](std::size_t t, const auto& emit) {
+            if (!degenerate(T[t]))
+                for (std::uint32_t v : T[t]) emit(v, std::uint32_t(t));
+        });
+    start = std::move(b.start);
+    tri = std::move(b.items);
+}
+
+// The edges of the proper triangles at their smaller end: vertex v's bucket
+// items[start[v] .. start[v + 1]) holds (larger end << 32 | triangle) for every
+// triangle on an edge {v, x}, x > v, sorted, so that a run of one x is one edge.
+void lower_edges(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<std::uint64_t>& items) {
+    const auto& T = mesh.triangles;
+    const bool parallel = T.size() >= kParallelTriangles;
+    Buckets<std::uint64_t> b = bucket_items<std::uint64_t>(
+        mesh.vertices.size(), T.size(), parallel, [&](std::size_t t, const auto& emit) {
+            if (degenerate(T[t])) return;
+            for (int c = 0; c < 3; ++c) {
+                const std::uint32_t a = T[t][c], e = T[t][(c + 1) % 3];
+                emit(std::min(a, e), std::uint64_t(std::max(a, e)) << 32 | t);
+            }
+        });
+    const std::ptrdiff_t nv = std::ptrdiff_t(mesh.vertices.size());
+#pragma omp parallel for schedule(dynamic, 4096) if (parallel)
+    for (std::ptrdiff_t v = 0; v < nv; ++v) sort_small(b.items.data() + b.start[v], b.items.data() + b.start[v + 1]);
+    start = std::move(b.start);
+    items = std::move(b.items);
+}
+
+MeshReport check_mesh_unchecked(const Mesh& mesh, const std::vector<std::size_t>& fan_start,
+                                const std::vector<std::uint32_t>& fan_tri, const std::vector<std::size_t>& edge_start,
+                                const std::vector<std::uint64_t>& edge_items, std::vector<std::uint32_t>* piece) {
     const auto& T = mesh.triangles;
     const std::size_t nv = mesh.vertices.size(), nt = T.size();
-    if (nt > std::numeric_limits<std::uint32_t>::max()) throw ResourceError("check_mesh: more than 2^32 triangles");
     MeshReport r;
     r.vertices = nv;
     r.triangles = nt;
     for (const Tri& t : T) r.degenerate_triangles += degenerate(t);
     const bool parallel = nt >= kParallelTriangles;
+    const auto upper = [](std::uint64_t item) { return std::uint32_t(item >> 32); };
 
-    // Half-edges a -> b of the non-degenerate triangles, bucketed by a, as
-    // b << 32 | triangle.  Bucket a lists each triangle around a exactly once;
-    // sorted, it groups the half-edges by their other end.
-    Buckets<std::uint64_t> out = bucket_items<std::uint64_t>(nv, nt, parallel, [&](std::size_t t, const auto& emit) {
-        if (degenerate(T[t])) return;
-        for (int c = 0; c < 3; ++c) emit(T[t][c], std::uint64_t(T[t][(c + 1) % 3]) << 32 | t);
-    });
-#pragma omp parallel for schedule(dynamic, 4096) if (parallel)
-    for (std::ptrdiff_t v = 0; v < std::ptrdiff_t(nv); ++v)
-        std::sort(out.items.begin() + std::ptrdiff_t(out.start[v]), out.items.begin() + std::ptrdiff_t(out.start[v + 1]));
-    using Run = std::pair<const std::uint64_t*, const std::uint64_t*>;
-    const auto bucket = [&](std::size_t v) -> Run {
-        return {out.items.data() + out.start[v], out.items.data() + out.start[v + 1]};
-    };
-    const auto target = [](std::uint64_t item) { return std::uint32_t(item >> 32); };
-    // The half-edges a -> b: a sub-range of bucket a.
-    const auto half_edges = [&](std::uint32_t a, std::uint32_t b) -> Run {
-        const auto [first, last] = bucket(a);
-        const std::uint64_t* lo = std::lower_bound(first, last, std::uint64_t(b) << 32);
-        const std::uint64_t* hi = lo;
-        while (hi != last && target(*hi) == b) ++hi;
-        return {lo, hi};
-    };
-
-    // Edges and fans, vertex by vertex.  An edge {v, x} is classified at v if
-    // v -> x exists and either v < x or x -> v does not exist: exactly once.
+    // Edges at their smaller end (so each once), and fans, vertex by vertex.
     std::size_t boundary = 0, nonmanifold = 0, misoriented = 0, nonmanifold_vertices = 0;
 #pragma omp parallel reduction(+ : boundary, nonmanifold, misoriented, nonmanifold_vertices) if (parallel)
     {
@@ -258,33 +341,73 @@ MeshReport check_mesh(const Mesh& mesh) {
 #pragma omp for schedule(dynamic, 4096)
         for (std::ptrdiff_t vi = 0; vi < std::ptrdiff_t(nv); ++vi) {
             const auto v = std::uint32_t(vi);
-            const auto [first, last] = bucket(v);
+            const std::uint64_t* first = edge_items.data() + edge_start[v];
+            const std::uint64_t* last = edge_items.data() + edge_start[v + 1];
             for (const std::uint64_t* run = first; run != last;) {
-                const std::uint32_t x = target(*run);
+                const std::uint32_t x = upper(*run);
+                std::ptrdiff_t forward = 0;  // triangles that run v -> x (the others run x -> v)
                 const std::uint64_t* end = run;
-                while (end != last && target(*end) == x) ++end;
-                const Run back = half_edges(x, v);
-                const std::ptrdiff_t fwd = end - run, bwd = back.second - back.first;
-                if (v < x || bwd == 0) {
-                    if (fwd + bwd == 1) ++boundary;
-                    else if (fwd + bwd > 2) ++nonmanifold;
-                    else if (bwd != 1) ++misoriented;  // both triangles run the same way
+                for (; end != last && upper(*end) == x; ++end) {
+                    const Tri& t = T[std::uint32_t(*end)];
+                    forward += (t[0] == v && t[1] == x) || (t[1] == v && t[2] == x) || (t[2] == v && t[0] == x);
                 }
+                const std::ptrdiff_t n = end - run;
+                if (n == 1) ++boundary;
+                else if (n > 2) ++nonmanifold;
+                else if (forward != 1) ++misoriented;  // both triangles run the same way
                 run = end;
             }
 
             // The triangles around v form one fan when linked through shared spokes.
-            const std::size_t n = std::size_t(last - first);
+            const std::uint32_t* fan = fan_tri.data() + fan_start[v];
+            const std::size_t n = fan_start[v + 1] - fan_start[v];
             if (n < 2) continue;
+            // Each triangle leaves v by spoke b and comes back by spoke c.
+            constexpr std::size_t kSmall = 16;
+            std::uint32_t b[kSmall], c[kSmall];
+            const auto spokes_of = [&](std::size_t q, std::uint32_t& out, std::uint32_t& back) {
+                const Tri& t = T[fan[q]];
+                const int at = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+                out = t[(at + 1) % 3];
+                back = t[(at + 2) % 3];
+            };
+            // The usual case first: every spoke leaves in one triangle and comes back
+            // in one other, so "the triangle whose b is my c" is a permutation, and
+            // the fans are its cycles.
+            bool simple = n <= kSmall;
+            std::uint32_t next[kSmall];
+            if (simple) {
+                for (std::size_t q = 0; q < n; ++q) {
+                    spokes_of(q, b[q], c[q]);
+                    next[q] = std::uint32_t(-1);
+                }
+                for (std::size_t q = 0; q < n && simple; ++q) {
+                    std::size_t match = n, matches = 0;
+                    for (std::size_t j = 0; j < n; ++j)
+                        if (b[j] == c[q]) {
+                            match = j;
+                            ++matches;
+                        }
+                    if (matches != 1 || next[match] != std::uint32_t(-1))
+                        simple = false;
+                    else
+                        next[match] = std::uint32_t(q);
+                }
+            }
+            if (simple) {
+                std::size_t cycle = 1;
+                for (std::uint32_t q = next[0]; q != 0; q = next[q]) ++cycle;
+                nonmanifold_vertices += cycle != n;
+                continue;
+            }
             spokes.clear();
             parent.resize(n);
             for (std::size_t q = 0; q < n; ++q) {
                 parent[q] = std::uint32_t(q);
-                const Tri& tri = T[std::uint32_t(first[q])];
-                const std::uint32_t b = target(first[q]);
-                const auto c = std::uint32_t(std::uint64_t(tri[0]) + tri[1] + tri[2] - v - b);  // the third corner
-                spokes.push_back(std::uint64_t(b) << 32 | q);
-                spokes.push_back(std::uint64_t(c) << 32 | q);
+                std::uint32_t out, back;
+                spokes_of(q, out, back);
+                spokes.push_back(std::uint64_t(out) << 32 | q);
+                spokes.push_back(std::uint64_t(back) << 32 | q);
             }
             std::sort(spokes.begin(), spokes.end());
             const auto find = [&](std::uint32_t y) {
@@ -293,10 +416,10 @@ MeshReport check_mesh(const Mesh& mesh) {
             };
             std::size_t fans = n;
             for (std::size_t q = 1; q < spokes.size(); ++q)
-                if (target(spokes[q]) == target(spokes[q - 1])) {
-                    const std::uint32_t a = find(std::uint32_t(spokes[q])), b = find(std::uint32_t(spokes[q - 1]));
-                    if (a != b) {
-                        parent[a] = b;
+                if (upper(spokes[q]) == upper(spokes[q - 1])) {
+                    const std::uint32_t a = find(std::uint32_t(spokes[q])), e = find(std::uint32_t(spokes[q - 1]));
+                    if (a != e) {
+                        parent[a] = e;
                         --fans;
                     }
                 }
@@ -308,23 +431,20 @@ MeshReport check_mesh(const Mesh& mesh) {
     r.misoriented_edges = misoriented;
     r.nonmanifold_vertices = nonmanifold_vertices;
 
-    // Components: join the triangles of each run v -> x, and the run to x -> v.
+    // Components: join the triangles on each edge.
     DisjointSets pieces(nt);
-    for (std::size_t vi = 0; vi < nv; ++vi) {
-        const auto v = std::uint32_t(vi);
-        const auto [first, last] = bucket(v);
-        for (const std::uint64_t* it = first; it != last; ++it) {
-            if (it != first && target(it[-1]) == target(*it)) {
-                pieces.unite(std::uint32_t(it[-1]), std::uint32_t(*it));
-                continue;
-            }
-            const Run back = half_edges(target(*it), v);
-            if (back.first != back.second) pieces.unite(std::uint32_t(*back.first), std::uint32_t(*it));
-        }
-    }
+    for (std::size_t v = 0; v < nv; ++v)
+        for (std::size_t k = edge_start[v] + 1; k < edge_start[v + 1]; ++k)
+            if (upper(edge_items[k]) == upper(edge_items[k - 1]))
+                pieces.unite(std::uint32_t(edge_items[k - 1]), std::uint32_t(edge_items[k]));
+    std::vector<std::uint32_t> root(nt, std::uint32_t(-1));
+    std::vector<std::uint32_t> first_of;  // each component's smallest triangle, in order
     for (std::size_t t = 0; t < nt; ++t)
-        r.components += !degenerate(T[t]) && pieces.find(std::uint32_t(t)) == std::uint32_t(t);
-    std::vector<std::uint64_t>().swap(out.items);
+        if (!degenerate(T[t])) {
+            root[t] = pieces.find(std::uint32_t(t));
+            if (root[t] == std::uint32_t(t)) first_of.push_back(root[t]);
+        }
+    r.components = first_of.size();
 
     // Divergence theorem about the bounding-box centre (less cancellation than
     // about the origin); fixed chunks keep the sum independent of thread count.
@@ -360,11 +480,34 @@ MeshReport check_mesh(const Mesh& mesh) {
 
     // Solid pieces: components enclosing positive volume (outer boundaries); the
     // negative ones are cavities inside them.
-    std::vector<double> piece_volume(nt, 0.0);
-    for (std::size_t t = 0; t < nt; ++t)
-        if (!degenerate(T[t])) piece_volume[pieces.find(std::uint32_t(t))] += six_volume(t);
+    // (The sums run in triangle order, per component, as they always did.)
+    std::vector<double> piece_volume(first_of.size(), 0.0);
+    if (first_of.size() == 1) {
+        for (std::size_t t = 0; t < nt; ++t)
+            if (root[t] != std::uint32_t(-1)) piece_volume[0] += six_volume(t);
+    } else {
+        std::vector<std::uint32_t> id(nt);  // compact component of each root
+        for (std::size_t c = 0; c < first_of.size(); ++c) id[first_of[c]] = std::uint32_t(c);
+        for (std::size_t t = 0; t < nt; ++t)
+            if (root[t] != std::uint32_t(-1)) piece_volume[id[root[t]]] += six_volume(t);
+    }
     for (double v : piece_volume) r.solids += v > 0;
+    if (piece) *piece = std::move(root);
     return r;
+}
+
+}  // namespace detail
+
+MeshReport check_mesh(const Mesh& mesh) {
+    check_indices(mesh, "check_mesh");
+    if (mesh.triangles.size() > std::numeric_limits<std::uint32_t>::max())
+        throw ResourceError("check_mesh: more than 2^32 triangles");
+    std::vector<std::size_t> fan_start, edge_start;
+    std::vector<std::uint32_t> fan_tri;
+    std::vector<std::uint64_t> edge_items;
+    detail::vertex_fans(mesh, fan_start, fan_tri);
+    detail::lower_edges(mesh, edge_start, edge_items);
+    return detail::check_mesh_unchecked(mesh, fan_start, fan_tri, edge_start, edge_items, nullptr);
 }
 
 // Winding number along a ray in +z: every triangle the ray crosses counts +1
@@ -377,54 +520,45 @@ std::size_t count_points_inside(const Mesh& mesh, const PointSet& points) {
     const auto& V = mesh.vertices;
     const auto& T = mesh.triangles;
     const bool parallel = points.size() >= kParallelPoints || T.size() >= kParallelTriangles;
-    // Triangles that are edge-on seen from +z cannot be crossed by the perturbed ray.
-    std::vector<char> seen(T.size());
-#pragma omp parallel for schedule(static) if (parallel)
-    for (std::ptrdiff_t t = 0; t < std::ptrdiff_t(T.size()); ++t)
-        seen[t] = !degenerate(T[t]) && orient2d(V[T[t][0]], V[T[t][1]], V[T[t][2]][0], V[T[t][2]][1]) != 0;
-    std::vector<std::uint32_t> kept;
-    for (std::size_t t = 0; t < T.size(); ++t)
-        if (seen[t]) kept.push_back(std::uint32_t(t));
-    if (kept.empty()) return 0;
-    std::vector<Footprint> feet(kept.size());
-#pragma omp parallel for schedule(static) if (parallel)
-    for (std::ptrdiff_t n = 0; n < std::ptrdiff_t(kept.size()); ++n) {
-        const Tri& tri = T[kept[n]];
-        for (int d = 0; d < 2; ++d) {
-            const double a = V[tri[0]][d], b = V[tri[1]][d], c = V[tri[2]][d];
-            feet[n].lo[d] = round_down(std::min({a, b, c}));
-            feet[n].hi[d] = round_up(std::max({a, b, c}));
-        }
-        feet[n].tri = kept[n];
-    }
-    const ColumnGrid grid(feet, parallel);
-
-    std::size_t inside = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : inside) if (parallel)
-    for (std::ptrdiff_t n = 0; n < std::ptrdiff_t(points.size()); ++n) {
-        const Vec3& p = points[n];
-        if (!grid.covers(p[0], p[1])) continue;
-        long winding = 0;
-        const auto [first, last] = grid.candidates(p[0], p[1]);
-        for (const std::uint32_t* it = first; it != last; ++it) {
-            const Footprint& f = feet[*it];
+    if (points.empty() || T.empty()) return 0;
+    // Triangle by triangle over a grid of the points (far fewer than the triangles
+    // here), rather than point by point over a grid of the triangles: only the
+    // triangles with a point under them cost more than a glance.
+    const PointColumns columns(points);
+    std::vector<std::int32_t> winding(points.size(), 0);
+#pragma omp parallel for schedule(dynamic, 4096) if (parallel)
+    for (std::ptrdiff_t t = 0; t < std::ptrdiff_t(T.size()); ++t) {
+        const Tri& tri = T[t];
+        if (degenerate(tri)) continue;
+        const Vec3 &a = V[tri[0]], &b = V[tri[1]], &c = V[tri[2]];
+        // The footprint's xy box, rounded outwards to floats as it always was.
+        const double x0 = round_down(std::min({a[0], b[0], c[0]})), x1 = round_up(std::max({a[0], b[0], c[0]}));
+        const double y0 = round_down(std::min({a[1], b[1], c[1]})), y1 = round_up(std::max({a[1], b[1], c[1]}));
+        int seen = -1;  // whether the triangle is seen from +z: decided at the first point in its box
+        columns.for_each_near(x0, y0, x1, y1, [&](const PointColumns::Item& item) {
+            const Vec3& p = item.p;
             // Outside the closed box, the perturbed point is outside the triangle too.
-            if (p[0] < f.lo[0] || p[0] > f.hi[0] || p[1] < f.lo[1] || p[1] > f.hi[1]) continue;
-            const Tri& tri = T[f.tri];
-            const Vec3 &a = V[tri[0]], &b = V[tri[1]], &c = V[tri[2]];
-            const int s = orient2d_perturbed(a, b, p[0], p[1]);
-            if (s == 0 || orient2d_perturbed(b, c, p[0], p[1]) != s || orient2d_perturbed(c, a, p[0], p[1]) != s)
-                continue;
-            // The column crosses the triangle; count it if the crossing is above p,
-            // i.e. p lies on the side of the plane opposite to where the normal's z points.
+            if (seen == 0 || p[0] < x0 || p[0] > x1 || p[1] < y0 || p[1] > y1) return;
+            // Triangles that are edge-on seen from +z cannot be crossed by the perturbed ray.
+            if (seen < 0) seen = orient2d(a, b, c[0], c[1]) != 0 ? 1 : 0;
+            if (seen == 0) return;
             const double u0 = b[0] - a[0], u1 = b[1] - a[1], u2 = b[2] - a[2];
             const double w0 = c[0] - a[0], w1 = c[1] - a[1], w2 = c[2] - a[2];
+            const int s = orient2d_perturbed(a, b, p[0], p[1]);
+            if (s == 0 || orient2d_perturbed(b, c, p[0], p[1]) != s || orient2d_perturbed(c, a, p[0], p[1]) != s)
+                return;
+            // The column crosses the triangle; count it if the crossing is above p,
+            // i.e. p lies on the side of the plane opposite to where the normal's z points.
             const double side = (p[0] - a[0]) * (u1 * w2 - u2 * w1) + (p[1] - a[1]) * (u2 * w0 - u0 * w2) +
                                 (p[2] - a[2]) * (u0 * w1 - u1 * w0);
-            if (side * s < 0) winding += s;
-        }
-        inside += winding > 0;
+            if (side * s < 0) {
+#pragma omp atomic
+                winding[item.index] += s;
+            }
+        });
     }
+    std::size_t inside = 0;
+    for (std::int32_t w : winding) inside += w > 0;
     return inside;
 }
 

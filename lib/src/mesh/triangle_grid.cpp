@@ -1,10 +1,17 @@
 // TriangleGrid: a uniform bucket grid over triangles, closest-triangle search by
-// growing rings of cells and ray casting by a 3D DDA walk (Amanatides & Woo).
+// cells in order of their distance and ray casting by a 3D DDA walk (Amanatides &
+// Woo). Every query returns what testing all triangles would: cells and triangles
+// are skipped only when a bound, with room for rounding, shows they cannot win.
 #include "mesh/triangle_grid.hpp"
+
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
+#include <vector>
 
 #include "snvr/error.hpp"
 #include "geometry/vec3_math.hpp"
@@ -12,10 +19,175 @@
 namespace snvr {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-// Finer cells mean fewer triangles tested per query and 4 bytes per cell.
-constexpr double kCellsPerTriangle = 4;
+// The threads a parallel region started here would get: one inside another
+// region (unless nested parallelism is on), where splitting work by thread
+// would only repeat it.
+int threads_here() {
+    return omp_get_active_level() >= omp_get_max_active_levels() ? 1 : std::max(1, omp_get_max_threads());
+}
 
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr float kInfF = std::numeric_limits<float>::infinity();
+// Finer cells mean fewer triangles tested per query, but 4 bytes per cell and
+// more cells per triangle (each one 28 bytes): on the bunny at 256 cells, 2
+// to 16 cells per triangle cost about the same, 2 the least memory.
+constexpr double kCellsPerTriangle = 2;
+// The float box tests count boxes as this much larger, relative to the largest
+// coordinate involved (in cells): far above the rounding of floats (2^-24).
+constexpr double kFloatSlack = 0x1p-20;
+
+// Cell offsets up to this many cells away on each axis are visited in order of
+// their distance by closest(); farther ones in growing rings.
+constexpr int kNear = 4;
+
+struct NearOffset {
+    std::array<int, 3> d;
+    double lower_sq;  // squared distance, in cells, from any point of cell 0 to cell d
+};
+
+// The offsets of the (2 kNear + 1)^3 cells around a cell, nearest first.
+const std::vector<NearOffset>& near_offsets() {
+    static const std::vector<NearOffset> table = [] {
+        std::vector<std::pair<double, NearOffset>> keyed;
+        for (int z = -kNear; z <= kNear; ++z)
+            for (int y = -kNear; y <= kNear; ++y)
+                for (int x = -kNear; x <= kNear; ++x) {
+                    double lower = 0;
+                    for (int o : {x, y, z}) lower += double(std::max(0, std::abs(o) - 1)) * std::max(0, std::abs(o) - 1);
+                    // Among equal bounds, nearer centres first: they hold the likelier winners.
+                    keyed.push_back({lower * 1024 + x * x + y * y + z * z, NearOffset{{x, y, z}, lower}});
+                }
+        std::stable_sort(keyed.begin(), keyed.end(),
+                         [](const auto& a, const auto& b) { return a.first < b.first; });
+        std::vector<NearOffset> out;
+        for (const auto& k : keyed) out.push_back(k.second);
+        return out;
+    }();
+    return table;
+}
+
+// The float next to a finite f, up or down (std::nextafter is a library call).
+float next_float(float f, bool up) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    if (f == 0)
+        bits = up ? 1u : 0x80000001u;  // the smallest subnormal of either sign
+    else if ((f > 0) == up)
+        ++bits;
+    else
+        --bits;
+    std::memcpy(&f, &bits, sizeof f);
+    return f;
+}
+float round_down(double v) {
+    const float f = float(v);
+    return double(f) > v ? next_float(f, false) : f;
+}
+float round_up(double v) {
+    const float f = float(v);
+    return double(f) < v ? next_float(f, true) : f;
+}
+
+// floor(x) clamped to [0, n - 1] (NaN gives 0).
+int clamp_cell(double x, int n) {
+    if (!(x > 0)) return 0;
+    if (x >= double(n - 1)) return n - 1;
+    return int(x);  // truncation is floor for x > 0
+}
+
+// The cylinder of TriangleGrid::Disc around (a, b, c): the centre and axis need
+// only be near the centroid and the normal; the radius and half height are
+// measured from the rounded ones and rounded up, with room for their own rounding.
+template <class Disc>
+Disc disc(const Vec3& a, const Vec3& b, const Vec3& c) {
+    Disc out;
+    Vec3 n = cross(sub(b, a), sub(c, a));
+    const double len = norm(n);
+    if (len > 0 && std::isfinite(len))
+        for (double& x : n) x /= len;
+    else
+        n = {1, 0, 0};  // degenerate: any axis, the radius covers the rest
+    for (int d = 0; d < 3; ++d) {
+        out.c[d] = float((a[d] + b[d] + c[d]) / 3);
+        out.n[d] = float(n[d]);
+    }
+    double r_sq = 0, h = 0;
+    for (const Vec3* v : {&a, &b, &c}) {
+        const Vec3 u{(*v)[0] - out.c[0], (*v)[1] - out.c[1], (*v)[2] - out.c[2]};
+        r_sq = std::max(r_sq, dot(u, u));
+        h = std::max(h, std::fabs(u[0] * out.n[0] + u[1] * out.n[1] + u[2] * out.n[2]));
+    }
+    const double r = std::sqrt(r_sq);
+    out.r = round_up(r * (1 + 1e-12));
+    out.h = round_up(h * (1 + 1e-12) + 1e-12 * r);  // the products in h may cancel
+    return out;
+}
+
+// Four floats at a time: GCC's and Clang's vector extensions, else plain arrays
+// (SNVR_PLAIN_FLOAT4 forces those, to test them).
+#if defined(__GNUC__) && !defined(SNVR_PLAIN_FLOAT4)
+typedef float F4 __attribute__((vector_size(16)));
+typedef std::int32_t M4 __attribute__((vector_size(16)));
+F4 load4(const float* p) {
+    F4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+F4 splat(float x) { return F4{x, x, x, x}; }
+#if defined(__SSE__)
+F4 max4(F4 a, F4 b) { return __builtin_ia32_maxps(a, b); }
+F4 min4(F4 a, F4 b) { return __builtin_ia32_minps(a, b); }
+#else
+F4 max4(F4 a, F4 b) {
+    const M4 m = a > b;
+    return F4((m & M4(a)) | (~m & M4(b)));
+}
+F4 min4(F4 a, F4 b) {
+    const M4 m = a < b;
+    return F4((m & M4(a)) | (~m & M4(b)));
+}
+#endif
+M4 less_eq(F4 a, F4 b) { return a <= b; }
+unsigned lanes(M4 m) {
+#if defined(__SSE__)
+    return unsigned(__builtin_ia32_movmskps(F4(m)));
+#else
+    return (m[0] ? 1u : 0u) | (m[1] ? 2u : 0u) | (m[2] ? 4u : 0u) | (m[3] ? 8u : 0u);
+#endif
+}
+int lowest_lane(unsigned m) { return __builtin_ctz(m); }
+#else
+struct F4 {
+    float v[4];
+};
+struct M4 {
+    bool v[4];
+};
+F4 load4(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
+F4 splat(float x) { return {{x, x, x, x}}; }
+template <class Op>
+F4 each(F4 a, F4 b, Op op) {
+    return {{op(a.v[0], b.v[0]), op(a.v[1], b.v[1]), op(a.v[2], b.v[2]), op(a.v[3], b.v[3])}};
+}
+F4 operator+(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x + y; }); }
+F4 operator-(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x - y; }); }
+F4 operator*(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x * y; }); }
+F4 max4(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x > y ? x : y; }); }
+F4 min4(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x < y ? x : y; }); }
+M4 less_eq(F4 a, F4 b) { return {{a.v[0] <= b.v[0], a.v[1] <= b.v[1], a.v[2] <= b.v[2], a.v[3] <= b.v[3]}}; }
+unsigned lanes(M4 m) { return (m.v[0] ? 1u : 0u) | (m.v[1] ? 2u : 0u) | (m.v[2] ? 4u : 0u) | (m.v[3] ? 8u : 0u); }
+int lowest_lane(unsigned m) {
+    int k = 0;
+    while (!(m & 1u)) {
+        m >>= 1;
+        ++k;
+    }
+    return k;
+}
+#endif
+
+// The lanes of a group of four items that still belong to a range with `left` items.
+unsigned valid_lanes(std::uint32_t left) { return left >= 4 ? 15u : (1u << left) - 1u; }
 
 double point_segment_dist_sq(const Vec3& p, const Vec3& a, const Vec3& b) {
     const Vec3 ab = sub(b, a), ap = sub(p, a);
@@ -70,31 +242,126 @@ double point_triangle_dist_sq(const Vec3& p, const Vec3& a, const Vec3& b, const
     return s * s / dot(n, n);
 }
 
+// A point against item boxes, four at a time: lower bounds on the squared
+// distance, in cells, from the point to each box, shrunk by the rounding of floats.
+class TriangleGrid::PointBoxes {
+public:
+    PointBoxes(const TriangleGrid& g, const Vec3& p) : g_(g) {
+        double reach = std::max({g.n_[0], g.n_[1], g.n_[2]});
+        for (int d = 0; d < 3; ++d) {
+            const double x = (p[d] - g.lo_[d]) * g.inv_size_;
+            p_[d] = splat(float(x));
+            reach = std::max(reach, std::fabs(x));
+        }
+        slack_ = splat(float(reach * kFloatSlack));
+    }
+    // The items k .. k + 3 whose box may come nearer than sqrt(limit) cells, as bits.
+    unsigned near(std::uint32_t k, F4 limit) const {
+        const F4 zero = splat(0);
+        F4 sum = zero;
+        for (int d = 0; d < 3; ++d) {
+            const F4 gap = max4(load4(g_.plane(d) + k) - p_[d], p_[d] - load4(g_.plane(3 + d) + k));
+            const F4 g = max4(gap - slack_, zero);
+            sum = sum + g * g;
+        }
+        return lanes(less_eq(sum, limit));
+    }
+    // best_sq (world units) as a float limit in cells, rounded up with room to spare.
+    F4 limit(double best_sq) const { return splat(float(best_sq * g_.inv_size_ * g_.inv_size_ * (1 + 1e-5))); }
+
+private:
+    const TriangleGrid& g_;
+    std::array<F4, 3> p_;
+    F4 slack_;
+};
+
+// A ray against item boxes, four at a time: the slab test against each box grown
+// by the margin (which covers the rounding of the exact test and the sliver that
+// first_hit widens triangles by) and by the rounding of floats.
+class TriangleGrid::RayBoxes {
+public:
+    // inv: 1 / dir on each axis (so that the walk and the boxes share three divisions).
+    RayBoxes(const TriangleGrid& g, const Vec3& o, const Vec3& dir, const std::array<double, 3>& inv_dir) {
+        double reach = std::max({g.n_[0], g.n_[1], g.n_[2]});
+        std::array<double, 3> oc;
+        for (int d = 0; d < 3; ++d) {
+            oc[d] = (o[d] - g.lo_[d]) * g.inv_size_;
+            reach = std::max(reach, std::fabs(oc[d]));
+        }
+        const double m = g.margin_ + reach * kFloatSlack;
+        for (int d = 0; d < 3; ++d) {
+            const bool down = dir[d] < 0;
+            // t per cell along this axis; a coordinate the ray keeps gets a huge
+            // slope instead of a branch: a box off the ray's line by more than the
+            // margin then lies beyond any t.
+            double inv = g.size_ * inv_dir[d];
+            if (!(std::fabs(inv) <= 1e30)) inv = down ? -1e30 : 1e30;
+            inv_[d] = splat(float(inv));
+            near_[d] = g.plane(down ? 3 + d : d);
+            far_[d] = g.plane(down ? d : 3 + d);
+            near_o_[d] = splat(float(down ? oc[d] - m : oc[d] + m));
+            far_o_[d] = splat(float(down ? oc[d] + m : oc[d] - m));
+        }
+    }
+    // The items k .. k + 3 whose box may meet origin + t dir for some t in [ta, tb], as bits.
+    unsigned meet(std::uint32_t k, F4 ta, F4 tb) const {
+        for (int d = 0; d < 3; ++d) {
+            ta = max4(ta, (load4(near_[d] + k) - near_o_[d]) * inv_[d]);
+            tb = min4(tb, (load4(far_[d] + k) - far_o_[d]) * inv_[d]);
+        }
+        return lanes(less_eq(ta, tb));
+    }
+
+private:
+    std::array<F4, 3> inv_, near_o_, far_o_;
+    std::array<const float*, 3> near_, far_;  // the planes each axis enters and leaves by
+};
+
 TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
     const auto& V = mesh.vertices;
     const auto& T = mesh.triangles;
     const std::size_t nt = T.size();
     if (nt == 0) return;
     if (nt >= std::numeric_limits<std::uint32_t>::max()) throw ResourceError("TriangleGrid: more than 2^32 triangles");
+    // Bounds and summed largest box side in fixed chunks, so that the grid does
+    // not depend on the number of threads.
+    constexpr std::size_t kChunk = 1 << 14;
+    const std::size_t n_chunks = (nt + kChunk - 1) / kChunk;
+    std::vector<std::array<double, 7>> part(n_chunks);
+    discs_.reset(new Disc[nt]);  // every one written below
+#pragma omp parallel for schedule(static) if (nt > 20000)
+    for (std::ptrdiff_t c = 0; c < std::ptrdiff_t(n_chunks); ++c) {
+        std::array<double, 7> acc{kInf, kInf, kInf, -kInf, -kInf, -kInf, 0};
+        for (std::size_t t = std::size_t(c) * kChunk; t < std::min(nt, std::size_t(c + 1) * kChunk); ++t) {
+            discs_[t] = disc<Disc>(V[T[t][0]], V[T[t][1]], V[T[t][2]]);
+            double side = 0;
+            for (int d = 0; d < 3; ++d) {
+                const double a = V[T[t][0]][d], b = V[T[t][1]][d], e = V[T[t][2]][d];
+                const double mn = std::min({a, b, e}), mx = std::max({a, b, e});
+                acc[d] = std::min(acc[d], mn);
+                acc[3 + d] = std::max(acc[3 + d], mx);
+                side = std::max(side, mx - mn);
+            }
+            acc[6] += side;
+        }
+        part[c] = acc;
+    }
     lo_ = {kInf, kInf, kInf};
     hi_ = {-kInf, -kInf, -kInf};
     double extent = 0;  // summed largest box side of the triangles
-    for (const auto& t : T) {
-        double side = 0;
+    for (const auto& acc : part) {
         for (int d = 0; d < 3; ++d) {
-            const double a = V[t[0]][d], b = V[t[1]][d], c = V[t[2]][d];
-            const double mn = std::min({a, b, c}), mx = std::max({a, b, c});
-            lo_[d] = std::min(lo_[d], mn);
-            hi_[d] = std::max(hi_[d], mx);
-            side = std::max(side, mx - mn);
+            lo_[d] = std::min(lo_[d], acc[d]);
+            hi_[d] = std::max(hi_[d], acc[3 + d]);
         }
-        extent += side;
+        extent += acc[6];
     }
     // Cells no smaller than the mean triangle (so a triangle meets few cells) and
     // no more than kCellsPerTriangle per triangle.
     const Vec3 span = sub(hi_, lo_);
     const double diag = std::sqrt(dot(span, span));
-    size_ = std::max({extent / double(nt), std::cbrt(span[0] * span[1] * span[2] / (kCellsPerTriangle * double(nt))), diag * 1e-6});
+    size_ = std::max({extent / double(nt), std::cbrt(span[0] * span[1] * span[2] / (kCellsPerTriangle * double(nt))),
+                      diag * 1e-6});
     if (!(size_ > 0)) size_ = 1;  // every triangle is one point
     for (;;) {
         double cells = 1;
@@ -105,77 +372,173 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
         if (cells <= kCellsPerTriangle * double(nt) + 4096) break;
         size_ *= 1.25;
     }
+    inv_size_ = 1 / size_;
+    double max_abs = 0;
+    for (int d = 0; d < 3; ++d) max_abs = std::max({max_abs, std::fabs(lo_[d]), std::fabs(hi_[d])});
+    // Far above the rounding of coordinates and of the exact tests, far below a triangle.
+    margin_ = (1e-7 * (diag + size_) + 1e-12 * max_abs) * inv_size_;
+    tiny_sq_ = 1e-10 * size_ * size_;
 
-    // Boxes grown by a sliver, so that a point on a cell face finds the triangle
-    // from both cells whatever the rounding.
-    const double slack = size_ * 1e-9;
-    // Calls visit(cell index) for every cell that triangle t's box meets; shared by
-    // the counting and the filling pass so that both see the same cells.
-    const auto for_box_cells = [&](std::size_t t, auto&& visit) {
-        std::array<int, 3> c0, c1;
-        for (int d = 0; d < 3; ++d) {
-            const double a = V[T[t][0]][d], b = V[T[t][1]][d], c = V[T[t][2]][d];
-            c0[d] = cell(d, std::min({a, b, c}) - slack);
-            c1[d] = cell(d, std::max({a, b, c}) + slack);
-        }
-        for (int z = c0[2]; z <= c1[2]; ++z)
-            for (int y = c0[1]; y <= c1[1]; ++y)
-                for (int x = c0[0]; x <= c1[0]; ++x) visit(index(x, y, z));
+    // Calls visit(cell index, box) for every cell with z in [z_lo, z_hi) that
+    // triangle t's box meets (grown by a sliver, so that a point on a cell face
+    // finds the triangle from both cells whatever the rounding); with_box: box is
+    // the box in cells from lo_, rounded outwards to floats (else left unset).
+    // Worked out again from the corners by each pass: cheaper than keeping them.
+    const auto for_box_cells = [&](std::size_t t, int z_lo, int z_hi, bool with_box, auto&& visit) {
+        const Vec3 &a = V[T[t][0]], &b = V[T[t][1]], &c = V[T[t][2]];
+        const double z_min = (std::min({a[2], b[2], c[2]}) - lo_[2]) * inv_size_;
+        const double z_max = (std::max({a[2], b[2], c[2]}) - lo_[2]) * inv_size_;
+        const int z0 = std::max(z_lo, clamp_cell(z_min - 1e-9, n_[2]));
+        const int z1 = std::min(z_hi - 1, clamp_cell(z_max + 1e-9, n_[2]));
+        if (z0 > z1) return;
+        const double x_min = (std::min({a[0], b[0], c[0]}) - lo_[0]) * inv_size_;
+        const double x_max = (std::max({a[0], b[0], c[0]}) - lo_[0]) * inv_size_;
+        const double y_min = (std::min({a[1], b[1], c[1]}) - lo_[1]) * inv_size_;
+        const double y_max = (std::max({a[1], b[1], c[1]}) - lo_[1]) * inv_size_;
+        const int y0 = clamp_cell(y_min - 1e-9, n_[1]), y1 = clamp_cell(y_max + 1e-9, n_[1]);
+        const int x0 = clamp_cell(x_min - 1e-9, n_[0]), x1 = clamp_cell(x_max + 1e-9, n_[0]);
+        std::array<float, 6> box{};
+        if (with_box)
+            box = {round_down(x_min), round_down(y_min), round_down(z_min),
+                   round_up(x_max),   round_up(y_max),   round_up(z_max)};
+        for (int z = z0; z <= z1; ++z)
+            for (int y = y0; y <= y1; ++y) {
+                const std::size_t row = index(0, y, z);
+                for (int x = x0; x <= x1; ++x) visit(row + std::size_t(x), box);
+            }
     };
+    // Counted and filled in slabs of z, one thread each, every slab in triangle
+    // order: each cell lists its triangles in ascending order whatever the threads.
     const std::size_t n_cells = std::size_t(n_[0]) * std::size_t(n_[1]) * std::size_t(n_[2]);
-    std::vector<std::uint64_t> count(n_cells + 1, 0);
-    std::uint64_t* counts = count.data() + 1;
-#pragma omp parallel for schedule(static) if (nt > 20000)
-    for (std::ptrdiff_t t = 0; t < std::ptrdiff_t(nt); ++t)
-        for_box_cells(std::size_t(t), [&](std::size_t cell_index) {
-#pragma omp atomic
-            ++counts[cell_index];
-        });
-    for (std::size_t c = 0; c < n_cells; ++c) count[c + 1] += count[c];
-    if (count[n_cells] >= std::numeric_limits<std::uint32_t>::max())
-        throw ResourceError("TriangleGrid: more than 2^32 cell entries");
-    start_.assign(count.begin(), count.end());
-    items_.resize(count[n_cells]);
-    std::uint64_t* next = count.data();  // reused as each cell's write cursor
-#pragma omp parallel for schedule(static) if (nt > 20000)
-    for (std::ptrdiff_t t = 0; t < std::ptrdiff_t(nt); ++t)
-        for_box_cells(std::size_t(t), [&](std::size_t cell_index) {
-            std::uint64_t at;
-#pragma omp atomic capture
-            at = next[cell_index]++;
-            items_[at] = std::uint32_t(t);
-        });
+    const int slabs = std::max(1, std::min(n_[2], nt > 20000 ? threads_here() : 1));
+    const auto slab_z = [&](int s) { return int(std::int64_t(n_[2]) * s / slabs); };
+    start_.assign(n_cells + 1, 0);
+    std::uint32_t* count = start_.data() + 1;
+#pragma omp parallel for schedule(static, 1) if (slabs > 1)
+    for (int s = 0; s < slabs; ++s) {
+        const int z_lo = slab_z(s), z_hi = slab_z(s + 1);
+        for (std::size_t t = 0; t < nt; ++t)
+            for_box_cells(t, z_lo, z_hi, false, [&](std::size_t c, const std::array<float, 6>&) { ++count[c]; });
+    }
+    std::uint64_t total = 0;
+    for (std::size_t c = 1; c <= n_cells; ++c) {
+        total += start_[c];
+        if (total >= std::numeric_limits<std::uint32_t>::max())
+            throw ResourceError("TriangleGrid: more than 2^32 cell entries");
+        start_[c] = std::uint32_t(total);
+    }
+    // Items padded by a group of four (zeros), so that whole groups can be read.
+    stride_ = std::size_t(total) + 4;
+    items_.reset(new std::uint32_t[stride_]);
+    item_boxes_.reset(new float[6 * stride_]);
+    for (std::size_t k = total; k < stride_; ++k) {
+        items_[k] = 0;
+        for (int j = 0; j < 6; ++j) item_boxes_[std::size_t(j) * stride_ + k] = 0;
+    }
+    // start_[c] serves as cell c's write cursor, ending at the start of c + 1.
+#pragma omp parallel for schedule(static, 1) if (slabs > 1)
+    for (int s = 0; s < slabs; ++s) {
+        const int z_lo = slab_z(s), z_hi = slab_z(s + 1);
+        std::uint32_t* cursor = start_.data();
+        std::uint32_t* items = items_.get();
+        float* planes = item_boxes_.get();
+        for (std::size_t t = 0; t < nt; ++t)
+            for_box_cells(t, z_lo, z_hi, true, [&](std::size_t c, const std::array<float, 6>& box) {
+                const std::uint32_t k = cursor[c]++;
+                items[k] = std::uint32_t(t);
+                for (int j = 0; j < 6; ++j) planes[std::size_t(j) * stride_ + k] = box[j];
+            });
+    }
+    std::copy_backward(start_.begin(), start_.end() - 1, start_.end());
+    start_[0] = 0;
 }
 
-int TriangleGrid::cell(int d, double v) const {
-    return int(std::clamp(std::floor((v - lo_[d]) / size_), 0.0, double(n_[d] - 1)));
+int TriangleGrid::cell(int d, double v) const { return clamp_cell((v - lo_[d]) * inv_size_, n_[d]); }
+
+double TriangleGrid::cell_gap_sq(const Vec3& p, int x, int y, int z) const {
+    const std::array<int, 3> at{x, y, z};
+    double box = 0;
+    for (int d = 0; d < 3; ++d) {
+        const double lo = lo_[d] + at[d] * size_;
+        const double gap = std::max(0.0, std::max(lo - p[d], p[d] - (lo + size_)));
+        box += gap * gap;
+    }
+    return box;
 }
 
-TriangleGrid::Closest TriangleGrid::closest(const Vec3& p) const {
-    Closest best{kInf, none};
-    if (items_.empty()) return best;
+void TriangleGrid::scan_cell(const Vec3& p, const PointBoxes& boxes, std::size_t i, Closest& best) const {
     const auto& V = mesh_.vertices;
     const auto& T = mesh_.triangles;
-    const std::array<int, 3> c{cell(0, p[0]), cell(1, p[1]), cell(2, p[2])};
-    const auto visit = [&](int x, int y, int z) {
-        // Skip a cell whose box is no nearer than the best triangle so far.
-        const std::array<int, 3> at{x, y, z};
-        double box = 0;
-        for (int d = 0; d < 3; ++d) {
-            const double lo = lo_[d] + at[d] * size_;
-            const double gap = std::max({0.0, lo - p[d], p[d] - (lo + size_)});
-            box += gap * gap;
-        }
-        if (box >= best.dist_sq) return;
-        const std::size_t i = index(x, y, z);
-        for (std::uint32_t k = start_[i]; k < start_[i + 1]; ++k) {
-            const auto& t = T[items_[k]];
+    const std::uint32_t last = start_[i + 1];
+    F4 limit = boxes.limit(best.dist_sq);
+    for (std::uint32_t k = start_[i]; k < last; k += 4)
+        for (unsigned m = boxes.near(k, limit) & valid_lanes(last - k); m; m &= m - 1) {
+            const std::uint32_t tri = items_[k + std::uint32_t(lowest_lane(m))];
+            // The cylinder next: its axis is a unit vector to within 1e-7, which the
+            // factors below cover, as 1e-6 covers the rounding of this bound.
+            const Disc& e = discs_[tri];
+            const double ux = p[0] - e.c[0], uy = p[1] - e.c[1], uz = p[2] - e.c[2];
+            const double along = std::fabs(ux * e.n[0] + uy * e.n[1] + uz * e.n[2]);
+            const double axial = std::max(0.0, along - double(e.h));
+            if (beyond(axial * axial * (1 - 1e-6), best.dist_sq)) continue;  // across the plane alone is too far
+            const double across_sq = ux * ux + uy * uy + uz * uz - along * along * (1 + 1e-6);
+            const double r = e.r;
+            if (across_sq > r * r) {  // beside the disc too: the square root is worth taking
+                const double lateral = std::sqrt(across_sq) - r;
+                if (beyond((axial * axial + lateral * lateral) * (1 - 1e-6), best.dist_sq)) continue;
+            }
+            const auto& t = T[tri];
             const double d = point_triangle_dist_sq(p, V[t[0]], V[t[1]], V[t[2]]);
-            if (d < best.dist_sq) best = {d, items_[k]};
+            if (d < best.dist_sq) {
+                best = {d, tri};
+                limit = boxes.limit(d);
+            }
         }
-    };
-    for (int r = 0;; ++r) {
+}
+
+TriangleGrid::Closest TriangleGrid::closest(const Vec3& p, double bound_sq) const {
+    const Closest nothing{kInf, none};
+    if (start_.empty() || !(bound_sq > 0)) return nothing;
+    Closest best{bound_sq, none};
+    const PointBoxes boxes(*this, p);
+    // Only a triangle with a distance below the bound replaces it.
+    const auto result = [&] { return best.triangle == none ? nothing : best; };
+    const std::array<int, 3> c{cell(0, p[0]), cell(1, p[1]), cell(2, p[2])};
+    bool in_grid = true;
+    for (int d = 0; d < 3; ++d) in_grid = in_grid && p[d] >= lo_[d] && p[d] <= lo_[d] + n_[d] * size_;
+    int first_ring = 0;
+    if (in_grid) {
+        // p lies in cell c (up to rounding, which the 1e-6 covers): visit the cells
+        // around it nearest first, until the rest are all farther than the best.
+        const double cell_sq = size_ * size_ * (1 - 1e-6);
+        // The squared gap from p to the cells kNear or fewer away along each axis
+        // (infinite outside the grid), so that a cell's gap is three lookups.
+        std::array<std::array<double, 2 * kNear + 1>, 3> gap;
+        for (int d = 0; d < 3; ++d)
+            for (int o = -kNear; o <= kNear; ++o) {
+                const int at = c[d] + o;
+                const double lo = lo_[d] + at * size_;
+                const double g = std::max(0.0, std::max(lo - p[d], p[d] - (lo + size_)));
+                gap[d][o + kNear] = at < 0 || at >= n_[d] ? kInf : g * g;
+            }
+        bool done = false;
+        for (const NearOffset& o : near_offsets()) {
+            if (beyond(o.lower_sq * cell_sq, best.dist_sq)) {
+                done = true;
+                break;
+            }
+            const double cell_gap = gap[0][o.d[0] + kNear] + gap[1][o.d[1] + kNear] + gap[2][o.d[2] + kNear];
+            if (cell_gap == kInf || beyond(cell_gap, best.dist_sq)) continue;  // off the grid, or too far
+            scan_cell(p, boxes, index(c[0] + o.d[0], c[1] + o.d[1], c[2] + o.d[2]), best);
+        }
+        if (done) return result();
+        first_ring = kNear + 1;
+    }
+    for (int r = first_ring;; ++r) {
         // The cells at Chebyshev distance exactly r from c, clipped to the grid.
+        const auto visit = [&](int x, int y, int z) {
+            if (!beyond(cell_gap_sq(p, x, y, z), best.dist_sq)) scan_cell(p, boxes, index(x, y, z), best);
+        };
         const int z0 = std::max(0, c[2] - r), z1 = std::min(n_[2] - 1, c[2] + r);
         const int y0 = std::max(0, c[1] - r), y1 = std::min(n_[1] - 1, c[1] + r);
         const int x0 = std::max(0, c[0] - r), x1 = std::min(n_[0] - 1, c[0] + r);
@@ -195,14 +558,15 @@ TriangleGrid::Closest TriangleGrid::closest(const Vec3& p) const {
             if (c[d] + r + 1 < n_[d]) bound = std::min(bound, std::max(0.0, lo_[d] + (c[d] + r + 1) * size_ - p[d]));
             if (c[d] - r - 1 >= 0) bound = std::min(bound, std::max(0.0, p[d] - (lo_[d] + (c[d] - r) * size_)));
         }
-        if (bound == kInf || best.dist_sq <= bound * bound) return best;
+        if (bound == kInf || beyond(bound * bound, best.dist_sq)) return result();
     }
 }
 
 template <class Visit>
-void TriangleGrid::walk(const Vec3& origin, const Vec3& dir, const Visit& visit) const {
-    if (items_.empty()) return;
-    // Clip the ray to the grid's box (slab test).
+void TriangleGrid::walk(const Vec3& origin, const Vec3& dir, const std::array<double, 3>& inv, const Visit& visit) const {
+    if (start_.empty()) return;
+    // Clip the ray to the grid's box (slab test). Products with 1 / dir: the
+    // traversal only has to be right up to rounding, which the lists' slack covers.
     double t0 = 0, t1 = kInf;
     for (int d = 0; d < 3; ++d) {
         const double box_lo = lo_[d], box_hi = lo_[d] + n_[d] * size_;
@@ -210,7 +574,7 @@ void TriangleGrid::walk(const Vec3& origin, const Vec3& dir, const Visit& visit)
             if (origin[d] < box_lo || origin[d] > box_hi) return;
             continue;
         }
-        double a = (box_lo - origin[d]) / dir[d], b = (box_hi - origin[d]) / dir[d];
+        double a = (box_lo - origin[d]) * inv[d], b = (box_hi - origin[d]) * inv[d];
         if (a > b) std::swap(a, b);
         t0 = std::max(t0, a);
         t1 = std::min(t1, b);
@@ -222,12 +586,12 @@ void TriangleGrid::walk(const Vec3& origin, const Vec3& dir, const Visit& visit)
         c[d] = cell(d, origin[d] + t0 * dir[d]);
         if (dir[d] > 0) {
             step[d] = 1;
-            t_next[d] = (lo_[d] + (c[d] + 1) * size_ - origin[d]) / dir[d];
-            t_delta[d] = size_ / dir[d];
+            t_next[d] = (lo_[d] + (c[d] + 1) * size_ - origin[d]) * inv[d];
+            t_delta[d] = size_ * inv[d];
         } else if (dir[d] < 0) {
             step[d] = -1;
-            t_next[d] = (lo_[d] + c[d] * size_ - origin[d]) / dir[d];
-            t_delta[d] = -size_ / dir[d];
+            t_next[d] = (lo_[d] + c[d] * size_ - origin[d]) * inv[d];
+            t_delta[d] = -size_ * inv[d];
         } else {
             step[d] = 0;
             t_next[d] = t_delta[d] = kInf;
@@ -236,7 +600,7 @@ void TriangleGrid::walk(const Vec3& origin, const Vec3& dir, const Visit& visit)
     for (;;) {
         const int d = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
         const std::size_t i = index(c[0], c[1], c[2]);
-        if (!visit(items_.data() + start_[i], items_.data() + start_[i + 1], t_next[d])) return;
+        if (start_[i] != start_[i + 1] && !visit(start_[i], start_[i + 1], t_next[d])) return;
         c[d] += step[d];
         if (c[d] < 0 || c[d] >= n_[d] || t_next[d] > t1) return;
         t_next[d] += t_delta[d];
@@ -248,13 +612,22 @@ TriangleGrid::Hit TriangleGrid::first_hit(const Vec3& origin, const Vec3& dir, d
     Hit best{kInf, none};
     const auto& V = mesh_.vertices;
     const auto& T = mesh_.triangles;
-    walk(origin, dir, [&](const std::uint32_t* first, const std::uint32_t* last, double t_exit) {
-        for (const std::uint32_t* it = first; it != last; ++it) {
-            const auto& t = T[*it];
-            if (t[0] == skip_vertex || t[1] == skip_vertex || t[2] == skip_vertex) continue;
-            const double s = ray_triangle(origin, dir, V[t[0]], V[t[1]], V[t[2]], 1e-9);
-            if (s > t_min && s < best.t) best = {s, *it};
-        }
+    const std::array<double, 3> inv{1 / dir[0], 1 / dir[1], 1 / dir[2]};
+    const RayBoxes boxes(*this, origin, dir, inv);
+    const F4 ta = splat(round_down(t_min));
+    F4 tb = splat(kInfF);
+    walk(origin, dir, inv, [&](std::uint32_t first, std::uint32_t last, double t_exit) {
+        for (std::uint32_t k = first; k < last; k += 4)
+            for (unsigned m = boxes.meet(k, ta, tb) & valid_lanes(last - k); m; m &= m - 1) {
+                const std::uint32_t tri = items_[k + std::uint32_t(lowest_lane(m))];
+                const auto& t = T[tri];
+                if (t[0] == skip_vertex || t[1] == skip_vertex || t[2] == skip_vertex) continue;
+                const double s = ray_triangle(origin, dir, V[t[0]], V[t[1]], V[t[2]], 1e-9);
+                if (s > t_min && s < best.t) {
+                    best = {s, tri};
+                    tb = splat(round_up(s));
+                }
+            }
         // A hit beyond this cell may still be beaten by one in a later cell.
         return best.t > t_exit;
     });
@@ -264,17 +637,35 @@ TriangleGrid::Hit TriangleGrid::first_hit(const Vec3& origin, const Vec3& dir, d
 std::size_t TriangleGrid::count_crossings(const Vec3& origin, const Vec3& dir) const {
     const auto& V = mesh_.vertices;
     const auto& T = mesh_.triangles;
-    std::vector<std::uint32_t> hits;  // a triangle is listed in every cell it meets
-    walk(origin, dir, [&](const std::uint32_t* first, const std::uint32_t* last, double) {
-        for (const std::uint32_t* it = first; it != last; ++it) {
-            const auto& t = T[*it];
-            // No slack: a widened triangle would count a crossing twice.
-            if (ray_triangle(origin, dir, V[t[0]], V[t[1]], V[t[2]], 0) > 0) hits.push_back(*it);
-        }
+    const std::array<double, 3> inv{1 / dir[0], 1 / dir[1], 1 / dir[2]};
+    const RayBoxes boxes(*this, origin, dir, inv);
+    const F4 ta = splat(0), tb = splat(kInfF);
+    // A triangle is listed in every cell it meets: keep the hits to count each once.
+    constexpr std::size_t kLocal = 64;
+    std::uint32_t local[kLocal];
+    std::vector<std::uint32_t> more;
+    std::size_t n = 0;
+    walk(origin, dir, inv, [&](std::uint32_t first, std::uint32_t last, double) {
+        for (std::uint32_t k = first; k < last; k += 4)
+            for (unsigned m = boxes.meet(k, ta, tb) & valid_lanes(last - k); m; m &= m - 1) {
+                const std::uint32_t tri = items_[k + std::uint32_t(lowest_lane(m))];
+                const auto& t = T[tri];
+                // No slack: a widened triangle would count a crossing twice.
+                if (!(ray_triangle(origin, dir, V[t[0]], V[t[1]], V[t[2]], 0) > 0)) continue;
+                if (n < kLocal)
+                    local[n++] = tri;
+                else
+                    more.push_back(tri);
+            }
         return true;
     });
-    std::sort(hits.begin(), hits.end());
-    return std::size_t(std::unique(hits.begin(), hits.end()) - hits.begin());
+    if (more.empty()) {
+        std::sort(local, local + n);
+        return std::size_t(std::unique(local, local + n) - local);
+    }
+    more.insert(more.end(), local, local + n);
+    std::sort(more.begin(), more.end());
+    return std::size_t(std::unique(more.begin(), more.end()) - more.begin());
 }
 
 }  // namespace snvr
