@@ -14,10 +14,14 @@
 
 #include "geometry/disjoint_sets.hpp"
 #include "snvr/error.hpp"
+#include "mesh/float_rounding.hpp"
 #include "snvr/mesh.hpp"
 
 namespace snvr {
 namespace {
+
+using detail::round_down;
+using detail::round_up;
 
 // The threads a parallel region started here would get: one inside another
 // region (unless nested parallelism is on), where splitting work by thread
@@ -177,27 +181,6 @@ int orient2d_perturbed(const Vec3& a, const Vec3& b, double qx, double qy) {
     return 0;
 }
 
-// The float next to a finite f, up or down (std::nextafter is a library call).
-float next_float(float f, bool up) {
-    std::uint32_t bits;
-    std::memcpy(&bits, &f, sizeof bits);
-    if (f == 0)
-        bits = up ? 1u : 0x80000001u;  // the smallest subnormal of either sign
-    else if ((f > 0) == up)
-        ++bits;
-    else
-        --bits;
-    std::memcpy(&f, &bits, sizeof f);
-    return f;
-}
-float round_down(double v) {
-    const float f = float(v);
-    return double(f) > v ? next_float(f, false) : f;
-}
-float round_up(double v) {
-    const float f = float(v);
-    return double(f) < v ? next_float(f, true) : f;
-}
 
 // The points bucketed by a uniform grid over their xy box, each bucket holding
 // its points' coordinates (in ascending index order) next to their indices.

@@ -2,6 +2,7 @@
 // cells in order of their distance and ray casting by a 3D DDA walk (Amanatides &
 // Woo). Every query returns what testing all triangles would: cells and triangles
 // are skipped only when a bound, with room for rounding, shows they cannot win.
+#include "mesh/float_rounding.hpp"
 #include "mesh/triangle_grid.hpp"
 
 #include <omp.h>
@@ -18,6 +19,9 @@
 
 namespace snvr {
 namespace {
+
+using detail::round_down;
+using detail::round_up;
 
 // The threads a parallel region started here would get: one inside another
 // region (unless nested parallelism is on), where splitting work by thread
@@ -66,27 +70,6 @@ const std::vector<NearOffset>& near_offsets() {
     return table;
 }
 
-// The float next to a finite f, up or down (std::nextafter is a library call).
-float next_float(float f, bool up) {
-    std::uint32_t bits;
-    std::memcpy(&bits, &f, sizeof bits);
-    if (f == 0)
-        bits = up ? 1u : 0x80000001u;  // the smallest subnormal of either sign
-    else if ((f > 0) == up)
-        ++bits;
-    else
-        --bits;
-    std::memcpy(&f, &bits, sizeof f);
-    return f;
-}
-float round_down(double v) {
-    const float f = float(v);
-    return double(f) > v ? next_float(f, false) : f;
-}
-float round_up(double v) {
-    const float f = float(v);
-    return double(f) < v ? next_float(f, true) : f;
-}
 
 // floor(x) clamped to [0, n - 1] (NaN gives 0).
 int clamp_cell(double x, int n) {
