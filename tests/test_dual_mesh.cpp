@@ -239,3 +239,32 @@ TEST_CASE("dual: a large field (the parallel path) is printable and deterministi
     CHECK(a.triangles == b.triangles);
     CHECK(a.vertices == b.vertices);
 }
+
+// The library's OpenMP runtime (linked with it).
+extern "C" void omp_set_num_threads(int);
+extern "C" int omp_get_max_threads();
+
+TEST_CASE("dual: the same mesh on 1 and 2 threads, from doubles and from floats") {
+    // Rows of 150 samples: two whole 64-bit words of signs and a partial one.
+    const double h = 0.02;
+    const auto value = [](const Vec3& p, int i, int j, int k) {
+        if (i == 0 || j == 0 || k == 0 || i == 149 || j == 69 || k == 59) return -1.0;
+        const double s = std::sin(11 * p[0]) * std::sin(9 * p[1]) * std::sin(13 * p[2]) + 0.1 * std::cos(29 * p[0]);
+        return double(float(std::tanh(4 * s)));  // float-exact, so both precisions hold the same values
+    };
+    const Grid d = make_grid(150, 70, 60, h, {0, 0, 0}, value);
+    const Grid f = make_grid(150, 70, 60, h, {0, 0, 0}, value, Precision::Single);
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const Mesh one = extract_dual_isosurface(d.field, d.domain);
+    omp_set_num_threads(2);
+    const Mesh two = extract_dual_isosurface(d.field, d.domain);
+    const Mesh single = extract_dual_isosurface(f.field, f.domain);
+    omp_set_num_threads(before);
+    require_printable(one);
+    CHECK(one.vertices.size() > 1000);
+    CHECK(one.triangles == two.triangles);
+    CHECK(one.vertices == two.vertices);
+    CHECK(single.triangles == one.triangles);
+    CHECK(single.vertices == one.vertices);
+}

@@ -7,6 +7,7 @@
 #include "mesh_fields.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
+#include "mesh/vertex_lists.hpp"
 
 using namespace snvr;
 using namespace snvr::testing;
@@ -99,4 +100,24 @@ TEST_CASE("no passes, or no triangles: nothing changes; bad settings are named")
     bad.pass_band = std::nan("");
     CHECK_THROWS_WITH_AS(fair_mesh(m, bad), doctest::Contains("pass band"), ParameterError);
     CHECK(m.vertices == rough.vertices);
+}
+
+// The library's OpenMP runtime (linked with it).
+extern "C" void omp_set_num_threads(int);
+extern "C" int omp_get_max_threads();
+
+TEST_CASE("fairing with prebuilt rings (as shell_mesh runs it) and on 1 or 2 threads moves the same") {
+    Mesh m = sphere();
+    roughen(m, 0.3 * kH);
+    Mesh a = m, b = m, c = m;
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(1);
+    fair_mesh(a);
+    omp_set_num_threads(2);
+    fair_mesh(b);
+    detail::fair_mesh(c, MeshFairing{}, detail::rings(c));
+    omp_set_num_threads(before);
+    CHECK(a.vertices == b.vertices);
+    CHECK(c.vertices == a.vertices);
+    CHECK(a.vertices != m.vertices);
 }

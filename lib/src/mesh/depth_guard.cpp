@@ -8,13 +8,28 @@
 // bunny at l = 2.5 voxels with the tube at 0.8 l). Where that happens the patch of
 // surface is lifted along its normals by a displacement that is spread over two rings
 // of neighbours, so the lifted patch has no kink at its edge.
+//
+// Speed (the same vertices, bit for bit, as when every vertex and every point asked a
+// point index): nearly all of a shell lies about the offset from the points, a little
+// beyond the depth, so the searches start from the points (on a scan, a tenth as many
+// as the vertices) and rule out whole cells of mesh with bounds (a box and a slab
+// around each cell's piece of surface) before any exact test, which is the test the
+// index made. Only the few vertices the lift reaches are moved and checked for turning
+// over; a point's list of near triangles is gathered only when a repair needs it; ties
+// between equally near triangles are settled in the index's order, as before.
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <utility>
 #include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "geometry/point_index.hpp"
 #include "snvr/error.hpp"
@@ -26,9 +41,7 @@
 namespace snvr {
 namespace {
 
-using detail::fans;
 using detail::kParallelVertices;
-using detail::rings;
 using detail::VertexLists;
 
 // Vertices are aimed this far (in voxels) beyond the depth: a triangle about a voxel
@@ -41,127 +54,573 @@ constexpr int kSpreadRounds = 2;
 constexpr int kRepairRounds = 8;
 constexpr int kUntangleRounds = 16;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Loops whose items cost a few nanoseconds run threaded only above this many: waking
+// threads for less costs more than it saves, the more so on a busy machine.
+constexpr std::ptrdiff_t kParallelLight = 1 << 16;
+
+// Squared distance as the point index measures it (the sum of the squared differences,
+// query minus point, in axis order), so that a test here agrees with the index's.
+double index_dist_sq(const Vec3& q, const Vec3& p) {
+    double s = 0;
+    for (int d = 0; d < 3; ++d) {
+        const double x = q[d] - p[d];
+        s += x * x;
+    }
+    return s;
+}
+
+double largest_coordinate(const Vec3& c) { return std::max({std::fabs(c[0]), std::fabs(c[1]), std::fabs(c[2])}); }
+
+// r widened by a few rounding errors of coordinates near c: what a range built from
+// rounded sums must add to hold everything an exact test within r could accept.
+double slack(double r, const Vec3& c) { return r + 8 * DBL_EPSILON * (r + largest_coordinate(c)); }
+
+// Squared distance from q to the box [a, b]. Rounding is monotone, so for a point p in
+// the box it is never above index_dist_sq(q, p).
+double box_dist_sq(const Vec3& q, const Vec3& a, const Vec3& b) {
+    double s = 0;
+    for (int d = 0; d < 3; ++d) {
+        const double x = std::max({0.0, a[d] - q[d], q[d] - b[d]});
+        s += x * x;
+    }
+    return s;
+}
+
+// Items filed by cells of a uniform grid over a box, as compressed rows: slot s of the
+// rows holds item order[s]; the non-empty cells are numbered (rank) so that callers can
+// keep something per cell. Cells are at least `cell` wide, coarser where that would make
+// more than about `cap` cells.
+class CellGrid {
+public:
+    std::vector<std::uint32_t> order;
+
+    CellGrid(const Vec3& lo, const Vec3& hi, double cell, std::size_t cap) : lo_(lo) {
+        Vec3 top = hi;
+        for (int d = 0; d < 3; ++d)
+            if (!(lo_[d] <= top[d])) lo_[d] = top[d] = 0;  // nothing finite
+        size_ = cell;
+        for (;;) {
+            std::size_t cells = 1;
+            for (int d = 0; d < 3; ++d) {
+                const double span = (top[d] - lo_[d]) / size_;
+                n_[d] = span < 1 << 20 ? int(span) + 1 : std::isfinite(span) ? 1 << 20 : 1;
+                cells *= std::size_t(n_[d]);
+            }
+            if (cells <= cap) break;
+            size_ *= 1.25;
+        }
+    }
+    // The cell holding x (clamped to the grid).
+    std::uint32_t cell_of(const Vec3& x) const {
+        return std::uint32_t(std::size_t(coord(x[0], 0)) +
+                             std::size_t(n_[0]) * (coord(x[1], 1) + std::size_t(n_[1]) * coord(x[2], 2)));
+    }
+    // Files items 0 .. cells.size() - 1, item i in cell cells[i].
+    void file(const std::vector<std::uint32_t>& cells) {
+        start_.assign(std::size_t(n_[0]) * n_[1] * n_[2] + 1, 0);
+        for (std::uint32_t c : cells) ++start_[c + 1];
+        rank_.resize(start_.size() - 1);
+        for (std::size_t c = 0; c + 1 < start_.size(); ++c) {
+            rank_[c] = std::uint32_t(used_);
+            used_ += start_[c + 1] != 0;
+            start_[c + 1] += start_[c];
+        }
+        order.resize(cells.size());
+        std::vector<std::uint32_t> at(start_.begin(), start_.end() - 1);
+        for (std::size_t i = 0; i < cells.size(); ++i) order[at[cells[i]]++] = std::uint32_t(i);
+    }
+    std::uint32_t rank(std::uint32_t cell) const { return rank_[cell]; }
+
+    std::size_t used_cells() const { return used_; }
+    // Calls f(rank, begin, end) (the slots) for each non-empty cell holding keys in [a, b].
+    template <class F>
+    void for_cells(const Vec3& a, const Vec3& b, F f) const {
+        const int x0 = coord(a[0], 0), x1 = coord(b[0], 0), y0 = coord(a[1], 1), y1 = coord(b[1], 1);
+        const int z0 = coord(a[2], 2), z1 = coord(b[2], 2);
+        for (int z = z0; z <= z1; ++z)
+            for (int y = y0; y <= y1; ++y) {
+                const std::size_t row = std::size_t(n_[0]) * (y + std::size_t(n_[1]) * z);
+                for (int x = x0; x <= x1; ++x)
+                    if (start_[row + x] != start_[row + x + 1]) f(rank_[row + x], start_[row + x], start_[row + x + 1]);
+            }
+    }
+    // Calls f(rank, begin, end) for every non-empty cell, in parallel if asked to.
+    template <class F>
+    void for_each_cell(F f, [[maybe_unused]] bool parallel = true) const {
+        const std::ptrdiff_t cells = std::ptrdiff_t(start_.size() - 1);
+#pragma omp parallel for schedule(dynamic, 4096) if (parallel && order.size() > std::size_t(kParallelLight))
+        for (std::ptrdiff_t c = 0; c < cells; ++c)
+            if (start_[c] != start_[c + 1]) f(rank_[c], start_[c], start_[c + 1]);
+    }
+
+private:
+    // Cell coordinate of x on axis d, clamped to the grid (NaN to 0).
+    int coord(double x, int d) const {
+        const double t = (x - lo_[d]) / size_;
+        return t >= 0 ? (t < n_[d] ? int(t) : n_[d] - 1) : 0;
+    }
+
+    Vec3 lo_;
+    double size_ = 1;
+    int n_[3] = {1, 1, 1};
+    std::size_t used_ = 0;
+    std::vector<std::uint32_t> start_, rank_;
+};
+
+// What a cell's items can come near: their box, and a slab along the cell's mean normal
+// (a piece of smooth surface is thin along its normal, so the slab rules out the cells
+// that face a point from beyond the radius, where a box would not).
+struct Bound {
+    Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+    Vec3 n{0, 0, 0};
+    double n_lo = kInf, n_hi = -kInf;
+
+    void add_to_box(const Vec3& x) {
+        for (int d = 0; d < 3; ++d) {
+            lo[d] = std::min(lo[d], x[d]);
+            hi[d] = std::max(hi[d], x[d]);
+        }
+    }
+    // Makes the summed normal n a unit one (no slab if it has no direction).
+    void normalize() {
+        const double len = norm(n);
+        if (len > 0 && std::isfinite(len))
+            for (double& c : n) c /= len;
+        else
+            n = {0, 0, 0};
+    }
+    void add_to_slab(const Vec3& x) {
+        const double s = dot(n, x);
+        n_lo = std::min(n_lo, s);
+        n_hi = std::max(n_hi, s);
+    }
+    // False only when nothing within r of q can be in the cell: r_sq and slab_r hold a
+    // margin over r^2 and r for rounding (the box distance of a point never exceeds
+    // index_dist_sq; a triangle's distance and the slab's projections err by about
+    // 1e-15 relative and a few ulps of the coordinates, far below the margins).
+    bool may_reach(const Vec3& q, double r_sq, double slab_r) const {
+        if (!(box_dist_sq(q, lo, hi) < r_sq)) return false;
+        if (n[0] == 0 && n[1] == 0 && n[2] == 0) return true;
+        const double s = dot(n, q);
+        return !(s < n_lo - slab_r || s > n_hi + slab_r);
+    }
+};
+
+bool inside(const Vec3& q, const Vec3& a, const Vec3& b) {
+    return q[0] >= a[0] && q[0] <= b[0] && q[1] >= a[1] && q[1] <= b[1] && q[2] >= a[2] && q[2] <= b[2];
+}
+bool overlap(const Bound& c, const Vec3& a, const Vec3& b) {
+    return c.lo[0] <= b[0] && c.hi[0] >= a[0] && c.lo[1] <= b[1] && c.hi[1] >= a[1] && c.lo[2] <= b[2] &&
+           c.hi[2] >= a[2];
+}
+
+// The radius a slab test uses for an exact test within r near q, over items of size up
+// to `size`: relative 1e-9 above r, plus rounding of the coordinates.
+double slab_radius(double r, double size, const Vec3& q) {
+    return r + 1e-9 * (r + size) + 64 * DBL_EPSILON * largest_coordinate(q);
+}
+
+int omp_threads() {
+#ifdef _OPENMP
+    return omp_get_num_threads();
+#else
+    return 1;
+#endif
+}
+int omp_thread() {
+#ifdef _OPENMP
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+}
+
+// The vertices each vertex's ring reads, and the vertices whose rings read it: the
+// corners of its fan. Marks them in `in` and appends the new ones to `set`.
+void grow(const Mesh& mesh, const VertexLists& fans, std::vector<std::uint32_t>& set, std::vector<std::uint8_t>& in) {
+    const std::size_t n = set.size();
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t f = fans.start[set[i]]; f < fans.start[set[i] + 1]; ++f)
+            for (std::uint32_t c : mesh.triangles[fans.items[f]])
+                if (!in[c]) in[c] = 1, set.push_back(c);
+}
 
 // Widens each lift to the vertex's ring, then averages it over the ring: a lift on one
-// vertex becomes a smooth bump over two rings.
-void spread(const VertexLists& rings, std::vector<double>& lift) {
-    const std::ptrdiff_t nv = std::ptrdiff_t(lift.size());
-    std::vector<double> wide(lift.size());
+// vertex becomes a smooth bump over two rings. Each step reaches one ring further, so it
+// is computed where it can be non-zero, `region` (grown from the lifted vertices); the
+// rest stays +0, as the sums and maxima of zeros there would be. Returns the region.
+std::vector<std::uint32_t> spread(const Mesh& mesh, const VertexLists& rings, const VertexLists& fans,
+                                  std::vector<double>& lift) {
+    std::vector<std::uint32_t> region;
+    std::vector<std::uint8_t> in(lift.size(), 0);
+    for (std::size_t v = 0; v < lift.size(); ++v)
+        if (lift[v] != 0 || std::isnan(lift[v])) in[v] = 1, region.push_back(std::uint32_t(v));
+    std::vector<double> wide(lift.size(), 0.0);
+    const auto step = [&](std::vector<double>& out, const std::vector<double>& in_values, bool mean) {
+        grow(mesh, fans, region, in);
+        std::sort(region.begin(), region.end());
+        const std::ptrdiff_t n = std::ptrdiff_t(region.size());
+#pragma omp parallel for schedule(static) if (n > kParallelLight)
+        for (std::ptrdiff_t i = 0; i < n; ++i) {
+            const std::uint32_t v = region[i];
+            double m = in_values[v];
+            for (std::size_t r = rings.start[v]; r < rings.start[v + 1]; ++r)
+                m = mean ? m + in_values[rings.items[r]] : std::max(m, in_values[rings.items[r]]);
+            out[v] = mean ? m / double(1 + rings.start[v + 1] - rings.start[v]) : m;
+        }
+    };
     for (int round = 0; round < kSpreadRounds; ++round) {
-#pragma omp parallel for schedule(static) if (nv > kParallelVertices)
-        for (std::ptrdiff_t v = 0; v < nv; ++v) {
-            double m = lift[v];
-            for (std::size_t r = rings.start[v]; r < rings.start[v + 1]; ++r) m = std::max(m, lift[rings.items[r]]);
-            wide[v] = m;
-        }
-#pragma omp parallel for schedule(static) if (nv > kParallelVertices)
-        for (std::ptrdiff_t v = 0; v < nv; ++v) {
-            double sum = wide[v];
-            for (std::size_t r = rings.start[v]; r < rings.start[v + 1]; ++r) sum += wide[rings.items[r]];
-            lift[v] = sum / double(1 + rings.start[v + 1] - rings.start[v]);
-        }
+        step(wide, lift, false);
+        step(lift, wide, true);
     }
+    return region;
 }
 
-// Moves every vertex from where it started by its displacement, and returns how many
-// triangles now face against where they faced before (turned over).
-std::size_t place(Mesh& mesh, const std::vector<Vec3>& start, const std::vector<Vec3>& shift,
-                  const std::vector<Vec3>& faces, std::vector<std::uint8_t>& turned) {
-    for (std::size_t v = 0; v < start.size(); ++v)
-        for (int d = 0; d < 3; ++d) mesh.vertices[v][d] = start[v][d] + shift[v][d];
-    std::size_t count = 0;
-    for (std::size_t t = 0; t < faces.size(); ++t) {
-        turned[t] = dot(faces[t], faces[t]) > 0 && dot(face_vector(mesh, mesh.triangles[t]), faces[t]) <= 0;
-        count += turned[t];
+// The vertices that may move (active), each with where it started and its shift, and the
+// triangles around them; every other vertex stays where it started with a zero shift.
+// (Whether such a shift is +0 or -0 only matters to a coordinate that is -0, the only
+// one that x + 0 changes; vertices with one are made active with their exact shift.)
+class Moving {
+public:
+    static constexpr std::uint32_t kNone = ~std::uint32_t(0);
+    std::vector<std::uint32_t> vertices;   // active, in the order they became so
+    std::vector<Vec3> start, shift, push;  // by the same index (push: a repair round's)
+    std::vector<std::uint32_t> triangles;  // with an active corner
+    std::vector<Vec3> faces;               // theirs where they started (face_vector)
+
+    Moving(Mesh& mesh, const VertexLists& fans)
+        : mesh_(mesh), fans_(fans), slot_(mesh.vertices.size(), kNone), on_(mesh.triangles.size(), 0) {}
+
+    bool active(std::uint32_t v) const { return slot_[v] != kNone; }
+    Vec3 shift_of(std::uint32_t v) const { return active(v) ? shift[slot_[v]] : Vec3{0, 0, 0}; }
+    // v's shift, making v active (from where it is, which is where it started).
+    Vec3& shift_ref(std::uint32_t v) {
+        if (!active(v)) add(v, {0, 0, 0});
+        return shift[slot_[v]];
     }
-    return count;
-}
+    Vec3 push_of(std::uint32_t v) const { return active(v) ? push[slot_[v]] : Vec3{0, 0, 0}; }
+    Vec3& push_ref(std::uint32_t v) {
+        if (!active(v)) add(v, {0, 0, 0});
+        return push[slot_[v]];
+    }
+    void add(std::uint32_t v, const Vec3& s) {
+        slot_[v] = std::uint32_t(vertices.size());
+        vertices.push_back(v);
+        start.push_back(mesh_.vertices[v]);
+        shift.push_back(s);
+        push.push_back({0, 0, 0});
+        for (std::size_t f = fans_.start[v]; f < fans_.start[v + 1]; ++f) {
+            const std::uint32_t t = fans_.items[f];
+            if (on_[t]) continue;
+            on_[t] = 1;
+            triangles.push_back(t);
+            const auto& tri = mesh_.triangles[t];
+            const Vec3 a = start_of(tri[0]), b = start_of(tri[1]), c = start_of(tri[2]);
+            faces.push_back(cross(sub(b, a), sub(c, a)));
+        }
+    }
+    // Moves the active vertices from where they started by their shifts; returns the
+    // triangles now turned over (facing against where they faced), ascending.
+    std::vector<std::uint32_t> place() {
+        const std::ptrdiff_t na = std::ptrdiff_t(vertices.size()), nt = std::ptrdiff_t(triangles.size());
+#pragma omp parallel for schedule(static) if (na > kParallelLight)
+        for (std::ptrdiff_t i = 0; i < na; ++i)
+            for (int d = 0; d < 3; ++d) mesh_.vertices[vertices[i]][d] = start[i][d] + shift[i][d];
+        turned_.assign(triangles.size(), 0);
+#pragma omp parallel for schedule(static) if (nt > kParallelLight)
+        for (std::ptrdiff_t i = 0; i < nt; ++i)
+            turned_[i] = dot(faces[i], faces[i]) > 0 && dot(face_vector(mesh_, mesh_.triangles[triangles[i]]), faces[i]) <= 0;
+        std::vector<std::uint32_t> turned;
+        for (std::size_t i = 0; i < triangles.size(); ++i)
+            if (turned_[i]) turned.push_back(triangles[i]);
+        std::sort(turned.begin(), turned.end());
+        return turned;
+    }
+
+private:
+    Vec3 start_of(std::uint32_t v) const { return active(v) ? start[slot_[v]] : mesh_.vertices[v]; }
+
+    Mesh& mesh_;
+    const VertexLists& fans_;
+    std::vector<std::uint32_t> slot_;
+    std::vector<std::uint8_t> on_, turned_;
+};
 
 // Lifts along neighbouring normals differ, and a sliver of a triangle a hundredth of a
 // voxel across turns over under the difference. Giving its corners their mean shift
 // moves it without turning it; repeated until no triangle is turned, or the rounds end
-// (then those triangles' corners go back to where they started).
-void untangle(Mesh& mesh, const std::vector<Vec3>& start, std::vector<Vec3>& shift, const std::vector<Vec3>& faces) {
-    std::vector<std::uint8_t> turned(faces.size());
+// (then those triangles' corners go back to where they started). Calls moving(v) before
+// it sets the shift of vertex v. (Only triangles with a moving corner can turn.)
+template <class OnMove>
+void untangle(Mesh& mesh, Moving& m, OnMove on_move) {
     for (int round = 0; round < kUntangleRounds; ++round) {
-        if (place(mesh, start, shift, faces, turned) == 0) return;
-        for (std::size_t t = 0; t < faces.size(); ++t) {
-            if (!turned[t]) continue;
+        const std::vector<std::uint32_t> turned = m.place();
+        if (turned.empty()) return;
+        for (std::uint32_t t : turned) {
             const auto& tri = mesh.triangles[t];
             Vec3 mean{0, 0, 0};
-            for (std::uint32_t v : tri)
-                for (int d = 0; d < 3; ++d) mean[d] += shift[v][d] / 3;
-            for (std::uint32_t v : tri) shift[v] = mean;
+            for (std::uint32_t v : tri) {
+                const Vec3 s = m.shift_of(v);
+                for (int d = 0; d < 3; ++d) mean[d] += s[d] / 3;
+            }
+            for (std::uint32_t v : tri) on_move(v), m.shift_ref(v) = mean;
         }
     }
-    if (place(mesh, start, shift, faces, turned) == 0) return;
-    for (std::size_t t = 0; t < faces.size(); ++t)
-        if (turned[t])
-            for (std::uint32_t v : mesh.triangles[t]) shift[v] = {0, 0, 0};
-    place(mesh, start, shift, faces, turned);
+    const std::vector<std::uint32_t> turned = m.place();
+    if (turned.empty()) return;
+    for (std::uint32_t t : turned)
+        for (std::uint32_t v : mesh.triangles[t]) on_move(v), m.shift_ref(v) = {0, 0, 0};
+    m.place();
 }
 
-// Each vertex's nearest point, if nearer than `bound`.
-std::vector<PointIndex::Hit> nearest_points(const Mesh& mesh, const PointIndex& index, double bound) {
-    const std::ptrdiff_t nv = std::ptrdiff_t(mesh.vertices.size());
-    std::vector<PointIndex::Hit> hits(mesh.vertices.size());
-#pragma omp parallel for schedule(dynamic, 1024) if (nv > kParallelVertices)
-    for (std::ptrdiff_t v = 0; v < nv; ++v) hits[v] = index.nearest(mesh.vertices[v], bound * bound);
-    return hits;
+// Unit vertex normal of v where the mesh started (as vertex_normals: its faces summed in
+// triangle order, its fan's order); `faces_at` gives a triangle's face vector there.
+template <class FaceAt>
+Vec3 vertex_normal(const VertexLists& fans, std::uint32_t v, FaceAt face_at) {
+    Vec3 n{0, 0, 0};
+    for (std::size_t f = fans.start[v]; f < fans.start[v + 1]; ++f) {
+        const Vec3 fv = face_at(fans.items[f]);
+        for (int d = 0; d < 3; ++d) n[d] += fv[d];
+    }
+    const double len = norm(n);
+    if (len > 0)
+        for (double& c : n) c /= len;
+    return n;
 }
 
-double triangle_distance(const Mesh& m, const Vec3& p, std::uint32_t t) {
+// x: the vertices' positions (a vector, or ListTime).
+template <class X>
+double triangle_distance(const X& x, const Mesh& m, const Vec3& p, std::uint32_t t) {
     const auto& tri = m.triangles[t];
-    return std::sqrt(point_triangle_dist_sq(p, m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]));
+    return std::sqrt(point_triangle_dist_sq(p, x[tri[0]], x[tri[1]], x[tri[2]]));
 }
 
-// A point that some triangle comes within depth + slack of, with those triangles.
-struct Watched {
-    std::size_t point;
-    std::vector<std::uint32_t> triangles;
+// The watch list: for each point, the triangles within `within` of it when the list is
+// made (its row). The list was gathered through an index of the corners: the corners
+// within `reach` = within + longest edge / sqrt 3 (the largest circumradius, so every
+// triangle within `within` has one) found each triangle of their fans, from its first
+// corner within reach. Rows here are gathered from a grid of the triangles, keeping the
+// index's distance test on the corners (index_takes), so they hold the same triangles,
+// in triangle order instead of the index's. Only a tie needs that order (the repair
+// takes the first of a point's nearest triangles, e.g. two sharing the nearest edge):
+// IndexOrder then rebuilds the index's row.
+//
+// A row is only needed for a point that is too shallow, or whose triangles moved since
+// it was last looked at: in the first round each point asks the grid for triangles
+// within the depth alone; a row, when needed, is gathered from the same grid and the
+// mesh as the list saw it (ListTime).
+
+// Whether the index-based gathering took triangle t for the point at `at`: from a corner
+// that its radius search finds, unless an earlier corner of t lies within reach (then
+// from that corner, which the search finds too).
+template <class X>
+bool index_takes(const X& x, const Mesh& m, const Vec3& at, std::uint32_t t, double reach) {
+    const double reach_sq = reach * reach;
+    for (std::uint32_t c : m.triangles[t]) {
+        if (index_dist_sq(at, x[c]) < reach_sq) return true;
+        if (norm(sub(x[c], at)) < reach) return false;
+    }
+    return false;
+}
+
+// A point's nearest triangle of a set.
+struct Nearest {
+    double dist = kInf;
+    std::uint32_t triangle = 0;
+    bool tied = false;  // another triangle of the set is exactly as near
+    void add(double d, std::uint32_t t) {
+        if (d < dist) {
+            dist = d;
+            triangle = t;
+            tied = false;
+        } else if (d == dist) {
+            tied = true;
+        }
+    }
 };
 
-// Every point that a triangle comes within `within` of. Each spot of a triangle lies
-// within longest edge / sqrt 3 (the largest circumradius) of one of its corners, so
-// the corners within `within` + that of the point find every such triangle.
-std::vector<Watched> watch_list(const Mesh& mesh, const PointSet& points, double within) {
-    double longest = 0;
-    for (const auto& t : mesh.triangles)
-        for (int e = 0; e < 3; ++e)
-            longest = std::max(longest, norm(sub(mesh.vertices[t[e]], mesh.vertices[t[(e + 1) % 3]])));
-    const double reach = within + longest / std::sqrt(3.0);
-    const PointIndex corners(mesh.vertices);
-    const VertexLists fan = fans(mesh);
-    std::vector<Watched> watched;
-    const std::ptrdiff_t np = std::ptrdiff_t(points.size());
-#pragma omp parallel
-    {
-        std::vector<Watched> mine;
-#pragma omp for schedule(dynamic, 256)
-        for (std::ptrdiff_t p = 0; p < np; ++p) {
-            const Vec3& at = points[p];
-            Watched w{std::size_t(p), {}};
-            corners.for_each_within(at, reach, [&](std::size_t v) {
-                for (std::size_t f = fan.start[v]; f < fan.start[v + 1]; ++f) {
-                    // Each triangle once: from its first corner within reach.
-                    const std::uint32_t t = fan.items[f];
-                    for (std::uint32_t c : mesh.triangles[t]) {
-                        if (c == v) {
-                            if (triangle_distance(mesh, at, t) < within) w.triangles.push_back(t);
-                            break;
-                        }
-                        if (norm(sub(mesh.vertices[c], at)) < reach) break;
-                    }
-                }
-            });
-            if (!w.triangles.empty()) mine.push_back(std::move(w));
+// Triangles (all, or a subset) filed by the low corner of their boxes, with each cell's
+// bound and largest squared edge length, as the mesh is when the cells are made.
+class TriangleCells {
+public:
+    TriangleCells(const Mesh& mesh, const std::vector<std::uint32_t>* subset, double cell) : mesh_(mesh) {
+        const std::ptrdiff_t n = std::ptrdiff_t(subset ? subset->size() : mesh.triangles.size());
+        const std::vector<Vec3>& x = mesh.vertices;
+        if (subset) ids_ = *subset;
+        // The grid spans the corners (all vertices for the whole mesh).
+        Bound frame;
+        if (subset) {
+            for (std::uint32_t t : ids_)
+                for (std::uint32_t v : mesh.triangles[t]) frame.add_to_box(x[v]);
+        } else {
+            for (const Vec3& v : x) frame.add_to_box(v);
         }
+        grid_ = std::make_unique<CellGrid>(frame.lo, frame.hi, cell, 2 * std::size_t(n) + 4096);
+        cell_of_.resize(std::size_t(n));
+        Vec3 extent{0, 0, 0};
+#pragma omp parallel if (n > kParallelLight)
+        {
+            Vec3 my_extent{0, 0, 0};
+#pragma omp for schedule(static)
+            for (std::ptrdiff_t i = 0; i < n; ++i) {
+                const auto& tri = mesh.triangles[id(std::uint32_t(i))];
+                Vec3 lo;
+                for (int d = 0; d < 3; ++d) {
+                    const double a = x[tri[0]][d], b = x[tri[1]][d], c = x[tri[2]][d];
+                    lo[d] = std::min({a, b, c});
+                    my_extent[d] = std::max(my_extent[d], std::max({a, b, c}) - lo[d]);
+                }
+                cell_of_[i] = grid_->cell_of(lo);
+            }
 #pragma omp critical
-        for (Watched& w : mine) watched.push_back(std::move(w));
+            for (int d = 0; d < 3; ++d) extent[d] = std::max(extent[d], my_extent[d]);
+        }
+        extent_ = extent;
+        grid_->file(cell_of_);
+        cell_.resize(grid_->used_cells());
+        edge_sq_.resize(grid_->used_cells());
+        grid_->for_each_cell([&](std::uint32_t c, std::uint32_t b, std::uint32_t e) {
+            Bound& cb = cell_[c];
+            double most = 0;
+            for (std::uint32_t s = b; s < e; ++s) {
+                const auto& tri = mesh.triangles[id(grid_->order[s])];
+                for (std::uint32_t v : tri) cb.add_to_box(x[v]);
+                const Vec3 f = face_vector(mesh, tri);  // area-weighted: any direction bounds
+                if (std::isfinite(dot(f, f)))
+                    for (int d = 0; d < 3; ++d) cb.n[d] += f[d];
+                most = std::max(most, edge_sq(x, tri));
+            }
+            edge_sq_[c] = most;
+            cb.normalize();
+            for (std::uint32_t s = b; s < e; ++s)
+                for (std::uint32_t v : mesh.triangles[id(grid_->order[s])]) cb.add_to_slab(x[v]);
+        });
+        for (double e2 : edge_sq_) longest_sq_ = std::max(longest_sq_, e2);
     }
-    std::sort(watched.begin(), watched.end(), [](const Watched& a, const Watched& b) { return a.point < b.point; });
-    return watched;
-}
+
+    // Calls f(t, box) for every triangle that may lie within r of q (a superset; the
+    // caller makes the exact test), box being q's squared distance to its box, with x
+    // the vertices as the cells were made.
+    template <class X, class F>
+    void near(const X& x, const Vec3& q, double r, F f) const {
+        const double lo_r = slack(r, q), r_box = slack(r * (1 + 1e-9), q), r_box_sq = r_box * r_box;
+        const double slab_r = slab_radius(r, std::sqrt(longest_sq_), q);
+        grid_->for_cells({q[0] - lo_r - extent_[0], q[1] - lo_r - extent_[1], q[2] - lo_r - extent_[2]},
+                         {q[0] + lo_r, q[1] + lo_r, q[2] + lo_r}, [&](std::uint32_t c, std::uint32_t b, std::uint32_t e) {
+                             if (!cell_[c].may_reach(q, r_box_sq, slab_r)) return;
+                             for (std::uint32_t s = b; s < e; ++s) {
+                                 const std::uint32_t t = id(grid_->order[s]);
+                                 Bound tb;
+                                 for (std::uint32_t v : mesh_.triangles[t]) tb.add_to_box(x[v]);
+                                 const double box = box_dist_sq(q, tb.lo, tb.hi);
+                                 if (box < r_box_sq) f(t, box);
+                             }
+                         });
+    }
+
+    // The largest squared edge length as the cells were made.
+    double longest_sq() const { return longest_sq_; }
+    // Of the whole mesh's triangles but those in `skip` (also flagged in `skipped`), with x
+    // where the others still are.
+    double longest_sq(const std::vector<std::uint32_t>& skip, const std::vector<std::uint8_t>& skipped) const {
+        std::vector<std::uint8_t> redo(cell_.size(), 0);
+        for (std::uint32_t t : skip) redo[grid_->rank(cell_of_[t])] = 1;
+        double most = 0;
+        grid_->for_each_cell(
+            [&](std::uint32_t c, std::uint32_t b, std::uint32_t e) {
+                if (!redo[c]) {
+                    most = std::max(most, edge_sq_[c]);
+                    return;
+                }
+                for (std::uint32_t s = b; s < e; ++s)
+                    if (!skipped[grid_->order[s]]) most = std::max(most, edge_sq(mesh_.vertices, mesh_.triangles[grid_->order[s]]));
+            },
+            false);
+        return most;
+    }
+
+private:
+    std::uint32_t id(std::uint32_t i) const { return ids_.empty() ? i : ids_[i]; }
+    // A triangle's largest squared edge length.
+    template <class X>
+    static double edge_sq(const X& x, const std::array<std::uint32_t, 3>& tri) {
+        double most = 0;
+        for (int e = 0; e < 3; ++e) {
+            const Vec3 d = sub(x[tri[e]], x[tri[(e + 1) % 3]]);
+            most = std::max(most, dot(d, d));
+        }
+        return most;
+    }
+
+    const Mesh& mesh_;
+    std::vector<std::uint32_t> ids_;      // the subset, if any
+    std::vector<std::uint32_t> cell_of_;  // each item's cell
+    Vec3 extent_{0, 0, 0};                // the largest box side of a triangle, per axis
+    std::unique_ptr<CellGrid> grid_;
+    std::vector<Bound> cell_;
+    std::vector<double> edge_sq_;  // by cell
+    double longest_sq_ = 0;
+};
+
+// The vertices as the watch list saw them: the repairs save each vertex they move before
+// its first move; positions() restores those, on first use.
+class ListTime {
+public:
+    explicit ListTime(const Mesh& mesh) : mesh_(mesh), slot_(mesh.vertices.size(), 0) {}
+    void save(std::uint32_t v) {
+        if (slot_[v]) return;
+        was_.push_back(mesh_.vertices[v]);
+        slot_[v] = std::uint32_t(was_.size());
+    }
+    const Vec3& operator[](std::size_t v) const { return slot_[v] ? was_[slot_[v] - 1] : mesh_.vertices[v]; }
+    // All of them, copied on first use (for an index, which keeps a reference).
+    const std::vector<Vec3>& copy() {
+        if (x_.empty()) {
+            x_ = mesh_.vertices;
+            for (std::size_t v = 0; v < x_.size(); ++v)
+                if (slot_[v]) x_[v] = was_[slot_[v] - 1];
+        }
+        return x_;
+    }
+
+private:
+    const Mesh& mesh_;
+    std::vector<std::uint32_t> slot_;  // 1 + index in was_, 0 if not moved
+    std::vector<Vec3> was_;
+    std::vector<Vec3> x_;
+};
+
+// The index-based row of a point, in the index's order, from the vertices as the list saw
+// them; the index is built on first use.
+class IndexOrder {
+public:
+    IndexOrder(const Mesh& mesh, const VertexLists& fans, double within, double reach)
+        : mesh_(mesh), fans_(fans), within_(within), reach_(reach) {}
+    std::vector<std::uint32_t> row(const std::vector<Vec3>& as_was, const Vec3& at) {
+        if (!corners_) corners_ = std::make_unique<PointIndex>(as_was);
+        std::vector<std::uint32_t> row;
+        corners_->for_each_within(at, reach_, [&](std::size_t v) {
+            for (std::size_t f = fans_.start[v]; f < fans_.start[v + 1]; ++f) {
+                // Each triangle once: from its first corner within reach.
+                const std::uint32_t t = fans_.items[f];
+                for (std::uint32_t c : mesh_.triangles[t]) {
+                    if (c == v) {
+                        if (triangle_distance(as_was, mesh_, at, t) < within_) row.push_back(t);
+                        break;
+                    }
+                    if (norm(sub(as_was[c], at)) < reach_) break;
+                }
+            }
+        });
+        return row;
+    }
+
+private:
+    const Mesh& mesh_;
+    const VertexLists& fans_;
+    double within_, reach_;
+    std::unique_ptr<PointIndex> corners_;
+};
 
 }  // namespace
 
@@ -169,75 +628,309 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double dep
     if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
         throw ParameterError("keep_points_deep: depth and voxel must be positive and finite");
     if (!(lone > 0)) throw ParameterError("keep_points_deep: lone must be positive");
-    DepthGuardReport report;
-    if (mesh.triangles.empty() || points.empty()) return report;
+    if (mesh.triangles.empty() || points.empty()) return {};
     for (const auto& t : mesh.triangles)
         for (std::uint32_t v : t)
             if (v >= mesh.vertices.size()) throw InputError("keep_points_deep: a triangle uses a missing vertex");
+    const VertexLists rings = detail::rings(mesh);
+    VertexLists fans;
+    fans.start = rings.start;
+    fans.fill(mesh, detail::fan_item());
+    return detail::keep_points_deep(mesh, points, depth, voxel, lone, rings, fans);
+}
 
-    std::vector<Vec3> faces(mesh.triangles.size());
-    for (std::size_t t = 0; t < faces.size(); ++t) faces[t] = face_vector(mesh, mesh.triangles[t]);
-    const std::vector<Vec3> normals = vertex_normals(mesh, faces);
-    const std::vector<Vec3> start = mesh.vertices;
+DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel,
+                                          double lone, const VertexLists& rings, const VertexLists& fans) {
+    if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
+        throw ParameterError("keep_points_deep: depth and voxel must be positive and finite");
+    if (!(lone > 0)) throw ParameterError("keep_points_deep: lone must be positive");
+    DepthGuardReport report;
+    if (mesh.triangles.empty() || points.empty()) return report;
+
+    const std::ptrdiff_t nv = std::ptrdiff_t(mesh.vertices.size()), np = std::ptrdiff_t(points.size());
     const PointIndex index(points);
     // The points the promise covers: those with another point within `lone`.
     std::vector<std::uint8_t> kept(points.size(), 1);
     if (std::isfinite(lone)) {
-        const std::ptrdiff_t np = std::ptrdiff_t(points.size());
 #pragma omp parallel for schedule(dynamic, 1024) if (np > kParallelVertices)
         for (std::ptrdiff_t p = 0; p < np; ++p) kept[p] = index.nearest_other(std::size_t(p)) <= lone;
         for (std::uint8_t k : kept) report.lone_points += !k;
     }
-
-    // Lift every vertex nearer than the aim to a kept point on its inner side.
     const double aim = depth + kMarginVoxels * voxel;
-    const std::vector<PointIndex::Hit> near = nearest_points(mesh, index, aim);
+    const double within = depth + 0.25 * voxel;
+
+    // The mesh as it starts, in cells: each point finds the vertices within the aim of it
+    // (the index's distance test, so exactly those the index would find), and, for the
+    // first repair round, the triangles within the depth of it (those that the lift
+    // leaves where they are stay that near).
+    const TriangleCells start_cells(mesh, nullptr, aim);
+    struct Pair {
+        std::uint32_t point, triangle;
+        double dist;
+    };
+    std::vector<std::uint8_t> near_point(mesh.vertices.size(), 0);
+    std::vector<Pair> close;  // (kept point, triangle) nearer than the depth, by point
+    {
+        const double aim_sq = aim * aim;
+        std::vector<std::vector<std::uint32_t>> near_of;
+        std::vector<std::vector<Pair>> close_of;
+#pragma omp parallel if (np > 256)
+        {
+#pragma omp single
+            {
+                near_of.resize(std::size_t(omp_threads()));
+                close_of.resize(std::size_t(omp_threads()));
+            }
+            std::vector<std::uint32_t>& mine = near_of[std::size_t(omp_thread())];
+            std::vector<Pair>& my_close = close_of[std::size_t(omp_thread())];
+#pragma omp for schedule(dynamic, 256)
+            for (std::ptrdiff_t p = 0; p < np; ++p) {
+                const Vec3& q = points[std::size_t(p)];
+                // The box bound keeps a margin far above the exact distance's rounding.
+                const double depth_box = slack(depth * (1 + 1e-9), q), depth_box_sq = depth_box * depth_box;
+                start_cells.near(mesh.vertices, q, aim, [&](std::uint32_t t, double box) {
+                    for (std::uint32_t c : mesh.triangles[t])
+                        if (index_dist_sq(mesh.vertices[c], q) < aim_sq) mine.push_back(c);
+                    if (!kept[p] || !(box < depth_box_sq)) return;
+                    const double d = triangle_distance(mesh.vertices, mesh, q, t);
+                    if (d < depth) my_close.push_back({std::uint32_t(p), t, d});
+                });
+            }
+        }
+        for (const auto& mine : near_of)
+            for (std::uint32_t v : mine) near_point[v] = 1;
+        for (const auto& mine : close_of) close.insert(close.end(), mine.begin(), mine.end());
+        std::sort(close.begin(), close.end(), [](const Pair& a, const Pair& b) {
+            return a.point != b.point ? a.point < b.point : a.triangle < b.triangle;
+        });
+    }
+
+    // Lift every vertex nearer than the aim to a kept point on its inner side. Only the
+    // vertices with a point that near ask the index for their nearest; a vertex no
+    // triangle uses has no normal and is never lifted.
+    // (Also noted: the vertices with a -0 coordinate, see Moving.)
+    const auto start_face = [&](std::uint32_t t) { return face_vector(mesh, mesh.triangles[t]); };
+    std::vector<std::uint32_t> asking, negative_zero;
+    for (std::ptrdiff_t v = 0; v < nv; ++v) {
+        if (near_point[v] && fans.start[v] != fans.start[v + 1]) asking.push_back(std::uint32_t(v));
+        for (int d = 0; d < 3; ++d)
+            if (mesh.vertices[v][d] == 0 && std::signbit(mesh.vertices[v][d])) {
+                negative_zero.push_back(std::uint32_t(v));
+                break;
+            }
+    }
     std::vector<double> lift(mesh.vertices.size(), 0.0);
-    for (std::size_t v = 0; v < lift.size(); ++v) {
-        const std::size_t p = near[v].index;
-        if (p != PointIndex::npos && kept[p] && dot(sub(mesh.vertices[v], index.point(p)), normals[v]) > 0)
-            lift[v] = aim - std::sqrt(near[v].dist_sq);
+    const std::ptrdiff_t na = std::ptrdiff_t(asking.size());
+#pragma omp parallel for schedule(dynamic, 64) if (na > kParallelVertices)
+    for (std::ptrdiff_t i = 0; i < na; ++i) {
+        const std::uint32_t v = asking[i];
+        const PointIndex::Hit hit = index.nearest(mesh.vertices[v], aim * aim);
+        const std::size_t p = hit.index;
+        if (p != PointIndex::npos && kept[p] &&
+            dot(sub(mesh.vertices[v], index.point(p)), vertex_normal(fans, v, start_face)) > 0)
+            lift[v] = aim - std::sqrt(hit.dist_sq);
     }
     for (double x : lift) report.near_vertices += x > 0;
     if (report.near_vertices == 0) return report;
-    spread(rings(mesh), lift);
-    std::vector<Vec3> shift(mesh.vertices.size());
-    for (std::size_t v = 0; v < shift.size(); ++v)
-        for (int d = 0; d < 3; ++d) shift[v][d] = normals[v][d] * lift[v];
-    untangle(mesh, start, shift, faces);
+    const std::vector<std::uint32_t> region = spread(mesh, rings, fans, lift);
+    // The vertices that can move: where the lift reaches, and any with a -0 coordinate
+    // (see Moving), each shifted along its normal by its lift.
+    Moving moving(mesh, fans);
+    {
+        std::vector<std::uint32_t> order = region;
+        order.insert(order.end(), negative_zero.begin(), negative_zero.end());
+        std::sort(order.begin(), order.end());
+        order.erase(std::unique(order.begin(), order.end()), order.end());
+        std::vector<Vec3> shift(order.size());
+        const std::ptrdiff_t nr = std::ptrdiff_t(order.size());
+#pragma omp parallel for schedule(static) if (nr > kParallelVertices)
+        for (std::ptrdiff_t i = 0; i < nr; ++i) {
+            const Vec3 n = vertex_normal(fans, order[i], start_face);
+            for (int d = 0; d < 3; ++d) shift[i][d] = n[d] * lift[order[i]];
+        }
+        for (std::size_t i = 0; i < order.size(); ++i) moving.add(order[i], shift[i]);
+    }
+    untangle(mesh, moving, [](std::uint32_t) {});
 
     // Then move the nearest triangle of each point still shallower than the depth along
     // its own normal, all three corners alike. The watch list holds every triangle
     // within a quarter voxel of the depth from a point; repairs move a few vertices by
     // a fraction of that, outward, away from the points inside.
-    const std::vector<Watched> watched = watch_list(mesh, points, depth + 0.25 * voxel);
+    // The triangles that moved, in cells of their own; the others are where start_cells
+    // has them. The longest edge (a root of the largest square; the root is monotone).
+    std::vector<std::uint8_t> moved_tri(mesh.triangles.size(), 0);
+    for (std::uint32_t t : moving.triangles) moved_tri[t] = 1;
+    const TriangleCells moved_cells(mesh, &moving.triangles, aim);
+    const double longest =
+        std::sqrt(std::max(start_cells.longest_sq(moving.triangles, moved_tri), moved_cells.longest_sq()));
+    const double reach = within + longest / std::sqrt(3.0);
+    ListTime list_time(mesh);
+    IndexOrder order(mesh, fans, within, reach);
+    // Each point's nearest triangle of its row, as far as it matters: exact where below
+    // the depth; dist = inf stands for "not below the depth".
+    std::vector<Nearest> nearest(points.size());
+    {
+        std::size_t c = 0;
+        while (c < close.size()) {
+            const std::uint32_t p = close[c].point;
+            Nearest& n = nearest[p];
+            for (; c < close.size() && close[c].point == p; ++c)
+                if (!moved_tri[close[c].triangle] && index_takes(mesh.vertices, mesh, points[p], close[c].triangle, reach))
+                    n.add(close[c].dist, close[c].triangle);
+        }
+    }
+#pragma omp parallel for schedule(dynamic, 256) if (np > kParallelVertices)
+    for (std::ptrdiff_t p = 0; p < np; ++p) {
+        if (!kept[p]) continue;  // the repairs pass it by
+        const Vec3& at = points[std::size_t(p)];
+        moved_cells.near(mesh.vertices, at, depth, [&](std::uint32_t t, double) {
+            const double d = triangle_distance(mesh.vertices, mesh, at, t);
+            if (d < depth && index_takes(mesh.vertices, mesh, at, t, reach)) nearest[p].add(d, t);
+        });
+    }
+    // Rows, gathered when first needed (from both cells, as the list saw the mesh), and a
+    // grid of the points to find whose rows hold a triangle that moved.
+    std::vector<std::vector<std::uint32_t>> rows(points.size());
+    std::vector<std::uint8_t> has_row(points.size(), 0);
+    const auto row = [&](std::uint32_t p) -> const std::vector<std::uint32_t>& {
+        if (has_row[p]) return rows[p];
+        const Vec3& at = points[p];
+        const auto take = [&](std::uint32_t t) {
+            if (triangle_distance(list_time, mesh, at, t) < within && index_takes(list_time, mesh, at, t, reach))
+                rows[p].push_back(t);
+        };
+        start_cells.near(list_time, at, within, [&](std::uint32_t t, double) {
+            if (!moved_tri[t]) take(t);
+        });
+        moved_cells.near(list_time, at, within, [&](std::uint32_t t, double) { take(t); });
+        std::sort(rows[p].begin(), rows[p].end());
+        has_row[p] = 1;
+        return rows[p];
+    };
+    // The first of point p's triangles at `dist` in the index's row. The row lists the
+    // triangles of each corner it finds (its fan, in triangle order) in turn, each
+    // triangle under its first corner within reach: if the tied triangles have the same
+    // such corner, the first is the lowest; else only the index can tell.
+    const auto first_tied = [&](std::uint32_t p, double dist) {
+        const Vec3& at = points[p];
+        std::uint32_t first = ~std::uint32_t(0), corner = ~std::uint32_t(0);
+        bool same = true;
+        for (std::uint32_t t : row(p)) {
+            if (!(triangle_distance(mesh.vertices, mesh, at, t) == dist)) continue;
+            std::uint32_t c = ~std::uint32_t(0);
+            for (std::uint32_t v : mesh.triangles[t])
+                if (index_dist_sq(at, list_time[v]) < reach * reach) {
+                    c = v;
+                    break;
+                }
+            if (first == ~std::uint32_t(0)) first = t, corner = c;
+            same = same && c == corner && c != ~std::uint32_t(0);
+        }
+        if (same && first != ~std::uint32_t(0)) return first;
+        for (std::uint32_t t : order.row(list_time.copy(), at))
+            if (triangle_distance(mesh.vertices, mesh, at, t) == dist) return t;
+        return first;
+    };
+    std::unique_ptr<CellGrid> point_cells;
+    std::vector<Bound> point_bound;
+
+    std::vector<std::uint8_t> touched(mesh.vertices.size(), 0);  // moved in the last round
+    std::vector<std::uint32_t> pushed;
     for (report.repair_rounds = 0;; ++report.repair_rounds) {
-        std::vector<Vec3> push(mesh.vertices.size(), Vec3{0, 0, 0});
-        report.shallow_points = 0;
-        for (const Watched& w : watched) {
-            if (!kept[w.point]) continue;
-            const Vec3& p = points[w.point];
-            double dist = kInf;
-            std::uint32_t nearest = 0;
-            for (std::uint32_t t : w.triangles) {
-                const double d = triangle_distance(mesh, p, t);
-                if (d < dist) dist = d, nearest = t;
+        if (report.repair_rounds > 0) {
+            // Points whose rows hold a triangle with a corner that moved: the triangles
+            // around the moved vertices, and the kept points within `within` of them as
+            // the list saw them, that the index would have taken them for.
+            const ListTime& as_was = list_time;
+            if (!point_cells) {
+                Bound frame;
+                for (const Vec3& q : points) frame.add_to_box(q);
+                point_cells = std::make_unique<CellGrid>(frame.lo, frame.hi, within, 4 * points.size() + 4096);
+                std::vector<std::uint32_t> cells(points.size());
+                for (std::size_t q = 0; q < points.size(); ++q) cells[q] = point_cells->cell_of(points[q]);
+                point_cells->file(cells);
+                point_bound.resize(point_cells->used_cells());
+                point_cells->for_each_cell([&](std::uint32_t c, std::uint32_t b, std::uint32_t e) {
+                    for (std::uint32_t s = b; s < e; ++s) point_bound[c].add_to_box(points[point_cells->order[s]]);
+                });
             }
+            std::vector<std::uint32_t> changed;
+            for (std::size_t v = 0; v < touched.size(); ++v)
+                if (touched[v])
+                    for (std::size_t f = fans.start[v]; f < fans.start[v + 1]; ++f) changed.push_back(fans.items[f]);
+            std::sort(changed.begin(), changed.end());
+            changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+            std::vector<std::uint32_t> stale;
+            const std::ptrdiff_t nc = std::ptrdiff_t(changed.size());
+#pragma omp parallel if (nc > 64)
+            {
+                std::vector<std::uint32_t> mine;
+#pragma omp for schedule(dynamic, 16)
+                for (std::ptrdiff_t i = 0; i < nc; ++i) {
+                    const std::uint32_t t = changed[i];
+                    Bound tb;
+                    for (std::uint32_t v : mesh.triangles[t]) tb.add_to_box(as_was[v]);
+                    // Where a point within `within` of the triangle lies, rounding included.
+                    const double r = slack(slack(within, tb.lo), tb.hi);
+                    const Vec3 a{tb.lo[0] - r, tb.lo[1] - r, tb.lo[2] - r}, b{tb.hi[0] + r, tb.hi[1] + r, tb.hi[2] + r};
+                    point_cells->for_cells(a, b, [&](std::uint32_t c, std::uint32_t sb, std::uint32_t se) {
+                        if (!overlap(point_bound[c], a, b)) return;
+                        for (std::uint32_t s = sb; s < se; ++s) {
+                            const std::uint32_t p = point_cells->order[s];
+                            const Vec3& at = points[p];
+                            if (!kept[p] || !inside(at, a, b)) continue;
+                            if (triangle_distance(as_was, mesh, at, t) < within &&
+                                index_takes(as_was, mesh, at, t, reach))
+                                mine.push_back(p);
+                        }
+                    });
+                }
+#pragma omp critical
+                stale.insert(stale.end(), mine.begin(), mine.end());
+            }
+            std::sort(stale.begin(), stale.end());
+            stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
+            std::fill(touched.begin(), touched.end(), 0);
+            const std::ptrdiff_t ns = std::ptrdiff_t(stale.size());
+#pragma omp parallel for schedule(dynamic, 16) if (ns > 256)
+            for (std::ptrdiff_t i = 0; i < ns; ++i) {
+                const std::uint32_t p = stale[i];
+                Nearest n;
+                for (std::uint32_t t : row(p)) n.add(triangle_distance(mesh.vertices, mesh, points[p], t), t);
+                nearest[p] = n;
+            }
+        }
+        for (std::uint32_t v : pushed) moving.push_ref(v) = {0, 0, 0};
+        pushed.clear();
+        report.shallow_points = 0;
+        for (std::ptrdiff_t i = 0; i < np; ++i) {
+            const double dist = nearest[i].dist;
             if (!(dist < depth)) continue;
-            const auto& t = mesh.triangles[nearest];
+            const Vec3& p = points[std::size_t(i)];
+            std::uint32_t tri = nearest[i].triangle;
+            if (nearest[i].tied) tri = first_tied(std::uint32_t(i), dist);
+            const auto& t = mesh.triangles[tri];
             const Vec3 n = face_vector(mesh, t);
             if (dot(sub(mesh.vertices[t[0]], p), n) <= 0) continue;  // the point is not under it
             ++report.shallow_points;
             const double by = (depth - dist + 0.5 * kMarginVoxels * voxel) / norm(n);
             for (std::uint32_t v : t)
-                if (by * norm(n) > norm(push[v])) push[v] = {n[0] * by, n[1] * by, n[2] * by};
+                if (by * norm(n) > norm(moving.push_of(v))) {
+                    if (!touched[v]) pushed.push_back(v), list_time.save(v);
+                    moving.push_ref(v) = {n[0] * by, n[1] * by, n[2] * by}, touched[v] = 1;
+                }
         }
         if (report.shallow_points == 0 || report.repair_rounds == kRepairRounds) break;
-        for (std::size_t v = 0; v < shift.size(); ++v)
-            for (int d = 0; d < 3; ++d) shift[v][d] += push[v][d];
-        untangle(mesh, start, shift, faces);
+        // shift += push (elsewhere both are zero: nothing to add).
+        for (std::size_t i = 0; i < moving.vertices.size(); ++i)
+            for (int d = 0; d < 3; ++d) moving.shift[i][d] += moving.push[i][d];
+        // A vertex that untangling moves is, before it first moves, where the list saw it.
+        untangle(mesh, moving, [&](std::uint32_t v) {
+            list_time.save(v);
+            touched[v] = 1;
+        });
     }
-    for (const Vec3& d : shift) report.moved_vertices += dot(d, d) > 0;
+    for (const Vec3& d : moving.shift) report.moved_vertices += dot(d, d) > 0;
     return report;
 }
 

@@ -42,6 +42,10 @@
 #include <string>
 #include <vector>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "mesh/isosurface_grid.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
@@ -185,20 +189,64 @@ struct CubeTopology {
     int decisions = 0;  // bit f: face f's centre is inside
 };
 
-CubeTopology cube_topology(const Tables& tab, int mask, const double value[8], double iso, Interpolation mode) {
+// g: the corner values minus iso in the space the crossings interpolate in.
+CubeTopology cube_topology(const Tables& tab, int mask, const double g[8]) {
     CubeTopology r;
     const int amb = tab.ambiguous[mask];
-    if (amb) {
-        double g[8];
-        const double iso_g = mode == Interpolation::PhaseField ? contour::unfold(iso) : iso;
-        for (int c = 0; c < 8; ++c)
-            g[c] = (mode == Interpolation::PhaseField ? contour::unfold(value[c]) : value[c]) - iso_g;
-        for (int f = 0; f < 6; ++f)
-            if (amb >> f & 1 && centre_inside(tab.faces[f], g)) r.decisions |= 1 << f;
-    }
+    for (int f = 0; amb && f < 6; ++f)
+        if (amb >> f & 1 && centre_inside(tab.faces[f], g)) r.decisions |= 1 << f;
     r.topo = tab.topology[mask * 64 + r.decisions];
     return r;
 }
+
+CubeTopology cube_topology(const Tables& tab, int mask, const double value[8], double iso, Interpolation mode) {
+    if (!tab.ambiguous[mask]) return cube_topology(tab, mask, value);  // g unused
+    double g[8];
+    const double iso_g = mode == Interpolation::PhaseField ? contour::unfold(iso) : iso;
+    for (int c = 0; c < 8; ++c) g[c] = (mode == Interpolation::PhaseField ? contour::unfold(value[c]) : value[c]) - iso_g;
+    return cube_topology(tab, mask, g);
+}
+
+int max_threads() {
+#ifdef _OPENMP
+    return omp_get_max_threads();
+#else
+    return 1;
+#endif
+}
+int thread() {
+#ifdef _OPENMP
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+}
+
+// atanh of the samples of two neighbouring planes, each computed once however many
+// cubes share it (a sample near the surface is a corner of up to eight): per thread,
+// plane p in buffer p % 2, an entry valid while its stamp is p + 1.
+class UnfoldedPlanes {
+public:
+    explicit UnfoldedPlanes(std::size_t plane) {
+        for (int b = 0; b < 2; ++b) {
+            value_[b].resize(plane);
+            stamp_[b].assign(plane, 0);
+        }
+    }
+    // n: index within plane p; v: the sample.
+    double at(int p, std::size_t n, double v) {
+        const int b = p & 1;
+        if (stamp_[b][n] != p + 1) {
+            stamp_[b][n] = p + 1;
+            value_[b][n] = contour::unfold(v);
+        }
+        return value_[b][n];
+    }
+
+private:
+    std::vector<double> value_[2];
+    std::vector<int> stamp_[2];
+};
 
 // A cube with a sign change.  Its vertices are `first` (counted within its slab),
 // one per patch, then two per doubled upper face (segment 0, the one through edge
@@ -296,23 +344,44 @@ Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double is
     // Pass 1, one slab of cubes at a time: patches, their vertices, tunnel faces.
     std::vector<Slab> slabs(cz);
     std::atomic<long long> boundary_cube{-1};
+    std::vector<std::unique_ptr<UnfoldedPlanes>> thread_planes(static_cast<std::size_t>(max_threads()));
 #pragma omp parallel for schedule(dynamic) if (parallel)
     for (int k = 0; k < cz; ++k) {
         Slab& slab = slabs[k];
+        std::unique_ptr<UnfoldedPlanes>& mine = thread_planes[std::size_t(thread())];
+        if (unfolded && !mine) mine = std::make_unique<UnfoldedPlanes>(std::size_t(g.nx) * std::size_t(g.ny));
+        UnfoldedPlanes* planes = mine.get();
+        // Cubes of row j whose corners are not all on one side, 64 at a time.
+        const auto mixed_cubes = [&](int j, int w) {
+            std::uint64_t any = 0, all = ~std::uint64_t(0);
+            for (int c = 0; c < 8; ++c) {
+                const std::uint64_t bits = sb.word(j + (c >> 1 & 1), k + (c >> 2), w, c & 1);
+                any |= bits;
+                all &= bits;
+            }
+            return any & ~all & sb.valid(w, 1);
+        };
+        std::size_t count = 0;  // to size the slab's lists once
+        for (int j = 0; j < cy; ++j)
+            for (int w = 0; w < g.words; ++w) count += std::size_t(contour::popcount(mixed_cubes(j, w)));
+        slab.cubes.reserve(count);
+        slab.vertices.reserve(count + count / 8);
         for (int j = 0; j < cy; ++j)
             for (int w = 0; w < g.words; ++w) {
-                std::uint64_t any = 0, all = ~std::uint64_t(0);
-                for (int c = 0; c < 8; ++c) {
-                    const std::uint64_t bits = sb.word(j + (c >> 1 & 1), k + (c >> 2), w, c & 1);
-                    any |= bits;
-                    all &= bits;
-                }
-                for (std::uint64_t mixed = any & ~all & sb.valid(w, 1); mixed; mixed &= mixed - 1) {
+                for (std::uint64_t mixed = mixed_cubes(j, w); mixed; mixed &= mixed - 1) {
                     const int i = 64 * w + ctz(mixed);
                     double value[8];
                     cube_values(i, j, k, value);
                     const int mask = cube_mask(value);
-                    const CubeTopology ct = cube_topology(tab, mask, value, iso, interpolation);
+                    // Values minus iso in the space the crossings interpolate in.
+                    double gv[8];
+                    for (int c = 0; c < 8; ++c)
+                        gv[c] = (unfolded ? planes->at(k + (c >> 2),
+                                                      std::size_t(i + (c & 1)) + std::size_t(g.nx) * (j + (c >> 1 & 1)),
+                                                      value[c])
+                                          : value[c]) -
+                                iso_g;
+                    const CubeTopology ct = cube_topology(tab, mask, gv);
 
                     // A crossing on the grid boundary would leave the mesh open there.
                     const int lo[3] = {i, j, k}, hi[3] = {cx, cy, cz};
@@ -329,9 +398,6 @@ Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double is
                     rec.cell = std::uint32_t(i) + std::uint32_t(cx) * std::uint32_t(j);
                     rec.first = std::uint32_t(slab.vertices.size());
                     rec.topo = ct.topo;
-                    // Values minus iso in the space the crossings interpolate in, unfolded once per corner.
-                    double gv[8];
-                    for (int c = 0; c < 8; ++c) gv[c] = (unfolded ? contour::unfold(value[c]) : value[c]) - iso_g;
                     Vec3 local[12];
                     for (int e = 0; e < 12; ++e) {
                         if (patch_of(ct.topo, e) == kNone) continue;
@@ -410,6 +476,33 @@ Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double is
     // Pass 2, one plane of samples at a time: a polygon across each sign-changing
     // edge leaving it (along x and y within it, along z to the next plane).
     std::vector<std::vector<Tri>> plane_tris(g.nz);
+    // Per axis of an edge: (b, c) with b x c = axis; the four cubes around the edge
+    // counter-clockwise seen from +axis (offsets, and the edge's index in each); for each
+    // cube t and the next, u, the normal axis n of the face they share and which of the
+    // two cubes is on its low side.
+    struct Around {
+        int b, c;
+        int off[4][3], local[4], n[4], low[4];
+    };
+    Around around[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        Around& a = around[axis];
+        a.b = (axis + 1) % 3;
+        a.c = (axis + 2) % 3;
+        const int ob[4] = {-1, 0, 0, -1}, oc[4] = {-1, -1, 0, 0};
+        for (int t = 0; t < 4; ++t) {
+            int o[3] = {0, 0, 0};
+            o[a.b] = ob[t];
+            o[a.c] = oc[t];
+            for (int d = 0; d < 3; ++d) a.off[t][d] = o[d];
+            a.local[t] = edge_index(axis, (-o[a.b]) << a.b | (-o[a.c]) << a.c);
+        }
+        for (int t = 0; t < 4; ++t) {
+            const int u = (t + 1) % 4;
+            a.n[t] = ob[t] != ob[u] ? a.b : a.c;
+            a.low[t] = a.off[t][a.n[t]] < a.off[u][a.n[t]] ? t : u;
+        }
+    }
 #pragma omp parallel if (parallel)
     {
         // Record index by cube for the slabs below and above the plane.  Stale
@@ -429,28 +522,23 @@ Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double is
             // Edge (i, j, k) along `axis`; (b, c) with b x c = axis lists the
             // cubes around it counter-clockwise seen from +axis.
             const auto emit = [&](int i, int j, int axis, bool inside_low) {
-                const int b = (axis + 1) % 3, c = (axis + 2) % 3;
-                const int ob[4] = {-1, 0, 0, -1}, oc[4] = {-1, -1, 0, 0};
+                const Around& a = around[axis];
+                const auto& off = a.off;
+                const auto& local = a.local;
                 const CubeRecord* rec[4];
-                int off[4][3], local[4];
                 std::size_t first[4];
                 for (int t = 0; t < 4; ++t) {
-                    int o[3] = {0, 0, 0};
-                    o[b] = ob[t];
-                    o[c] = oc[t];
-                    for (int d = 0; d < 3; ++d) off[t][d] = o[d];
-                    const int ck = k + o[2];
-                    const std::uint32_t cell = std::uint32_t(i + o[0]) + std::uint32_t(cx) * std::uint32_t(j + o[1]);
+                    const int ck = k + off[t][2];
+                    const std::uint32_t cell =
+                        std::uint32_t(i + off[t][0]) + std::uint32_t(cx) * std::uint32_t(j + off[t][1]);
                     rec[t] = &slabs[ck].cubes[(ck == k ? above : below)[cell]];
                     first[t] = vbase[ck] + rec[t]->first;
-                    local[t] = edge_index(axis, (-o[b]) << b | (-o[c]) << c);
                 }
                 std::uint32_t ring[8];
                 int size = 0, fan = -1;
                 for (int t = 0; t < 4; ++t) {
                     ring[size++] = std::uint32_t(first[t] + std::size_t(patch_of(rec[t]->topo, local[t])));
-                    const int u = (t + 1) % 4, n = ob[t] != ob[u] ? b : c;
-                    const int low = off[t][n] < off[u][n] ? t : u;
+                    const int n = a.n[t], low = a.low[t];
                     const CubeRecord& lr = *rec[low];
                     if (!(lr.doubled >> n & 1)) continue;
                     const Face& fc = tab.faces[2 * n + 1];
@@ -498,16 +586,29 @@ Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double is
                 }
             };
 
+            // Sign changes along x, y, z leaving the samples of word w of row j.
+            const auto changes = [&](int j, int w, std::uint64_t change[3]) {
+                const std::uint64_t here = sb.word(j, k, w, 0);
+                change[0] = change[1] = change[2] = 0;
+                if (k >= 1 && k + 1 < g.nz) {
+                    if (j >= 1 && j + 1 < g.ny) change[0] = (here ^ sb.word(j, k, w, 1)) & sb.valid(w, 1);
+                    if (j + 1 < g.ny) change[1] = (here ^ sb.word(j + 1, k, w, 0)) & sb.valid(w, 0);
+                }
+                if (k + 1 < g.nz && j >= 1 && j + 1 < g.ny) change[2] = (here ^ sb.word(j, k + 1, w, 0)) & sb.valid(w, 0);
+                return here;
+            };
+            std::size_t count = 0;  // two triangles per polygon but for rare fans
             for (int j = 0; j < g.ny; ++j)
                 for (int w = 0; w < g.words; ++w) {
-                    const std::uint64_t here = sb.word(j, k, w, 0);
-                    std::uint64_t change[3] = {0, 0, 0};
-                    if (k >= 1 && k + 1 < g.nz) {
-                        if (j >= 1 && j + 1 < g.ny) change[0] = (here ^ sb.word(j, k, w, 1)) & sb.valid(w, 1);
-                        if (j + 1 < g.ny) change[1] = (here ^ sb.word(j + 1, k, w, 0)) & sb.valid(w, 0);
-                    }
-                    if (k + 1 < g.nz && j >= 1 && j + 1 < g.ny)
-                        change[2] = (here ^ sb.word(j, k + 1, w, 0)) & sb.valid(w, 0);
+                    std::uint64_t change[3];
+                    changes(j, w, change);
+                    for (int axis = 0; axis < 3; ++axis) count += std::size_t(contour::popcount(change[axis]));
+                }
+            tris.reserve(2 * count);
+            for (int j = 0; j < g.ny; ++j)
+                for (int w = 0; w < g.words; ++w) {
+                    std::uint64_t change[3];
+                    const std::uint64_t here = changes(j, w, change);
                     for (int axis = 0; axis < 3; ++axis)
                         for (std::uint64_t bits = change[axis]; bits; bits &= bits - 1) {
                             const int i = 64 * w + ctz(bits);

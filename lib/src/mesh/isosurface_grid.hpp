@@ -6,7 +6,12 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "snvr/mesh.hpp"
 
@@ -55,8 +60,10 @@ public:
             for (int j = 0; j < g.ny; ++j) {
                 std::uint64_t* row = &bits_[row_start(j, k)];
                 const std::size_t base = g.at(0, j, k);
-                for (int i = 0; i < g.nx; ++i)
-                    if (s[base + i] > iso) row[i >> 6] |= std::uint64_t(1) << (i & 63);
+                if (s.f64)
+                    pack(s.f64 + base, g.nx, iso, row);
+                else
+                    pack(s.f32 + base, g.nx, iso, row);
             }
     }
     // Word w of row (j, k), read from column offset dx (0 or 1).
@@ -73,12 +80,43 @@ public:
     }
 
 private:
+    // One row's bits, a word at a time without branches. Reading the field is most of
+    // an extraction's memory traffic: doubles are compared two at a time where SSE2 is
+    // there (the same ordered comparison: NaN is not above iso).
+    template <class T>
+    static void pack(const T* v, int n, double iso, std::uint64_t* row) {
+        int i = 0;
+#if defined(__SSE2__)
+        if constexpr (std::is_same_v<T, double>) {
+            const __m128d limit = _mm_set1_pd(iso);
+            for (; i + 64 <= n; i += 64) {
+                std::uint64_t bits = 0;
+                for (int b = 0; b < 64; b += 2)
+                    bits |= std::uint64_t(_mm_movemask_pd(_mm_cmpgt_pd(_mm_loadu_pd(v + i + b), limit))) << b;
+                row[i >> 6] = bits;
+            }
+        }
+#endif
+        for (; i < n; i += 64) {
+            const int m = std::min(64, n - i);
+            std::uint64_t bits = 0;
+            for (int b = 0; b < m; ++b) bits |= std::uint64_t(double(v[i + b]) > iso) << b;
+            row[i >> 6] = bits;
+        }
+    }
     std::size_t row_start(int j, int k) const { return (std::size_t(j) + std::size_t(g_.ny) * k) * g_.words; }
     const Grid& g_;
     std::vector<std::uint64_t> bits_;
 };
 
 inline int ctz(std::uint64_t x) { return __builtin_ctzll(x); }
+// Set bits of x, inline (without a popcnt instruction the builtin is a library call).
+inline int popcount(std::uint64_t x) {
+    x = x - (x >> 1 & 0x5555555555555555u);
+    x = (x & 0x3333333333333333u) + (x >> 2 & 0x3333333333333333u);
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;
+    return int(x * 0x0101010101010101u >> 56);
+}
 
 // Appends the per-slab triangle lists in slab order (so the output does not depend
 // on the thread count), freeing each list once copied.

@@ -26,9 +26,14 @@ void MeshFairing::validate() const {
 void fair_mesh(Mesh& mesh, const MeshFairing& fairing) {
     fairing.validate();
     if (fairing.passes == 0 || mesh.triangles.empty()) return;
+    detail::fair_mesh(mesh, fairing, detail::rings(mesh));
+}
+
+void detail::fair_mesh(Mesh& mesh, const MeshFairing& fairing, const VertexLists& ring) {
+    fairing.validate();
+    if (fairing.passes == 0 || mesh.triangles.empty()) return;
     // 1/lambda + 1/mu = k_PB.
     const double mu = fairing.lambda / (fairing.pass_band * fairing.lambda - 1);
-    const detail::VertexLists ring = detail::rings(mesh);
     const std::ptrdiff_t nv = std::ptrdiff_t(mesh.vertices.size());
     std::vector<Vec3> next(mesh.vertices.size());
     for (int step = 0; step < 2 * fairing.passes; ++step) {

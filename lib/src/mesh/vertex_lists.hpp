@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "snvr/geometry.hpp"
+#include "snvr/mesh.hpp"
 
 namespace snvr::detail {
 
@@ -14,30 +15,50 @@ namespace snvr::detail {
 constexpr std::ptrdiff_t kParallelVertices = 4096;
 
 // item(triangle index, corner) for every corner of every triangle, filed under that
-// corner's vertex.
+// corner's vertex, in triangle order.
 struct VertexLists {
     std::vector<std::size_t> start;
     std::vector<std::uint32_t> items;
+    VertexLists() = default;
     template <class Item>
-    VertexLists(const Mesh& m, Item item) : start(m.vertices.size() + 1, 0) {
+    VertexLists(const Mesh& m, Item item) : start(row_starts(m)) {
+        fill(m, item);
+    }
+
+    // The two steps, for callers that share the row starts between several lists.
+    static std::vector<std::size_t> row_starts(const Mesh& m) {
+        std::vector<std::size_t> s(m.vertices.size() + 1, 0);
         for (const auto& t : m.triangles)
-            for (std::uint32_t v : t) ++start[v + 1];
-        for (std::size_t v = 0; v < m.vertices.size(); ++v) start[v + 1] += start[v];
+            for (std::uint32_t v : t) ++s[v + 1];
+        for (std::size_t v = 0; v < m.vertices.size(); ++v) s[v + 1] += s[v];
+        return s;
+    }
+    template <class Item>
+    void fill(const Mesh& m, Item item) {
         items.resize(start.back());
-        std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+        std::vector<std::size_t> at(start.begin(), start.end() - 1);
         for (std::uint32_t t = 0; t < m.triangles.size(); ++t)
-            for (int c = 0; c < 3; ++c) items[fill[m.triangles[t][c]]++] = item(t, c);
+            for (int c = 0; c < 3; ++c) items[at[m.triangles[t][c]]++] = item(t, c);
     }
 };
 
 // Each vertex's neighbours along edges (each edge seen from one of its two triangles,
 // so on a closed manifold mesh every neighbour once).
-inline VertexLists rings(const Mesh& m) {
-    return VertexLists(m, [&m](std::uint32_t t, int c) { return m.triangles[t][(c + 1) % 3]; });
+inline auto ring_item(const Mesh& m) {
+    return [&m](std::uint32_t t, int c) { return m.triangles[t][(c + 1) % 3]; };
 }
+inline VertexLists rings(const Mesh& m) { return VertexLists(m, ring_item(m)); }
 // The triangles around each vertex.
-inline VertexLists fans(const Mesh& m) {
-    return VertexLists(m, [](std::uint32_t t, int) { return t; });
+inline auto fan_item() {
+    return [](std::uint32_t t, int) { return t; };
 }
+inline VertexLists fans(const Mesh& m) { return VertexLists(m, fan_item()); }
+
+// The mesh passes with lists their caller built once for both (shell_mesh): the
+// triangles, hence the lists, do not change between them. Same results as fair_mesh
+// and keep_points_deep; the mesh must be valid (every index a vertex).
+void fair_mesh(Mesh& mesh, const MeshFairing& fairing, const VertexLists& rings);
+DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel, double lone,
+                                  const VertexLists& rings, const VertexLists& fans);
 
 }  // namespace snvr::detail
