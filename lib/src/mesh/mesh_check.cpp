@@ -15,6 +15,8 @@
 #include "geometry/disjoint_sets.hpp"
 #include "snvr/error.hpp"
 #include "mesh/float_rounding.hpp"
+#include "mesh/mesh_adjacency.hpp"
+#include "mesh/threads_here.hpp"
 #include "snvr/mesh.hpp"
 
 namespace snvr {
@@ -23,12 +25,7 @@ namespace {
 using detail::round_down;
 using detail::round_up;
 
-// The threads a parallel region started here would get: one inside another
-// region (unless nested parallelism is on), where splitting work by thread
-// would only repeat it.
-int threads_here() {
-    return omp_get_active_level() >= omp_get_max_active_levels() ? 1 : std::max(1, omp_get_max_threads());
-}
+using detail::threads_here;
 
 using Tri = std::array<std::uint32_t, 3>;
 
@@ -261,13 +258,6 @@ private:
 
 namespace detail {
 
-// Shared with measure_quality, which needs the same adjacency; declared again in
-// mesh_quality.cpp (their only user besides check_mesh).
-void vertex_fans(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<std::uint32_t>& tri);
-void lower_edges(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<std::uint64_t>& items);
-MeshReport check_mesh_unchecked(const Mesh& mesh, const std::vector<std::size_t>& fan_start,
-                                const std::vector<std::uint32_t>& fan_tri, const std::vector<std::size_t>& edge_start,
-                                const std::vector<std::uint64_t>& edge_items, std::vector<std::uint32_t>* piece);
 
 // The proper triangles around each vertex, in ascending order: vertex v's are
 // tri[start[v] .. start[v + 1]).

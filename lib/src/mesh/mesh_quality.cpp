@@ -18,29 +18,16 @@
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/quality.hpp"
+#include "mesh/mesh_adjacency.hpp"
+#include "mesh/threads_here.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "geometry/vec3_math.hpp"
 
 namespace snvr {
 
-namespace detail {
-// From mesh_check.cpp (see there): the adjacency check_mesh builds, which the
-// figures below reuse rather than build again.
-void vertex_fans(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<std::uint32_t>& tri);
-void lower_edges(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<std::uint64_t>& items);
-MeshReport check_mesh_unchecked(const Mesh& mesh, const std::vector<std::size_t>& fan_start,
-                                const std::vector<std::uint32_t>& fan_tri, const std::vector<std::size_t>& edge_start,
-                                const std::vector<std::uint64_t>& edge_items, std::vector<std::uint32_t>* piece);
-}  // namespace detail
-
 namespace {
 
-// The threads a parallel region started here would get: one inside another
-// region (unless nested parallelism is on), where splitting work by thread
-// would only repeat it.
-int threads_here() {
-    return omp_get_active_level() >= omp_get_max_active_levels() ? 1 : std::max(1, omp_get_max_threads());
-}
+using detail::threads_here;
 
 using Tri = std::array<std::uint32_t, 3>;
 constexpr double kInf = std::numeric_limits<double>::infinity();

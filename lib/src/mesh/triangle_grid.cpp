@@ -3,6 +3,7 @@
 // Woo). Every query returns what testing all triangles would: cells and triangles
 // are skipped only when a bound, with room for rounding, shows they cannot win.
 #include "mesh/float_rounding.hpp"
+#include "mesh/threads_here.hpp"
 #include "mesh/triangle_grid.hpp"
 
 #include <omp.h>
@@ -23,12 +24,7 @@ namespace {
 using detail::round_down;
 using detail::round_up;
 
-// The threads a parallel region started here would get: one inside another
-// region (unless nested parallelism is on), where splitting work by thread
-// would only repeat it.
-int threads_here() {
-    return omp_get_active_level() >= omp_get_max_active_levels() ? 1 : std::max(1, omp_get_max_threads());
-}
+using detail::threads_here;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr float kInfF = std::numeric_limits<float>::infinity();
