@@ -22,18 +22,14 @@ Grid make_grid(int nx, int ny, int nz, double h, Vec3 origin, F f, Precision pre
     Grid g;
     g.domain.origin = origin;
     g.domain.h = h;
-    g.domain.nx = g.field.nx = nx;
-    g.domain.ny = g.field.ny = ny;
-    g.domain.nz = g.field.nz = nz;
-    g.field.precision = precision;
-    std::vector<double> v(g.field.size());
+    g.domain.nx = nx;
+    g.domain.ny = ny;
+    g.domain.nz = nz;
+    std::vector<double> v(g.domain.cells());
     for (int k = 0; k < nz; ++k)
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i < nx; ++i) v[g.domain.index(i, j, k)] = f(g.domain.cell_center(i, j, k), i, j, k);
-    if (precision == Precision::Double)
-        g.field.f64 = v;
-    else
-        g.field.f32.assign(v.begin(), v.end());
+    g.field = Field::from_dense(nx, ny, nz, v, precision);
     return g;
 }
 

@@ -238,7 +238,7 @@ TEST_CASE("solved fields satisfy the dense equation on odd grids with partial an
     const BrickLayout layout = make_layout<double>(d, mask, dist.data(), l);
     auto backend = make_openmp_backend<double>();
     backend->setup(layout);
-    backend->init_phase(pack_level0(layout, dist.data()).data(), l, 1 / (std::sqrt(2.0) * xi), cut);
+    backend->init_phase(pack_level0(layout, dist.data()), l, 1 / (std::sqrt(2.0) * xi), cut);
     MultigridSettings s = multigrid_settings(Parameters{}, dt);
     s.tol = 1e-13;
     s.exact_coarse = exact;

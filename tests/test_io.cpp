@@ -111,17 +111,9 @@ snvr::Mesh tetrahedron() {
 }
 
 snvr::Field ramp_field(snvr::Precision precision) {
-    snvr::Field field;
-    field.nx = 3, field.ny = 4, field.nz = 5;
-    field.precision = precision;
-    for (std::size_t n = 0; n < field.size(); ++n) {
-        const double v = double(n) * 0.25 - 7;
-        if (precision == snvr::Precision::Double)
-            field.f64.push_back(v);
-        else
-            field.f32.push_back(float(v));
-    }
-    return field;
+    std::vector<double> values(3 * 4 * 5);
+    for (std::size_t n = 0; n < values.size(); ++n) values[n] = double(n) * 0.25 - 7;
+    return snvr::Field::from_dense(3, 4, 5, values, precision);
 }
 
 snvr::Domain domain_for(const snvr::Field& field) {

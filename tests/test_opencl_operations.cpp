@@ -58,8 +58,8 @@ struct Pair {
         ref->setup(layout);
         dev->setup(layout);
         const std::vector<Real> packed = pack_level0(layout, distance.data());
-        ref->init_phase(packed.data(), Real(1), Real(3), Real(0.8));
-        dev->init_phase(packed.data(), Real(1), Real(3), Real(0.8));
+        ref->init_phase(packed, Real(1), Real(3), Real(0.8));
+        dev->init_phase(packed, Real(1), Real(3), Real(0.8));
         this->distance = random(0, Real(0), Real(1), 0);
     }
 

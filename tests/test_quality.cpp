@@ -48,13 +48,11 @@ Mesh isosurface(F f, Vec3 origin, double h, int n) {
     domain.origin = origin;
     domain.h = h;
     domain.nx = domain.ny = domain.nz = n;
-    Field field;
-    field.nx = field.ny = field.nz = n;
-    field.f64.resize(field.size());
+    std::vector<double> values(domain.cells());
     for (int k = 0; k < n; ++k)
         for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) field.f64[domain.index(i, j, k)] = f(domain.cell_center(i, j, k));
-    return extract_isosurface(field, domain);
+            for (int i = 0; i < n; ++i) values[domain.index(i, j, k)] = f(domain.cell_center(i, j, k));
+    return extract_isosurface(Field::from_dense(n, n, n, values), domain);
 }
 
 // Icosahedron split `levels` times, its vertices pushed onto the sphere (c, r);

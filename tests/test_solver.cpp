@@ -110,7 +110,7 @@ TEST_CASE("the nonlinear step matches a fine integration of phi_t = g (phi - phi
         make_layout<double>(d, std::vector<std::uint8_t>(make_levels(d).levels[0].brick_count(), 1), dist.data(), l);
     auto backend = make_openmp_backend<double>();
     backend->setup(layout);
-    backend->init_phase(pack_level0(layout, dist.data()).data(), l, 1 / (std::sqrt(2.0) * xi), cut);
+    backend->init_phase(pack_level0(layout, dist.data()), l, 1 / (std::sqrt(2.0) * xi), cut);
     std::vector<double> before(d.cells()), after(d.cells());
     backend->download(0, FieldKind::phi, before.data());
     backend->nonlinear(2 * dt / (eps * eps), Tube<double>{});

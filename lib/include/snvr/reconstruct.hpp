@@ -34,7 +34,7 @@ struct StageSeconds {
 
 struct Result {
     Domain domain;
-    Field phi;                    // phi^{Nt}; the shell is where phi > 0
+    Field phi;                    // phi^{Nt} in the band's bricks (+-1 beyond); the shell is where phi > 0
     double offset = 0;            // l used, world units
     std::string offset_reason;    // why this offset (given, 2.5 voxels, sampling gap)
     double gap = 0;               // estimated sampling gap of the points (world)
@@ -87,7 +87,7 @@ struct DomainPlan {
     double dt = 0;                // normalised
     int steps = 0;
     double tube_inner = 0, tube_outer = 0;  // world units from the offset; 0: free flow
-    std::size_t estimated_bytes = 0;  // the dense result and brick tables (the band's fields come later)
+    std::size_t estimated_bytes = 0;  // what follows the box: brick tables, the mesher's sign bits (the band's fields come later)
 };
 DomainPlan plan_domain(const PointSet& points, const Parameters& params);
 

@@ -143,7 +143,7 @@ DomainPlan plan_domain(const PointSet& points, const Parameters& params, const P
     }
 
     // The solver's fields follow the band and are checked once it is known (the session).
-    plan.estimated_bytes = estimate_plan_bytes(d, params.precision);
+    plan.estimated_bytes = estimate_plan_bytes(d);
     require_memory(plan.estimated_bytes, d);
     return plan;
 }

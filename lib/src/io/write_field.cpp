@@ -22,10 +22,7 @@ void validate_field(const Field& field, const Domain& domain, const std::string&
         throw InputError(path + ": field is " + dims(field.nx, field.ny, field.nz) + " but the domain is " +
                          dims(domain.nx, domain.ny, domain.nz));
     if (field.nx <= 0 || field.ny <= 0 || field.nz <= 0) throw InputError(path + ": field has no cells");
-    const std::size_t stored = field.precision == Precision::Double ? field.f64.size() : field.f32.size();
-    if (stored != field.size())
-        throw InputError(path + ": field holds " + std::to_string(stored) + " values for " +
-                         std::to_string(field.size()) + " cells");
+    field.validate(path + ": ");
 }
 
 std::size_t sample_bytes(const Field& field) {
@@ -38,24 +35,25 @@ std::string triple(const Vec3& v, const char* separator) {
            detail::format_number(v[2]);
 }
 
+// Every sample, x fastest, little-endian, a row of the grid at a time (a band field is
+// never made dense whole).
 template <typename T>
-void write_le_samples(const std::vector<T>& values, AtomicFile& out) {
-    if (detail::host_is_little_endian()) {
-        out.write(values.data(), values.size() * sizeof(T));
-        return;
-    }
-    char bytes[sizeof(T)];
-    for (const T v : values) {
-        detail::store_le(v, bytes);
-        out.write(bytes, sizeof bytes);
-    }
+void write_le_samples(const Field& field, const std::vector<T>& stored, AtomicFile& out) {
+    std::vector<T> row(std::size_t(field.nx));
+    std::vector<char> bytes(row.size() * sizeof(T));
+    for (int k = 0; k < field.nz; ++k)
+        for (int j = 0; j < field.ny; ++j) {
+            for (int i = 0; i < field.nx; ++i) row[std::size_t(i)] = stored[field.position(i, j, k)];
+            for (std::size_t i = 0; i < row.size(); ++i) detail::store_le(row[i], &bytes[i * sizeof(T)]);
+            out.write(bytes.data(), bytes.size());
+        }
 }
 
 void write_samples(const Field& field, AtomicFile& out) {
     if (field.precision == Precision::Double)
-        write_le_samples(field.f64, out);
+        write_le_samples(field, field.f64, out);
     else
-        write_le_samples(field.f32, out);
+        write_le_samples(field, field.f32, out);
 }
 
 void write_vti(const Field& field, const Domain& domain, AtomicFile& out) {

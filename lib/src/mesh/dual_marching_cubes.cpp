@@ -56,7 +56,6 @@ namespace {
 using contour::crossing;
 using contour::ctz;
 using contour::Grid;
-using contour::Samples;
 using contour::SignBits;
 using Tri = std::array<std::uint32_t, 3>;
 
@@ -314,26 +313,21 @@ Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double is
                              std::to_string(field.nz) + " but the domain is " + std::to_string(domain.nx) + "x" +
                              std::to_string(domain.ny) + "x" + std::to_string(domain.nz));
     if (field.nx < 0 || field.ny < 0 || field.nz < 0) throw ParameterError(who + "negative grid size");
-    const bool dbl = field.precision == Precision::Double;
-    const std::size_t stored = dbl ? field.f64.size() : field.f32.size();
-    if (stored != field.size())
-        throw InputError(who + "field stores " + std::to_string(stored) + " values, expected " +
-                         std::to_string(field.size()));
+    field.validate(who);
     Mesh mesh;
     if (field.nx < 2 || field.ny < 2 || field.nz < 2) return mesh;  // no cubes
     if (std::size_t(field.nx) * std::size_t(field.ny) >= std::numeric_limits<std::uint32_t>::max())
         throw ResourceError(who + "grid planes too large for 32-bit cube keys");
 
     const Grid g{field.nx, field.ny, field.nz, (field.nx + 63) / 64};
-    const Samples s{dbl ? field.f64.data() : nullptr, dbl ? nullptr : field.f32.data()};
     const Tables& tab = tables();
     const bool unfolded = interpolation == Interpolation::PhaseField;
     const double iso_g = unfolded ? contour::unfold(iso) : iso;
     const bool parallel = field.size() >= kParallelSamples;
-    const SignBits sb(g, s, iso, parallel);
+    const SignBits sb(g, field, iso, parallel);
     const int cx = g.nx - 1, cy = g.ny - 1, cz = g.nz - 1;  // cubes per axis
     const auto cube_values = [&](int i, int j, int k, double value[8]) {
-        for (int c = 0; c < 8; ++c) value[c] = s[g.at(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2))];
+        for (int c = 0; c < 8; ++c) value[c] = field.at(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2));
     };
     const auto cube_mask = [&](const double value[8]) {
         int mask = 0;

@@ -1,6 +1,6 @@
-// What the isosurface extractors share: where a grid edge crosses iso, read access
-// to either field precision, and the samples' signs packed 64 to a word so that
-// uniform stretches of the grid are skipped a word at a time.
+// What the isosurface extractors share: where a grid edge crosses iso, and the
+// samples' signs packed 64 to a word so that uniform stretches of the grid are
+// skipped a word at a time.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -8,10 +8,6 @@
 #include <cstdint>
 #include <type_traits>
 #include <vector>
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include "snvr/mesh.hpp"
 
@@ -34,37 +30,39 @@ inline double crossing(double fa, double fb, double iso, Interpolation mode) {
     return mode == Interpolation::PhaseField ? crossing(unfold(fa), unfold(fb), unfold(iso)) : crossing(fa, fb, iso);
 }
 
-// Read access to either storage precision without copying the field.
-struct Samples {
-    const double* f64 = nullptr;
-    const float* f32 = nullptr;
-    double operator[](std::size_t n) const { return f64 ? f64[n] : double(f32[n]); }
-};
-
 struct Grid {
     int nx, ny, nz;
     int words;  // 64-bit words per row of sign bits
-    std::size_t at(int i, int j, int k) const {
-        return std::size_t(i) + std::size_t(nx) * (std::size_t(j) + std::size_t(ny) * std::size_t(k));
-    }
 };
 
 // One bit per sample (value > iso), rows of `words` words, so that whole runs
-// of uniform samples are tested and skipped 64 at a time.
+// of uniform samples are tested and skipped 64 at a time. Built a brick at a time: a
+// brick's row of 8 samples is one byte of a word, and a stored brick on one side of
+// iso throughout (a band field's shared +-1 bricks) fills its bytes without reading.
 class SignBits {
 public:
-    SignBits(const Grid& g, const Samples& s, double iso, [[maybe_unused]] bool parallel)
+    SignBits(const Grid& g, const Field& f, double iso, [[maybe_unused]] bool parallel)
         : g_(g), bits_(std::size_t(g.ny) * g.nz * g.words, 0) {
+        static_assert(Field::kBrick == 8, "a brick row is one byte of sign bits");
+        const std::vector<std::uint8_t> side = f.precision == Precision::Double ? sides(f.f64, iso) : sides(f.f32, iso);
+        const int bx = f.bricks_x(), by = f.bricks_y(), bz = f.bricks_z();
 #pragma omp parallel for schedule(static) if (parallel)
-        for (int k = 0; k < g.nz; ++k)
-            for (int j = 0; j < g.ny; ++j) {
-                std::uint64_t* row = &bits_[row_start(j, k)];
-                const std::size_t base = g.at(0, j, k);
-                if (s.f64)
-                    pack(s.f64 + base, g.nx, iso, row);
-                else
-                    pack(s.f32 + base, g.nx, iso, row);
-            }
+        for (int kb = 0; kb < bz; ++kb)  // a layer of bricks owns its rows
+            for (int jb = 0; jb < by; ++jb)
+                for (int ib = 0; ib < bx; ++ib) {
+                    const std::uint32_t stored = f.brick[std::size_t(ib) + std::size_t(bx) * (std::size_t(jb) + std::size_t(by) * std::size_t(kb))];
+                    const int i0 = ib * 8, cells = std::min(8, g.nx - i0);
+                    const std::uint64_t in_grid = (std::uint64_t(1) << cells) - 1;
+                    for (int lk = 0; lk < 8 && kb * 8 + lk < g.nz; ++lk)
+                        for (int lj = 0; lj < 8 && jb * 8 + lj < g.ny; ++lj) {
+                            std::uint64_t byte = side[stored] == kAbove ? 0xffu : 0;
+                            if (side[stored] == kMixed) {
+                                const std::size_t at = std::size_t(stored) * Field::kBrickCells + std::size_t(8 * (lj + 8 * lk));
+                                byte = f.precision == Precision::Double ? row_bits(&f.f64[at], iso) : row_bits(&f.f32[at], iso);
+                            }
+                            bits_[row_start(jb * 8 + lj, kb * 8 + lk) + std::size_t(i0 >> 6)] |= (byte & in_grid) << (i0 & 63);
+                        }
+                }
     }
     // Word w of row (j, k), read from column offset dx (0 or 1).
     std::uint64_t word(int j, int k, int w, int dx) const {
@@ -80,29 +78,26 @@ public:
     }
 
 private:
-    // One row's bits, a word at a time without branches. Reading the field is most of
-    // an extraction's memory traffic: doubles are compared two at a time where SSE2 is
-    // there (the same ordered comparison: NaN is not above iso).
+    enum Side : std::uint8_t { kBelow, kAbove, kMixed };
+    // Each stored brick's side of iso (cells beyond the grid included: a brick called
+    // mixed for them is only read cell by cell). The same ordered comparison as the
+    // rows: NaN is not above iso.
     template <class T>
-    static void pack(const T* v, int n, double iso, std::uint64_t* row) {
-        int i = 0;
-#if defined(__SSE2__)
-        if constexpr (std::is_same_v<T, double>) {
-            const __m128d limit = _mm_set1_pd(iso);
-            for (; i + 64 <= n; i += 64) {
-                std::uint64_t bits = 0;
-                for (int b = 0; b < 64; b += 2)
-                    bits |= std::uint64_t(_mm_movemask_pd(_mm_cmpgt_pd(_mm_loadu_pd(v + i + b), limit))) << b;
-                row[i >> 6] = bits;
-            }
+    static std::vector<std::uint8_t> sides(const std::vector<T>& values, double iso) {
+        std::vector<std::uint8_t> side(values.size() / Field::kBrickCells);
+#pragma omp parallel for schedule(static) if (side.size() > 4096)
+        for (std::size_t b = 0; b < side.size(); ++b) {
+            int above = 0;
+            for (int c = 0; c < Field::kBrickCells; ++c) above += double(values[b * Field::kBrickCells + std::size_t(c)]) > iso;
+            side[b] = above == 0 ? kBelow : above == Field::kBrickCells ? kAbove : kMixed;
         }
-#endif
-        for (; i < n; i += 64) {
-            const int m = std::min(64, n - i);
-            std::uint64_t bits = 0;
-            for (int b = 0; b < m; ++b) bits |= std::uint64_t(double(v[i + b]) > iso) << b;
-            row[i >> 6] = bits;
-        }
+        return side;
+    }
+    template <class T>
+    static std::uint64_t row_bits(const T* v, double iso) {
+        std::uint64_t bits = 0;
+        for (int b = 0; b < 8; ++b) bits |= std::uint64_t(double(v[b]) > iso) << b;
+        return bits;
     }
     std::size_t row_start(int j, int k) const { return (std::size_t(j) + std::size_t(g_.ny) * k) * g_.words; }
     const Grid& g_;

@@ -149,7 +149,6 @@ const Tables& tables() {
 using contour::crossing;
 using contour::ctz;
 using contour::Grid;
-using contour::Samples;
 using contour::SignBits;
 
 // Keys (i + nx*j) * 7 + dir - 1 of the sign-changing edges leaving the samples
@@ -187,21 +186,16 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso, In
                              std::to_string(domain.nz));
     if (field.nx < 0 || field.ny < 0 || field.nz < 0)
         throw ParameterError("extract_isosurface: negative grid size");
-    const bool dbl = field.precision == Precision::Double;
-    const std::size_t stored = dbl ? field.f64.size() : field.f32.size();
-    if (stored != field.size())
-        throw InputError("extract_isosurface: field stores " + std::to_string(stored) + " values, expected " +
-                         std::to_string(field.size()));
+    field.validate("extract_isosurface: ");
     Mesh mesh;
     if (field.nx < 2 || field.ny < 2 || field.nz < 2) return mesh;  // no cubes
     if (std::size_t(field.nx) * std::size_t(field.ny) * kDirs > std::numeric_limits<std::uint32_t>::max())
         throw ResourceError("extract_isosurface: grid planes too large for 32-bit edge keys");
 
     const Grid g{field.nx, field.ny, field.nz, (field.nx + 63) / 64};
-    const Samples s{dbl ? field.f64.data() : nullptr, dbl ? nullptr : field.f32.data()};
     const Tables& tab = tables();
     const bool parallel = field.size() >= kParallelSamples;
-    const SignBits sb(g, s, iso, parallel);
+    const SignBits sb(g, field, iso, parallel);
 
     // Pass 1: the sign-changing edges of each plane fix the vertex numbering.
     std::vector<std::vector<std::uint32_t>> keys(g.nz);
@@ -218,7 +212,7 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso, In
         const int dir = int(key % kDirs) + 1;
         const int i = int(cell % std::uint32_t(g.nx)), j = int(cell / std::uint32_t(g.nx));
         const int dx = dir & 1, dy = dir >> 1 & 1, dz = dir >> 2;
-        const double t = crossing(s[g.at(i, j, k)], s[g.at(i + dx, j + dy, k + dz)], iso, interpolation);
+        const double t = crossing(field.at(i, j, k), field.at(i + dx, j + dy, k + dz), iso, interpolation);
         const Vec3 a = domain.cell_center(i, j, k), b = domain.cell_center(i + dx, j + dy, k + dz);
         return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
     };
@@ -263,7 +257,7 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso, In
                         double value[8];
                         for (int c = 0; c < 8; ++c) {
                             mask |= int(corner_bits[c] >> b & 1) << c;
-                            value[c] = s[g.at(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2))];
+                            value[c] = field.at(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2));
                         }
                         const auto vertex_of = [&](int e) {
                             const CubeEdge ce = tab.edges[e];

@@ -96,11 +96,11 @@ public:
         return n;
     }
 
-    void init_phase(const Real* d, Real offset, Real s, Real cut) override {
+    void init_phase(std::vector<Real> d, Real offset, Real s, Real cut) override {
         guarded("init_phase", [&] {
             if (levels_[0].active == 0) return;
             const LevelBuffers& b = levels_[0];
-            rt_.queue().enqueueWriteBuffer(b.distance, CL_TRUE, 0, b.cells * sizeof(Real), d);
+            rt_.queue().enqueueWriteBuffer(b.distance, CL_TRUE, 0, b.cells * sizeof(Real), d.data());
             launch(init_, b.active * kBrickCells, kCellGroup, b.distance, b.phi, b.g, b.bricks, b.slot, shape(0), offset, s, cut);
             rt_.queue().finish();
         });
@@ -205,6 +205,19 @@ public:
             rt_.queue().enqueueReadBuffer(buffer(level, field), CL_TRUE, 0, storage.size() * sizeof(Real), storage.data());
             unpack(grids_[std::size_t(level)], storage.data(), dense);
         });
+    }
+
+    std::vector<Real> take_phase() override {
+        std::vector<Real> phi;
+        guarded("take_phase", [&] {
+            rt_.queue().finish();
+            cl::Buffer kept = levels_[0].phi;
+            levels_.clear();
+            partial_ = total_ = cl::Buffer();
+            phi.resize(grids_[0].storage());
+            rt_.queue().enqueueReadBuffer(kept, CL_TRUE, 0, phi.size() * sizeof(Real), phi.data());
+        });
+        return phi;
     }
 
     void finish() override {

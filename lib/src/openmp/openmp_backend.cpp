@@ -59,7 +59,7 @@ public:
             std::fill_n(fields_[l].phi.begin() + kPlusSlot * kBrickCells, kBrickCells, Real(1));
             std::fill_n(fields_[l].phi.begin() + kMinusSlot * kBrickCells, kBrickCells, Real(-1));
         }
-        fields_[0].distance.assign(grids_[0].storage(), Real(0));
+        // Level 0's distance arrives with init_phase.
     }
 
     std::size_t bytes() const override {
@@ -68,12 +68,13 @@ public:
         return b;
     }
 
-    void init_phase(const Real* d, Real l, Real s, Real cut) override {
+    void init_phase(std::vector<Real> distance, Real l, Real s, Real cut) override {
+        fields_[0].distance = std::move(distance);
+        fields_[0].distance.resize(grids_[0].storage(), Real(0));
         Real* phi = fields_[0].phi.data();
         Real* g = fields_[0].g.data();
-        Real* distance = fields_[0].distance.data();
+        const Real* d = fields_[0].distance.data();
         for_cells(0, [&](std::size_t c, int, int, int) {
-            distance[c] = d[c];
             const Real diff = l - d[c];
             if (std::abs(diff) > cut) {
                 phi[c] = diff > 0 ? Real(1) : Real(-1);
@@ -270,6 +271,12 @@ public:
 
     void download(int level, FieldKind field, Real* dense) override {
         unpack(grids_[std::size_t(level)], storage(level, field).data(), dense);
+    }
+
+    std::vector<Real> take_phase() override {
+        std::vector<Real> phi = std::move(fields_[0].phi);
+        fields_.clear();
+        return phi;
     }
 
 private:

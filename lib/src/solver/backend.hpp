@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "solver/coarse_inverse.hpp"
 #include "solver/hierarchy.hpp"
@@ -43,8 +44,9 @@ public:
     // Level 0, whole grid: phi = tanh((l - d) / (sqrt(2) xi)), g = 1 - phi^2 (eqs. 4-5),
     // and phi = sign(l - d), g = 0 where |l - d| > cut. `distance` is normalised and in
     // level 0's brick storage (BrickGrid::storage() values, pack_active); the backend
-    // keeps it (FieldKind::distance, level 0) for the tube.
-    virtual void init_phase(const Real* distance, Real offset, Real inv_sqrt2_xi, Real cut) = 0;
+    // keeps it (FieldKind::distance, level 0) for the tube, adopting the vector where
+    // it can (the host's backend), so that it is never held twice.
+    virtual void init_phase(std::vector<Real> distance, Real offset, Real inv_sqrt2_xi, Real cut) = 0;
     // g on level+1: harmonic mean of the 8 children's g (0 if any child is 0).
     virtual void restrict_coefficient(int level) = 0;
 
@@ -77,6 +79,11 @@ public:
 
     virtual void upload(int level, FieldKind field, const Real* dense) = 0;
     virtual void download(int level, FieldKind field, Real* dense) = 0;
+
+    // The end of a run: frees every field but level 0's phi, then hands phi over in its
+    // brick storage (BrickGrid::storage() values), so that the phase field never sits
+    // beside a second copy of the solver's fields. Nothing runs on the backend after.
+    virtual std::vector<Real> take_phase() = 0;
 };
 
 // The backend rule, in one place (backend_factory.cpp).

@@ -1,5 +1,5 @@
 // reconstruct(): a solver session run through its Nt steps (session.hpp), reported
-// as a Result with the dense phase field.
+// as a Result with the phase field in the band's bricks.
 #include "snvr/reconstruct.hpp"
 #include "snvr/stopwatch.hpp"
 
@@ -66,17 +66,7 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
         }
     }
 
-    const Domain& dom = plan.domain;
-    res.phi.nx = dom.nx;
-    res.phi.ny = dom.ny;
-    res.phi.nz = dom.nz;
-    res.phi.precision = params.precision;
-    std::vector<Real>& out = [&]() -> std::vector<Real>& {
-        if constexpr (std::is_same_v<Real, double>) return res.phi.f64;
-        else return res.phi.f32;
-    }();
-    out.resize(dom.cells());
-    session.field(out.data());
+    res.phi = session.take_field();
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <type_traits>
 
 #include "geometry/band_distance.hpp"
 #include "geometry/domain_plan.hpp"
@@ -71,14 +72,14 @@ SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& par
                    dom);
     facts_.active_bricks = layout_.level(0).bricks.size();
     facts_.total_bricks = layout_.level(0).brick_count();
+    // The band's distance moves into the layout's storage before the fields exist, and
+    // from there into the backend: never three copies at once.
+    std::vector<Real> packed = pack_band(layout_, dist);
+    dist.near_values = std::vector<Real>();
     setup_backend(backend_, params.device, layout_, facts_.notes);
     facts_.backend = backend_->name();
-    {
-        const std::vector<Real> packed = pack_band(layout_, dist);
-        facts_.solver_bytes = backend_->bytes() + dist.near_values.size() * sizeof(Real);
-        dist.near_values = std::vector<Real>();  // the backend holds the band's distance from here on
-        backend_->init_phase(packed.data(), Real(band.offset), Real(problem_.profile_slope), Real(band.cut));
-    }
+    backend_->init_phase(std::move(packed), Real(band.offset), Real(problem_.profile_slope), Real(band.cut));
+    facts_.solver_bytes = backend_->bytes();
     problem_.multigrid.exact_level = prepare_coarse_levels(*backend_, hierarchy(), problem_.multigrid);
     backend_->finish();
     facts_.seconds_init = clock.lap();
@@ -112,6 +113,25 @@ StepStats SolverSession<Real>::step() {
 template <class Real>
 void SolverSession<Real>::field(Real* dense) {
     backend_->download(0, FieldKind::phi, dense);
+}
+
+template <class Real>
+Field SolverSession<Real>::take_field() {
+    static_assert(Field::kBrick == kBrick && Field::kBrickCells == kBrickCells, "a Field brick is a solver brick");
+    Field f;
+    const Domain& dom = domain();
+    f.nx = dom.nx;
+    f.ny = dom.ny;
+    f.nz = dom.nz;
+    f.brick = layout_.grid(0).slot;  // constant slots first, as BrickGrid lays them out
+    if constexpr (std::is_same_v<Real, double>) {
+        f.precision = Precision::Double;
+        f.f64 = backend_->take_phase();
+    } else {
+        f.precision = Precision::Single;
+        f.f32 = backend_->take_phase();
+    }
+    return f;
 }
 
 template class SolverSession<double>;

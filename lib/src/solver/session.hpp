@@ -3,7 +3,7 @@
 // tests all drive this type:
 //   SolverSession<double> s(points, params);   // plan, distance, layout, backend, phi0
 //   while (s.steps_done() < s.problem().steps) s.step();
-//   s.field(dense);                            // phi, x-fastest
+//   Field phi = s.take_field();                // phi in the band's bricks; ends the session
 #pragma once
 #include <memory>
 #include <string>
@@ -23,7 +23,7 @@ struct SessionFacts {
     std::size_t queried_cells = 0;       // cells that needed a nearest-point query
     std::size_t active_cells = 0;        // cells with g > 0
     std::size_t active_bricks = 0, total_bricks = 0;  // level 0
-    std::size_t solver_bytes = 0;        // fields held by the backend, plus the distance while it lived
+    std::size_t solver_bytes = 0;        // fields held by the backend
     double seconds_domain = 0, seconds_distance = 0, seconds_init = 0;
 };
 
@@ -42,6 +42,9 @@ public:
 
     // phi on level 0 as a dense x-fastest array of the domain's cells.
     void field(Real* dense);
+    // phi on level 0 as a Field sharing the layout's bricks (memory follows the band);
+    // frees the solver's fields first. No step or field() after it.
+    Field take_field();
 
     const Problem& problem() const { return problem_; }
     const Domain& domain() const { return problem_.plan.domain; }

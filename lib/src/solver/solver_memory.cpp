@@ -30,13 +30,13 @@ std::string gib(std::size_t bytes) {
 
 }  // namespace
 
-std::size_t estimate_plan_bytes(const Domain& d, Precision p) {
+std::size_t estimate_plan_bytes(const Domain& d) {
     std::size_t bricks = 0;
     for (int l = 0; l < d.levels; ++l) {
         const std::size_t n[3] = {std::size_t(d.nx >> l), std::size_t(d.ny >> l), std::size_t(d.nz >> l)};
         bricks += ((n[0] + kBrick - 1) / kBrick) * ((n[1] + kBrick - 1) / kBrick) * ((n[2] + kBrick - 1) / kBrick);
     }
-    return d.cells() * real_size(p) + bricks * sizeof(std::uint32_t);
+    return d.cells() / 8 + bricks * sizeof(std::uint32_t);
 }
 
 std::size_t layout_bytes(const BrickLayout& layout, Precision p) {

@@ -1,6 +1,7 @@
-// What a run will hold, checked before it is allocated: first the dense result and the
-// brick tables (plan_domain, before any distance), then the solver's fields exactly,
-// from the brick layout (the session, before the backend allocates them).
+// What a run will hold, checked before it is allocated: first what follows the box
+// (brick tables, the mesher's sign bits; plan_domain, before any distance), then the
+// solver's fields exactly, from the brick layout (the session, before the backend
+// allocates them).
 #pragma once
 #include <cstddef>
 
@@ -12,9 +13,8 @@ namespace snvr {
 
 inline std::size_t real_size(Precision p) { return p == Precision::Double ? sizeof(double) : sizeof(float); }
 
-// The dense copy of phi handed back in the result, and one slot entry per brick of
-// every level.
-std::size_t estimate_plan_bytes(const Domain& d, Precision p);
+// One slot entry per brick of every level, and the mesher's bit per cell.
+std::size_t estimate_plan_bytes(const Domain& d);
 
 // The solver's fields on this layout: phi, rhs and g on every level, and the distance
 // on level 0, each over the active bricks plus the shared constant bricks.
