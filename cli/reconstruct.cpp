@@ -49,7 +49,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
     seconds.read = stage.lap();
     say("read: " + grouped(points.size()) + " points");
 
-    const snvr::Result result = snvr::reconstruct(points, o.params, [&o](const snvr::Progress& p) {
+    snvr::Result result = snvr::reconstruct(points, o.params, [&o](const snvr::Progress& p) {
         if (!o.quiet) print_progress(std::cerr, p);
     });
     stage.lap();
@@ -91,6 +91,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
             throw;
         }
     }
+    result.phi = snvr::Field();  // meshed and written: its memory goes to the check
     seconds.write = stage.lap();
     seconds.written = total.lap();
 
