@@ -353,6 +353,43 @@ TEST_CASE("triangle grid: bounds, rays along the axes and from the vertices agre
     }
 }
 
+TEST_CASE("triangle grid: triangles many cells wide among small ones agree with brute force") {
+    // The cells follow the mean triangle, so the two large triangles cross hundreds of
+    // cells, where each cell keeps only the part of their box near it.
+    Mesh mesh = shell();
+    const auto first = std::uint32_t(mesh.vertices.size());
+    mesh.vertices.push_back({-0.3, -0.2, 0.45});
+    mesh.vertices.push_back({1.4, 0.1, 0.55});
+    mesh.vertices.push_back({0.2, 1.3, 0.5});
+    mesh.vertices.push_back({0.5, 0.5, -0.4});
+    mesh.triangles.push_back({first, first + 1, first + 2});
+    mesh.triangles.push_back({first, first + 3, first + 1});
+    const TriangleGrid grid(mesh);
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> coord(-0.5, 1.5), unit(-1, 1);
+    for (int n = 0; n < 300; ++n) {
+        const Vec3 p{coord(rng), coord(rng), coord(rng)};
+        double best = kInf;
+        for (const auto& t : mesh.triangles)
+            best = std::min(best, point_triangle_dist_sq(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
+        CHECK(grid.closest(p).dist_sq == best);
+        Vec3 d{unit(rng), unit(rng), unit(rng)};
+        const double len = dist(d, {0, 0, 0});
+        for (double& x : d) x /= len;
+        std::size_t crossings = 0;
+        for (const auto& t : mesh.triangles) {
+            const double s = ray_triangle(p, d, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+            crossings += s > 0 && s < kInf;
+        }
+        const double hit = first_hit_brute(mesh, p, d, 0, TriangleGrid::none);
+        if (hit == kInf)
+            CHECK(grid.first_hit(p, d, 0).t == kInf);
+        else
+            CHECK(grid.first_hit(p, d, 0).t == doctest::Approx(hit).epsilon(1e-9));
+        CHECK(grid.count_crossings(p, d) == crossings);
+    }
+}
+
 TEST_CASE("quality: the same figures with one thread and with two") {
     const Mesh& mesh = shell();  // big enough for every parallel path
     const PointSet points = shapes::sphere(kCentre, kR, 0.01);

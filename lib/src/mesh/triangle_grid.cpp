@@ -8,6 +8,10 @@
 
 #include <omp.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -29,12 +33,31 @@ using detail::threads_here;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr float kInfF = std::numeric_limits<float>::infinity();
 // Finer cells mean fewer triangles tested per query, but 4 bytes per cell and
-// more cells per triangle (each one 28 bytes): on the bunny at 256 cells, 2
+// more cells per triangle (each one 10 bytes): on the bunny at 256 cells, 2
 // to 16 cells per triangle cost about the same, 2 the least memory.
 constexpr double kCellsPerTriangle = 2;
 // The float box tests count boxes as this much larger, relative to the largest
-// coordinate involved (in cells): far above the rounding of floats (2^-24).
+// coordinate involved (in box steps): far above the rounding of floats (2^-24).
 constexpr double kFloatSlack = 0x1p-20;
+
+// An item's box is kept only near its cell, in bytes: byte v stands for (v - kBoxLow)
+// / kBoxSteps cells from the cell's low corner, so a box covers at most half a cell
+// either side of the cell. That is all a query needs: the nearest point of a triangle,
+// or a ray's crossing with it, lies in a cell the triangle is listed in, and each query
+// visits that cell (closest() every cell nearer than the best, a ray every cell it
+// passes); in the other cells the box may dismiss the triangle, as it does here.
+// A third of the memory of float boxes of the whole triangle, and tighter.
+constexpr int kBoxSteps = 128;
+constexpr int kBoxLow = 64;
+
+// A box side at `cells` from the cell's low corner as a byte, rounded outwards (the
+// 1e-6 steps cover the rounding of `cells`) and cut back to the bytes' range.
+std::uint8_t step_down(double cells) {
+    return std::uint8_t(std::clamp(std::floor(cells * kBoxSteps - 1e-6) + kBoxLow, 0.0, 255.0));
+}
+std::uint8_t step_up(double cells) {
+    return std::uint8_t(std::clamp(std::ceil(cells * kBoxSteps + 1e-6) + kBoxLow, 0.0, 255.0));
+}
 
 // Cell offsets up to this many cells away on each axis are visited in order of
 // their distance by closest(); farther ones in growing rings.
@@ -74,43 +97,21 @@ int clamp_cell(double x, int n) {
     return int(x);  // truncation is floor for x > 0
 }
 
-// The cylinder of TriangleGrid::Disc around (a, b, c): the centre and axis need
-// only be near the centroid and the normal; the radius and half height are
-// measured from the rounded ones and rounded up, with room for their own rounding.
-template <class Disc>
-Disc disc(const Vec3& a, const Vec3& b, const Vec3& c) {
-    Disc out;
-    Vec3 n = cross(sub(b, a), sub(c, a));
-    const double len = norm(n);
-    if (len > 0 && std::isfinite(len))
-        for (double& x : n) x /= len;
-    else
-        n = {1, 0, 0};  // degenerate: any axis, the radius covers the rest
-    for (int d = 0; d < 3; ++d) {
-        out.c[d] = float((a[d] + b[d] + c[d]) / 3);
-        out.n[d] = float(n[d]);
-    }
-    double r_sq = 0, h = 0;
-    for (const Vec3* v : {&a, &b, &c}) {
-        const Vec3 u{(*v)[0] - out.c[0], (*v)[1] - out.c[1], (*v)[2] - out.c[2]};
-        r_sq = std::max(r_sq, dot(u, u));
-        h = std::max(h, std::fabs(u[0] * out.n[0] + u[1] * out.n[1] + u[2] * out.n[2]));
-    }
-    const double r = std::sqrt(r_sq);
-    out.r = round_up(r * (1 + 1e-12));
-    out.h = round_up(h * (1 + 1e-12) + 1e-12 * r);  // the products in h may cancel
-    return out;
-}
-
 // Four floats at a time: GCC's and Clang's vector extensions, else plain arrays
 // (SNVR_PLAIN_FLOAT4 forces those, to test them).
 #if defined(__GNUC__) && !defined(SNVR_PLAIN_FLOAT4)
 typedef float F4 __attribute__((vector_size(16)));
 typedef std::int32_t M4 __attribute__((vector_size(16)));
-F4 load4(const float* p) {
-    F4 v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
+F4 load4(const std::uint8_t* p) {
+#if defined(__SSE2__)  // widened in registers: GCC converts a 4-byte vector lane by lane
+    std::int32_t bytes;
+    std::memcpy(&bytes, p, sizeof bytes);
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i words = _mm_unpacklo_epi8(_mm_cvtsi32_si128(bytes), zero);
+    return F4(_mm_cvtepi32_ps(_mm_unpacklo_epi16(words, zero)));
+#else
+    return F4{float(p[0]), float(p[1]), float(p[2]), float(p[3])};
+#endif
 }
 F4 splat(float x) { return F4{x, x, x, x}; }
 #if defined(__SSE__)
@@ -142,7 +143,7 @@ struct F4 {
 struct M4 {
     bool v[4];
 };
-F4 load4(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
+F4 load4(const std::uint8_t* p) { return {{float(p[0]), float(p[1]), float(p[2]), float(p[3])}}; }
 F4 splat(float x) { return {{x, x, x, x}}; }
 template <class Op>
 F4 each(F4 a, F4 b, Op op) {
@@ -222,19 +223,24 @@ double point_triangle_dist_sq(const Vec3& p, const Vec3& a, const Vec3& b, const
 }
 
 // A point against item boxes, four at a time: lower bounds on the squared
-// distance, in cells, from the point to each box, shrunk by the rounding of floats.
+// distance, in box steps, from the point to each box, shrunk by the rounding of floats.
 class TriangleGrid::PointBoxes {
 public:
     PointBoxes(const TriangleGrid& g, const Vec3& p) : g_(g) {
-        double reach = std::max({g.n_[0], g.n_[1], g.n_[2]});
+        for (int d = 0; d < 3; ++d) p_cells_[d] = (p[d] - g.lo_[d]) * g.inv_size_;
+    }
+    // The point as seen from cell (x, y, z)'s boxes.
+    void move_to(int x, int y, int z) {
+        const int at[3] = {x, y, z};
+        double reach = 256;
         for (int d = 0; d < 3; ++d) {
-            const double x = (p[d] - g.lo_[d]) * g.inv_size_;
-            p_[d] = splat(float(x));
-            reach = std::max(reach, std::fabs(x));
+            const double steps = (p_cells_[d] - at[d]) * kBoxSteps + kBoxLow;
+            p_[d] = splat(float(steps));
+            reach = std::max(reach, std::fabs(steps));
         }
         slack_ = splat(float(reach * kFloatSlack));
     }
-    // The items k .. k + 3 whose box may come nearer than sqrt(limit) cells, as bits.
+    // The items k .. k + 3 whose box may come nearer than sqrt(limit) steps, as bits.
     unsigned near(std::uint32_t k, F4 limit) const {
         const F4 zero = splat(0);
         F4 sum = zero;
@@ -245,11 +251,15 @@ public:
         }
         return lanes(less_eq(sum, limit));
     }
-    // best_sq (world units) as a float limit in cells, rounded up with room to spare.
-    F4 limit(double best_sq) const { return splat(float(best_sq * g_.inv_size_ * g_.inv_size_ * (1 + 1e-5))); }
+    // best_sq (world units) as a float limit in steps, rounded up with room to spare.
+    F4 limit(double best_sq) const {
+        const double steps = g_.inv_size_ * kBoxSteps;
+        return splat(float(best_sq * steps * steps * (1 + 1e-5)));
+    }
 
 private:
     const TriangleGrid& g_;
+    std::array<double, 3> p_cells_;
     std::array<F4, 3> p_;
     F4 slack_;
 };
@@ -260,26 +270,32 @@ private:
 class TriangleGrid::RayBoxes {
 public:
     // inv: 1 / dir on each axis (so that the walk and the boxes share three divisions).
-    RayBoxes(const TriangleGrid& g, const Vec3& o, const Vec3& dir, const std::array<double, 3>& inv_dir) {
-        double reach = std::max({g.n_[0], g.n_[1], g.n_[2]});
-        std::array<double, 3> oc;
+    RayBoxes(const TriangleGrid& g, const Vec3& o, const Vec3& dir, const std::array<double, 3>& inv_dir) : g_(g) {
         for (int d = 0; d < 3; ++d) {
-            oc[d] = (o[d] - g.lo_[d]) * g.inv_size_;
-            reach = std::max(reach, std::fabs(oc[d]));
-        }
-        const double m = g.margin_ + reach * kFloatSlack;
-        for (int d = 0; d < 3; ++d) {
-            const bool down = dir[d] < 0;
-            // t per cell along this axis; a coordinate the ray keeps gets a huge
+            down_[d] = dir[d] < 0;
+            o_cells_[d] = (o[d] - g.lo_[d]) * g.inv_size_;
+            // t per box step along this axis; a coordinate the ray keeps gets a huge
             // slope instead of a branch: a box off the ray's line by more than the
             // margin then lies beyond any t.
-            double inv = g.size_ * inv_dir[d];
-            if (!(std::fabs(inv) <= 1e30)) inv = down ? -1e30 : 1e30;
+            double inv = g.size_ * inv_dir[d] / kBoxSteps;
+            if (!(std::fabs(inv) <= 1e30)) inv = down_[d] ? -1e30 : 1e30;
             inv_[d] = splat(float(inv));
-            near_[d] = g.plane(down ? 3 + d : d);
-            far_[d] = g.plane(down ? d : 3 + d);
-            near_o_[d] = splat(float(down ? oc[d] - m : oc[d] + m));
-            far_o_[d] = splat(float(down ? oc[d] + m : oc[d] - m));
+            near_[d] = g.plane(down_[d] ? 3 + d : d);
+            far_[d] = g.plane(down_[d] ? d : 3 + d);
+        }
+    }
+    // The ray as seen from cell c's boxes.
+    void move_to(const std::array<int, 3>& c) {
+        double reach = 256;
+        std::array<double, 3> steps;
+        for (int d = 0; d < 3; ++d) {
+            steps[d] = (o_cells_[d] - c[d]) * kBoxSteps + kBoxLow;
+            reach = std::max(reach, std::fabs(steps[d]));
+        }
+        const double m = g_.margin_ * kBoxSteps + reach * kFloatSlack;
+        for (int d = 0; d < 3; ++d) {
+            near_o_[d] = splat(float(down_[d] ? steps[d] - m : steps[d] + m));
+            far_o_[d] = splat(float(down_[d] ? steps[d] + m : steps[d] - m));
         }
     }
     // The items k .. k + 3 whose box may meet origin + t dir for some t in [ta, tb], as bits.
@@ -292,8 +308,11 @@ public:
     }
 
 private:
+    const TriangleGrid& g_;
+    std::array<bool, 3> down_;
+    std::array<double, 3> o_cells_;
     std::array<F4, 3> inv_, near_o_, far_o_;
-    std::array<const float*, 3> near_, far_;  // the planes each axis enters and leaves by
+    std::array<const std::uint8_t*, 3> near_, far_;  // the planes each axis enters and leaves by
 };
 
 TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
@@ -307,12 +326,10 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
     constexpr std::size_t kChunk = 1 << 14;
     const std::size_t n_chunks = (nt + kChunk - 1) / kChunk;
     std::vector<std::array<double, 7>> part(n_chunks);
-    discs_.reset(new Disc[nt]);  // every one written below
 #pragma omp parallel for schedule(static) if (nt > 20000)
     for (std::ptrdiff_t c = 0; c < std::ptrdiff_t(n_chunks); ++c) {
         std::array<double, 7> acc{kInf, kInf, kInf, -kInf, -kInf, -kInf, 0};
         for (std::size_t t = std::size_t(c) * kChunk; t < std::min(nt, std::size_t(c + 1) * kChunk); ++t) {
-            discs_[t] = disc<Disc>(V[T[t][0]], V[T[t][1]], V[T[t][2]]);
             double side = 0;
             for (int d = 0; d < 3; ++d) {
                 const double a = V[T[t][0]][d], b = V[T[t][1]][d], e = V[T[t][2]][d];
@@ -358,12 +375,12 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
     margin_ = (1e-7 * (diag + size_) + 1e-12 * max_abs) * inv_size_;
     tiny_sq_ = 1e-10 * size_ * size_;
 
-    // Calls visit(cell index, box) for every cell with z in [z_lo, z_hi) that
-    // triangle t's box meets (grown by a sliver, so that a point on a cell face
-    // finds the triangle from both cells whatever the rounding); with_box: box is
-    // the box in cells from lo_, rounded outwards to floats (else left unset).
-    // Worked out again from the corners by each pass: cheaper than keeping them.
-    const auto for_box_cells = [&](std::size_t t, int z_lo, int z_hi, bool with_box, auto&& visit) {
+    // Calls visit(cell index, x, y, z, box) for every cell (x, y, z) with z in
+    // [z_lo, z_hi) that triangle t's box meets (grown by a sliver, so that a point on
+    // a cell face finds the triangle from both cells whatever the rounding); box is
+    // the box in cells from lo_ (lo x y z, hi x y z). Worked out again from the
+    // corners by each pass: cheaper than keeping them.
+    const auto for_box_cells = [&](std::size_t t, int z_lo, int z_hi, auto&& visit) {
         const Vec3 &a = V[T[t][0]], &b = V[T[t][1]], &c = V[T[t][2]];
         const double z_min = (std::min({a[2], b[2], c[2]}) - lo_[2]) * inv_size_;
         const double z_max = (std::max({a[2], b[2], c[2]}) - lo_[2]) * inv_size_;
@@ -376,14 +393,11 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
         const double y_max = (std::max({a[1], b[1], c[1]}) - lo_[1]) * inv_size_;
         const int y0 = clamp_cell(y_min - 1e-9, n_[1]), y1 = clamp_cell(y_max + 1e-9, n_[1]);
         const int x0 = clamp_cell(x_min - 1e-9, n_[0]), x1 = clamp_cell(x_max + 1e-9, n_[0]);
-        std::array<float, 6> box{};
-        if (with_box)
-            box = {round_down(x_min), round_down(y_min), round_down(z_min),
-                   round_up(x_max),   round_up(y_max),   round_up(z_max)};
+        const std::array<double, 6> box{x_min, y_min, z_min, x_max, y_max, z_max};
         for (int z = z0; z <= z1; ++z)
             for (int y = y0; y <= y1; ++y) {
                 const std::size_t row = index(0, y, z);
-                for (int x = x0; x <= x1; ++x) visit(row + std::size_t(x), box);
+                for (int x = x0; x <= x1; ++x) visit(row + std::size_t(x), x, y, z, box);
             }
     };
     // Counted and filled in slabs of z, one thread each, every slab in triangle
@@ -397,7 +411,7 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
     for (int s = 0; s < slabs; ++s) {
         const int z_lo = slab_z(s), z_hi = slab_z(s + 1);
         for (std::size_t t = 0; t < nt; ++t)
-            for_box_cells(t, z_lo, z_hi, false, [&](std::size_t c, const std::array<float, 6>&) { ++count[c]; });
+            for_box_cells(t, z_lo, z_hi, [&](std::size_t c, int, int, int, const std::array<double, 6>&) { ++count[c]; });
     }
     std::uint64_t total = 0;
     for (std::size_t c = 1; c <= n_cells; ++c) {
@@ -409,7 +423,7 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
     // Items padded by a group of four (zeros), so that whole groups can be read.
     stride_ = std::size_t(total) + 4;
     items_.reset(new std::uint32_t[stride_]);
-    item_boxes_.reset(new float[6 * stride_]);
+    item_boxes_.reset(new std::uint8_t[6 * stride_]);
     for (std::size_t k = total; k < stride_; ++k) {
         items_[k] = 0;
         for (int j = 0; j < 6; ++j) item_boxes_[std::size_t(j) * stride_ + k] = 0;
@@ -420,12 +434,16 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
         const int z_lo = slab_z(s), z_hi = slab_z(s + 1);
         std::uint32_t* cursor = start_.data();
         std::uint32_t* items = items_.get();
-        float* planes = item_boxes_.get();
+        std::uint8_t* planes = item_boxes_.get();
         for (std::size_t t = 0; t < nt; ++t)
-            for_box_cells(t, z_lo, z_hi, true, [&](std::size_t c, const std::array<float, 6>& box) {
+            for_box_cells(t, z_lo, z_hi, [&](std::size_t c, int x, int y, int z, const std::array<double, 6>& box) {
                 const std::uint32_t k = cursor[c]++;
                 items[k] = std::uint32_t(t);
-                for (int j = 0; j < 6; ++j) planes[std::size_t(j) * stride_ + k] = box[j];
+                const int at[3] = {x, y, z};
+                for (int d = 0; d < 3; ++d) {
+                    planes[std::size_t(d) * stride_ + k] = step_down(box[d] - at[d]);
+                    planes[std::size_t(3 + d) * stride_ + k] = step_up(box[3 + d] - at[d]);
+                }
             });
     }
     std::copy_backward(start_.begin(), start_.end() - 1, start_.end());
@@ -445,27 +463,17 @@ double TriangleGrid::cell_gap_sq(const Vec3& p, int x, int y, int z) const {
     return box;
 }
 
-void TriangleGrid::scan_cell(const Vec3& p, const PointBoxes& boxes, std::size_t i, Closest& best) const {
+void TriangleGrid::scan_cell(const Vec3& p, PointBoxes& boxes, int x, int y, int z, Closest& best) const {
     const auto& V = mesh_.vertices;
     const auto& T = mesh_.triangles;
+    const std::size_t i = index(x, y, z);
     const std::uint32_t last = start_[i + 1];
+    if (start_[i] == last) return;
+    boxes.move_to(x, y, z);
     F4 limit = boxes.limit(best.dist_sq);
     for (std::uint32_t k = start_[i]; k < last; k += 4)
         for (unsigned m = boxes.near(k, limit) & valid_lanes(last - k); m; m &= m - 1) {
             const std::uint32_t tri = items_[k + std::uint32_t(lowest_lane(m))];
-            // The cylinder next: its axis is a unit vector to within 1e-7, which the
-            // factors below cover, as 1e-6 covers the rounding of this bound.
-            const Disc& e = discs_[tri];
-            const double ux = p[0] - e.c[0], uy = p[1] - e.c[1], uz = p[2] - e.c[2];
-            const double along = std::fabs(ux * e.n[0] + uy * e.n[1] + uz * e.n[2]);
-            const double axial = std::max(0.0, along - double(e.h));
-            if (beyond(axial * axial * (1 - 1e-6), best.dist_sq)) continue;  // across the plane alone is too far
-            const double across_sq = ux * ux + uy * uy + uz * uz - along * along * (1 + 1e-6);
-            const double r = e.r;
-            if (across_sq > r * r) {  // beside the disc too: the square root is worth taking
-                const double lateral = std::sqrt(across_sq) - r;
-                if (beyond((axial * axial + lateral * lateral) * (1 - 1e-6), best.dist_sq)) continue;
-            }
             const auto& t = T[tri];
             const double d = point_triangle_dist_sq(p, V[t[0]], V[t[1]], V[t[2]]);
             if (d < best.dist_sq) {
@@ -479,7 +487,7 @@ TriangleGrid::Closest TriangleGrid::closest(const Vec3& p, double bound_sq) cons
     const Closest nothing{kInf, none};
     if (start_.empty() || !(bound_sq > 0)) return nothing;
     Closest best{bound_sq, none};
-    const PointBoxes boxes(*this, p);
+    PointBoxes boxes(*this, p);
     // Only a triangle with a distance below the bound replaces it.
     const auto result = [&] { return best.triangle == none ? nothing : best; };
     const std::array<int, 3> c{cell(0, p[0]), cell(1, p[1]), cell(2, p[2])};
@@ -508,7 +516,7 @@ TriangleGrid::Closest TriangleGrid::closest(const Vec3& p, double bound_sq) cons
             }
             const double cell_gap = gap[0][o.d[0] + kNear] + gap[1][o.d[1] + kNear] + gap[2][o.d[2] + kNear];
             if (cell_gap == kInf || beyond(cell_gap, best.dist_sq)) continue;  // off the grid, or too far
-            scan_cell(p, boxes, index(c[0] + o.d[0], c[1] + o.d[1], c[2] + o.d[2]), best);
+            scan_cell(p, boxes, c[0] + o.d[0], c[1] + o.d[1], c[2] + o.d[2], best);
         }
         if (done) return result();
         first_ring = kNear + 1;
@@ -516,7 +524,7 @@ TriangleGrid::Closest TriangleGrid::closest(const Vec3& p, double bound_sq) cons
     for (int r = first_ring;; ++r) {
         // The cells at Chebyshev distance exactly r from c, clipped to the grid.
         const auto visit = [&](int x, int y, int z) {
-            if (!beyond(cell_gap_sq(p, x, y, z), best.dist_sq)) scan_cell(p, boxes, index(x, y, z), best);
+            if (!beyond(cell_gap_sq(p, x, y, z), best.dist_sq)) scan_cell(p, boxes, x, y, z, best);
         };
         const int z0 = std::max(0, c[2] - r), z1 = std::min(n_[2] - 1, c[2] + r);
         const int y0 = std::max(0, c[1] - r), y1 = std::min(n_[1] - 1, c[1] + r);
@@ -579,7 +587,7 @@ void TriangleGrid::walk(const Vec3& origin, const Vec3& dir, const std::array<do
     for (;;) {
         const int d = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
         const std::size_t i = index(c[0], c[1], c[2]);
-        if (start_[i] != start_[i + 1] && !visit(start_[i], start_[i + 1], t_next[d])) return;
+        if (start_[i] != start_[i + 1] && !visit(start_[i], start_[i + 1], t_next[d], c)) return;
         c[d] += step[d];
         if (c[d] < 0 || c[d] >= n_[d] || t_next[d] > t1) return;
         t_next[d] += t_delta[d];
@@ -592,10 +600,11 @@ TriangleGrid::Hit TriangleGrid::first_hit(const Vec3& origin, const Vec3& dir, d
     const auto& V = mesh_.vertices;
     const auto& T = mesh_.triangles;
     const std::array<double, 3> inv{1 / dir[0], 1 / dir[1], 1 / dir[2]};
-    const RayBoxes boxes(*this, origin, dir, inv);
+    RayBoxes boxes(*this, origin, dir, inv);
     const F4 ta = splat(round_down(t_min));
     F4 tb = splat(kInfF);
-    walk(origin, dir, inv, [&](std::uint32_t first, std::uint32_t last, double t_exit) {
+    walk(origin, dir, inv, [&](std::uint32_t first, std::uint32_t last, double t_exit, const std::array<int, 3>& cell) {
+        boxes.move_to(cell);
         for (std::uint32_t k = first; k < last; k += 4)
             for (unsigned m = boxes.meet(k, ta, tb) & valid_lanes(last - k); m; m &= m - 1) {
                 const std::uint32_t tri = items_[k + std::uint32_t(lowest_lane(m))];
@@ -617,14 +626,15 @@ std::size_t TriangleGrid::count_crossings(const Vec3& origin, const Vec3& dir) c
     const auto& V = mesh_.vertices;
     const auto& T = mesh_.triangles;
     const std::array<double, 3> inv{1 / dir[0], 1 / dir[1], 1 / dir[2]};
-    const RayBoxes boxes(*this, origin, dir, inv);
+    RayBoxes boxes(*this, origin, dir, inv);
     const F4 ta = splat(0), tb = splat(kInfF);
     // A triangle is listed in every cell it meets: keep the hits to count each once.
     constexpr std::size_t kLocal = 64;
     std::uint32_t local[kLocal];
     std::vector<std::uint32_t> more;
     std::size_t n = 0;
-    walk(origin, dir, inv, [&](std::uint32_t first, std::uint32_t last, double) {
+    walk(origin, dir, inv, [&](std::uint32_t first, std::uint32_t last, double, const std::array<int, 3>& cell) {
+        boxes.move_to(cell);
         for (std::uint32_t k = first; k < last; k += 4)
             for (unsigned m = boxes.meet(k, ta, tb) & valid_lanes(last - k); m; m &= m - 1) {
                 const std::uint32_t tri = items_[k + std::uint32_t(lowest_lane(m))];

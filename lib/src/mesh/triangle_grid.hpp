@@ -1,8 +1,9 @@
 // A uniform grid over a mesh's triangles for the two queries the quality measures
 // need: the closest point of the surface to a point, and where a ray meets the
-// surface. Each cell lists the triangles whose bounding box meets it, each with
-// that box as floats beside it, so that four candidates at a time are dismissed
-// before the exact test; every query still returns what testing all triangles would.
+// surface. Each cell lists the triangles whose bounding box meets it, each with the
+// part of that box near the cell beside it in bytes, so that four candidates at a time
+// are dismissed before the exact test; every query still returns what testing all
+// triangles would.
 #pragma once
 #include <array>
 #include <cstddef>
@@ -45,24 +46,17 @@ public:
     std::size_t count_crossings(const Vec3& origin, const Vec3& dir) const;
 
 private:
-    // A flat cylinder holding a triangle, for closest(): centre c, unit axis n,
-    // radius r and half height h (|n.(x - c)| <= h), all rounded to contain it.
-    // Far tighter than the box beside a slanted triangle.
-    struct Disc {
-        std::array<float, 3> c, n;
-        float r, h;
-    };
     class RayBoxes;
     class PointBoxes;
 
-    // Walks the cells the ray passes, in order, calling visit(first, last, t_exit)
-    // with each nonempty cell's item range; stops when visit returns false.
+    // Walks the cells the ray passes, in order, calling visit(first, last, t_exit, cell)
+    // with each nonempty cell's item range and coordinates; stops when visit returns false.
     // inv: 1 / dir on each axis.
     template <class Visit>
     void walk(const Vec3& origin, const Vec3& dir, const std::array<double, 3>& inv, const Visit& visit) const;
 
-    // Tests the triangles of cell i against p, keeping the nearest in best.
-    void scan_cell(const Vec3& p, const PointBoxes& boxes, std::size_t i, Closest& best) const;
+    // Tests the triangles of cell (x, y, z) against p, keeping the nearest in best.
+    void scan_cell(const Vec3& p, PointBoxes& boxes, int x, int y, int z, Closest& best) const;
     // Squared distance from p to cell (x, y, z).
     double cell_gap_sq(const Vec3& p, int x, int y, int z) const;
     // True when something at squared distance lower_sq (a lower bound, rounded)
@@ -73,8 +67,10 @@ private:
     std::size_t index(int x, int y, int z) const {
         return std::size_t(x) + std::size_t(n_[0]) * (std::size_t(y) + std::size_t(n_[1]) * std::size_t(z));
     }
-    // Box coordinate k (0-2 lo x y z, 3-5 hi) of every item, in cells from lo_.
-    const float* plane(int k) const { return item_boxes_.get() + std::size_t(k) * stride_; }
+    // Box coordinate k (0-2 lo x y z, 3-5 hi) of every item: the part of the triangle's
+    // box near the item's cell, in steps of 1 / kBoxSteps cell from kBoxLow steps below
+    // the cell's low corner (box_step() rounds it outwards).
+    const std::uint8_t* plane(int k) const { return item_boxes_.get() + std::size_t(k) * stride_; }
 
     const Mesh& mesh_;
     Vec3 lo_{0, 0, 0}, hi_{0, 0, 0};
@@ -84,12 +80,11 @@ private:
     std::array<int, 3> n_{0, 0, 0};
     std::vector<std::uint32_t> start_;  // cell c lists items [start_[c], start_[c + 1])
     // Each item's triangle (ascending within a cell), and the six planes of stride_
-    // floats of plane(). Plain new[]: the arrays are large, and every slot is
-    // written once (a zeroing pass would cost as much again).
+    // bytes of plane(): 10 bytes an item. Plain new[]: the arrays are large, and every
+    // slot is written once (a zeroing pass would cost as much again).
     std::unique_ptr<std::uint32_t[]> items_;
-    std::unique_ptr<float[]> item_boxes_;
+    std::unique_ptr<std::uint8_t[]> item_boxes_;
     std::size_t stride_ = 0;
-    std::unique_ptr<Disc[]> discs_;  // per triangle
 };
 
 // Distance squared from p to the triangle (a, b, c), degenerate triangles included.

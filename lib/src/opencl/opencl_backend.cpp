@@ -72,8 +72,8 @@ public:
                 most_bricks = std::max(most_bricks, b.active);
                 for (cl::Buffer* f : {&b.phi, &b.rhs, &b.g, &b.distance}) {
                     if (f == &b.distance && l > 0) continue;
-                    *f = rt_.buffer(b.cells * sizeof(Real), "a solver field");
-                    rt_.queue().enqueueFillBuffer(*f, Real(0), 0, b.cells * sizeof(Real));
+                    if (f == &b.rhs && l == 0) continue;  // init_phase makes it, once the distance's host copy is gone
+                    *f = zeroed_field(b.cells);
                 }
                 const std::vector<Real> plus(kBrickCells, Real(1)), minus(kBrickCells, Real(-1));
                 rt_.queue().enqueueWriteBuffer(b.phi, CL_TRUE, kPlusSlot * kBrickCells * sizeof(Real), kBrickCells * sizeof(Real), plus.data());
@@ -98,11 +98,14 @@ public:
 
     void init_phase(std::vector<Real> d, Real offset, Real s, Real cut) override {
         guarded("init_phase", [&] {
-            if (levels_[0].active == 0) return;
-            const LevelBuffers& b = levels_[0];
-            rt_.queue().enqueueWriteBuffer(b.distance, CL_TRUE, 0, b.cells * sizeof(Real), d.data());
-            launch(init_, b.active * kBrickCells, kCellGroup, b.distance, b.phi, b.g, b.bricks, b.slot, shape(0), offset, s, cut);
-            rt_.queue().finish();
+            LevelBuffers& b = levels_[0];
+            if (b.active > 0) {
+                rt_.queue().enqueueWriteBuffer(b.distance, CL_TRUE, 0, b.cells * sizeof(Real), d.data());
+                launch(init_, b.active * kBrickCells, kCellGroup, b.distance, b.phi, b.g, b.bricks, b.slot, shape(0), offset, s, cut);
+                rt_.queue().finish();
+            }
+            std::vector<Real>().swap(d);
+            b.rhs = zeroed_field(b.cells);
         });
     }
 
@@ -225,6 +228,12 @@ public:
     }
 
 private:
+    cl::Buffer zeroed_field(std::size_t cells) {
+        cl::Buffer f = rt_.buffer(cells * sizeof(Real), "a solver field");
+        rt_.queue().enqueueFillBuffer(f, Real(0), 0, cells * sizeof(Real));
+        return f;
+    }
+
     std::size_t accumulator_size() const { return rt_.double_accumulator() ? sizeof(double) : sizeof(float); }
 
     Shape shape(int level) const {
