@@ -13,7 +13,7 @@ rows(file, s) = "< awk '$1 == \"" . s . "\"' " . file
 f = dir . "/scaling.dat"
 if (strlen(series(f)) > 0) {
 set output dir . "/scaling.png"
-set title "Scaling: bunny at 128-512 cells on the longest axis"
+set title "Scaling: the bunny from 128 cells on the longest axis up"
 set logscale xy
 set xlabel "cells in the band"
 set ylabel "seconds, file to mesh (median)"
@@ -29,6 +29,15 @@ set xlabel "cells in the band"
 set title "Peak memory against cells in the band"
 set ylabel "peak resident memory, MiB"
 plot for [s in series(f)] rows(f, s) using 3:6 with linespoints pt 7 title s
+
+set output dir . "/scaling_bytes_per_band_cell.png"
+set title "Memory per cell of the band: the solver's fields (lines) and the peak (points)"
+unset logscale y
+set yrange [0:*]
+set ylabel "bytes per band cell"
+plot for [s in series(f)] rows(f, s) using 3:7 with linespoints pt 7 title s . " solver", \
+     for [s in series(f)] rows(f, s) using 3:8 with points pt 4 ps 1.5 title s . " peak"
+set autoscale y
 unset logscale
 }
 

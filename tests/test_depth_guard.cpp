@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "with_threads.hpp"
 #include "mesh_fields.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
@@ -348,16 +349,6 @@ TEST_CASE("keep_points_deep rejects a depth or voxel that is not positive and fi
 }
 
 namespace {
-
-// f() run with n OpenMP threads.
-template <class F>
-auto with_threads(int n, F f) {
-    const int before = omp_get_max_threads();
-    omp_set_num_threads(n);
-    auto r = f();
-    omp_set_num_threads(before);
-    return r;
-}
 
 void check_same(const DepthGuardReport& a, const DepthGuardReport& b) {
     CHECK(a.near_vertices == b.near_vertices);

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "with_threads.hpp"
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
 #include "snvr/mesh.hpp"
@@ -32,6 +33,8 @@ extern "C" int omp_get_max_threads();
 using namespace snvr;
 using snvr::testing::TempDir;
 namespace fs = std::filesystem;
+
+using snvr::testing::with_threads;
 
 namespace {
 
@@ -234,59 +237,7 @@ TEST_CASE("quality: bad arguments") {
     CHECK_THROWS_AS(measure_quality(broken, {kCentre}, 0.1, 0.01), InputError);
 }
 
-TEST_CASE("triangle grid: closest triangle and first hit agree with brute force") {
-    const Mesh& mesh = shell();
-    const TriangleGrid grid(mesh);
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<double> coord(-0.2, 1.2), unit(-1, 1);
-    for (int n = 0; n < 200; ++n) {
-        const Vec3 p{coord(rng), coord(rng), coord(rng)};
-        double best = kInf;
-        for (const auto& t : mesh.triangles)
-            best = std::min(best, point_triangle_dist_sq(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
-        CHECK(grid.closest(p).dist_sq == best);
-
-        Vec3 d{unit(rng), unit(rng), unit(rng)};
-        const double len = dist(d, {0, 0, 0});
-        for (double& x : d) x /= len;
-        double first = kInf;
-        std::size_t crossings = 0;
-        for (const auto& t : mesh.triangles) {
-            const double s = ray_triangle(p, d, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
-            if (s > 0 && s < kInf) {
-                first = std::min(first, s);
-                ++crossings;
-            }
-        }
-        const TriangleGrid::Hit hit = grid.first_hit(p, d, 0);
-        if (first == kInf) {
-            CHECK(hit.t == kInf);
-            CHECK(hit.triangle == TriangleGrid::none);
-        } else {
-            CHECK(hit.t == doctest::Approx(first).epsilon(1e-9));
-        }
-        CHECK(grid.count_crossings(p, d) == crossings);
-    }
-    // Distance to a triangle's own plane, edges and corners.
-    const Vec3 a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
-    CHECK(point_triangle_dist_sq({0.2, 0.2, 0.5}, a, b, c) == doctest::Approx(0.25));
-    CHECK(point_triangle_dist_sq({2, 0, 0}, a, b, c) == doctest::Approx(1));
-    CHECK(point_triangle_dist_sq({1, 1, 0}, a, b, c) == doctest::Approx(0.5));
-    CHECK(point_triangle_dist_sq({0.5, -1, 0}, a, b, c) == doctest::Approx(1));
-    CHECK(point_triangle_dist_sq({3, 0, 0}, a, b, {2, 0, 0}) == doctest::Approx(1));  // degenerate
-}
-
 namespace {
-
-// f() run with n OpenMP threads.
-template <class F>
-auto with_threads(int n, F f) {
-    const int before = omp_get_max_threads();
-    omp_set_num_threads(n);
-    auto r = f();
-    omp_set_num_threads(before);
-    return r;
-}
 
 // The brute-force first hit: the least t > t_min over the triangles without vertex skip.
 double first_hit_brute(const Mesh& mesh, const Vec3& p, const Vec3& d, double t_min, std::uint32_t skip) {
@@ -299,7 +250,52 @@ double first_hit_brute(const Mesh& mesh, const Vec3& p, const Vec3& d, double t_
     return first;
 }
 
+// Random points and rays against every triangle: closest distance, first hit and
+// the number of crossings as the grid finds them.
+void check_grid_against_brute_force(const Mesh& mesh, unsigned seed, int queries, double lo, double hi) {
+    const TriangleGrid grid(mesh);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> coord(lo, hi), unit(-1, 1);
+    for (int n = 0; n < queries; ++n) {
+        const Vec3 p{coord(rng), coord(rng), coord(rng)};
+        double best = kInf;
+        for (const auto& t : mesh.triangles)
+            best = std::min(best, point_triangle_dist_sq(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
+        CHECK(grid.closest(p).dist_sq == best);
+
+        Vec3 d{unit(rng), unit(rng), unit(rng)};
+        const double len = dist(d, {0, 0, 0});
+        for (double& x : d) x /= len;
+        std::size_t crossings = 0;
+        for (const auto& t : mesh.triangles) {
+            const double s = ray_triangle(p, d, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+            crossings += s > 0 && s < kInf;
+        }
+        const double first = first_hit_brute(mesh, p, d, 0, TriangleGrid::none);
+        const TriangleGrid::Hit hit = grid.first_hit(p, d, 0);
+        if (first == kInf) {
+            CHECK(hit.t == kInf);
+            CHECK(hit.triangle == TriangleGrid::none);
+        } else {
+            CHECK(hit.t == doctest::Approx(first).epsilon(1e-9));
+        }
+        CHECK(grid.count_crossings(p, d) == crossings);
+    }
+}
+
 }  // namespace
+
+TEST_CASE("triangle grid: closest triangle and first hit agree with brute force") {
+    check_grid_against_brute_force(shell(), 11, 200, -0.2, 1.2);
+    // Distance to a triangle's own plane, edges and corners.
+    const Vec3 a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
+    CHECK(point_triangle_dist_sq({0.2, 0.2, 0.5}, a, b, c) == doctest::Approx(0.25));
+    CHECK(point_triangle_dist_sq({2, 0, 0}, a, b, c) == doctest::Approx(1));
+    CHECK(point_triangle_dist_sq({1, 1, 0}, a, b, c) == doctest::Approx(0.5));
+    CHECK(point_triangle_dist_sq({0.5, -1, 0}, a, b, c) == doctest::Approx(1));
+    CHECK(point_triangle_dist_sq({3, 0, 0}, a, b, {2, 0, 0}) == doctest::Approx(1));  // degenerate
+}
+
 
 TEST_CASE("triangle grid: bounds, rays along the axes and from the vertices agree with brute force") {
     const Mesh& mesh = shell();
@@ -364,30 +360,7 @@ TEST_CASE("triangle grid: triangles many cells wide among small ones agree with 
     mesh.vertices.push_back({0.5, 0.5, -0.4});
     mesh.triangles.push_back({first, first + 1, first + 2});
     mesh.triangles.push_back({first, first + 3, first + 1});
-    const TriangleGrid grid(mesh);
-    std::mt19937 rng(17);
-    std::uniform_real_distribution<double> coord(-0.5, 1.5), unit(-1, 1);
-    for (int n = 0; n < 300; ++n) {
-        const Vec3 p{coord(rng), coord(rng), coord(rng)};
-        double best = kInf;
-        for (const auto& t : mesh.triangles)
-            best = std::min(best, point_triangle_dist_sq(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
-        CHECK(grid.closest(p).dist_sq == best);
-        Vec3 d{unit(rng), unit(rng), unit(rng)};
-        const double len = dist(d, {0, 0, 0});
-        for (double& x : d) x /= len;
-        std::size_t crossings = 0;
-        for (const auto& t : mesh.triangles) {
-            const double s = ray_triangle(p, d, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
-            crossings += s > 0 && s < kInf;
-        }
-        const double hit = first_hit_brute(mesh, p, d, 0, TriangleGrid::none);
-        if (hit == kInf)
-            CHECK(grid.first_hit(p, d, 0).t == kInf);
-        else
-            CHECK(grid.first_hit(p, d, 0).t == doctest::Approx(hit).epsilon(1e-9));
-        CHECK(grid.count_crossings(p, d) == crossings);
-    }
+    check_grid_against_brute_force(mesh, 17, 300, -0.5, 1.5);
 }
 
 TEST_CASE("quality: the same figures with one thread and with two") {

@@ -6,7 +6,8 @@
 // quality section's PNG previews.
 //
 //   snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality] [--devices D1,D2]
-//              [--precisions double,float] [--repeat N] [--table2 128,256,512] [--data DIR] [--out DIR]
+//              [--precisions double,float] [--repeat N] [--table2 128,256,512] [--scaling 128,256,384,512]
+//              [--data DIR] [--out DIR]
 //              [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]
 // Cases above 256 cells on the longest axis run once, without a warm-up (minutes each).
 #include <sys/stat.h>
@@ -37,6 +38,7 @@ struct Options {
     std::vector<std::string> devices, precisions;  // empty: all available / by mode
     int repeat = 3;
     std::vector<int> table2{128, 256, 512};  // 512^3 where memory allows (else "not measured")
+    std::vector<int> scaling{128, 256, 384, 512};
     std::string data = SNVR_DATA_DIR, out = "snvr-bench-results";
     std::vector<int> quality_resolutions{128, 256, 512};
     std::vector<std::string> quality_cases;  // empty: all (--quick: bunny and sheets)
@@ -52,10 +54,17 @@ std::vector<std::string> split(const std::string& s) {
     return v;
 }
 
+std::vector<int> resolutions(const std::string& s) {
+    std::vector<int> v;
+    for (const std::string& n : split(s)) v.push_back(std::atoi(n.c_str()));
+    return v;
+}
+
 int usage(const char* why) {
     std::fprintf(stderr,
                  "snvr-bench: %s\nusage: snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality] [--devices D1,D2]\n"
-                 "                  [--precisions double,float] [--repeat N] [--table2 128,256,512] [--data DIR] [--out DIR]\n"
+                 "                  [--precisions double,float] [--repeat N] [--table2 128,256,512] [--scaling 128,256,384,512]\n"
+                 "                  [--data DIR] [--out DIR]\n"
                  "                  [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]\n",
                  why);
     return 2;
@@ -112,7 +121,7 @@ Plan plan_cases(const Options& o) {
                 plan.runs.push_back(c);
             }
     if (o.sections.count("scaling"))
-        for (int n : q ? std::vector<int>{48, 64, 96} : std::vector<int>{128, 256, 384, 512})
+        for (int n : q ? std::vector<int>{48, 64, 96} : o.scaling)
             plan.runs.push_back(run("scaling", "bunny", scan("bunny.ply"), n, q ? 2 : 6));
     if (o.sections.count("roofline")) {
         plan.roofline.push_back({"bunny", scan("bunny.ply")});
@@ -198,16 +207,11 @@ int main(int argc, char** argv) {
         else if (opt == "--devices") o.devices = split(val);
         else if (opt == "--precisions") o.precisions = split(val);
         else if (opt == "--repeat") o.repeat = std::atoi(val.c_str());
+        else if (opt == "--scaling") o.scaling = resolutions(val);
         else if (opt == "--data") o.data = val;
-        else if (opt == "--table2") {
-            o.table2.clear();
-            for (const std::string& n : split(val)) o.table2.push_back(std::atoi(n.c_str()));
-        }
+        else if (opt == "--table2") o.table2 = resolutions(val);
         else if (opt == "--out") o.out = val;
-        else if (opt == "--quality-resolutions") {
-            o.quality_resolutions.clear();
-            for (const std::string& n : split(val)) o.quality_resolutions.push_back(std::atoi(n.c_str()));
-        }
+        else if (opt == "--quality-resolutions") o.quality_resolutions = resolutions(val);
         else if (opt == "--quality-cases") o.quality_cases = split(val);
         else if (opt == "--quality-reference") o.quality_reference = std::atoi(val.c_str());
         else return usage(("unknown option " + opt).c_str());
@@ -216,6 +220,8 @@ int main(int argc, char** argv) {
     for (int n : o.quality_resolutions)
         if (n < 8) return usage("--quality-resolutions must be at least 8 cells");
     if (o.quality_resolutions.empty()) return usage("--quality-resolutions is empty");
+    for (int n : o.scaling)
+        if (n < 8) return usage("--scaling must be at least 8 cells");
     if (o.quality_reference < 8) return usage("--quality-reference must be at least 8 cells");
     if (o.quick) o.repeat = 1;
     if (o.precisions.empty()) o.precisions = o.quick ? std::vector<std::string>{"double"} : std::vector<std::string>{"double", "float"};

@@ -26,6 +26,9 @@ std::vector<const Record*> section(const std::vector<Record>& all, const std::st
 
 std::string who(const Record& r) { return r.text("device") + " | " + r.text("precision"); }
 
+// Bytes per cell of the band from a figure in MiB: memory against the surface's size.
+double per_band_cell(const Record& r, const char* mib) { return r.number(mib) * double(1 << 20) / r.number("band_cells"); }
+
 std::string seconds_with_spread(const Record& r) {
     return fmt("%.2f", r.number("total_s")) + " (" + fmt("%.2f", r.number("total_min_s")) + "-" + fmt("%.2f", r.number("total_max_s")) + ")";
 }
@@ -135,11 +138,12 @@ std::string markdown(const std::vector<Record>& all, const std::string& heading)
     if (!sc.empty()) {
         md += "\n### Scaling with resolution\n\n"
               "| case | device | precision | grid | cells | band cells | total s, median (min-max) | steps s | peak MiB | "
-              "us per band cell |\n|---|---|---|---|---|---|---|---|---|---|\n";
+              "us per band cell | solver bytes per band cell | peak bytes per band cell |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
         for (const Record* r : sc)
             md += "| " + r->text("case") + " | " + who(*r) + " | " + r->text("grid") + " | " + fmt("%.3g", r->number("cells")) + " | " +
                   fmt("%.3g", r->number("band_cells")) + " | " + seconds_with_spread(*r) + " | " + fmt("%.2f", r->number("steps_s")) + " | " +
-                  fmt("%.0f", r->number("peak_rss_mib")) + " | " + fmt("%.2f", 1e6 * r->number("total_s") / r->number("band_cells")) + " |\n";
+                  fmt("%.0f", r->number("peak_rss_mib")) + " | " + fmt("%.2f", 1e6 * r->number("total_s") / r->number("band_cells")) + " | " +
+                  fmt("%.1f", per_band_cell(*r, "solver_mib")) + " | " + fmt("%.1f", per_band_cell(*r, "peak_rss_mib")) + " |\n";
     }
     md += quality_table(all);
     std::string errors;
@@ -160,10 +164,11 @@ void write_plot_data(const std::vector<Record>& all, const std::string& dir) {
         return f;
     };
     std::ofstream sc = open("scaling.dat");
-    sc << "# series cells band_cells total_s steps_s peak_mib\n";
+    sc << "# series cells band_cells total_s steps_s peak_mib solver_bytes_per_band_cell peak_bytes_per_band_cell\n";
     for (const Record* r : section(all, "scaling"))
         sc << r->text("device") << "/" << r->text("precision") << ' ' << r->text("cells") << ' ' << r->text("band_cells") << ' '
-           << r->text("total_s") << ' ' << r->text("steps_s") << ' ' << r->text("peak_rss_mib") << '\n';
+           << r->text("total_s") << ' ' << r->text("steps_s") << ' ' << r->text("peak_rss_mib") << ' '
+           << per_band_cell(*r, "solver_mib") << ' ' << per_band_cell(*r, "peak_rss_mib") << '\n';
     std::ofstream rl = open("roofline.dat");
     rl << "# series kernel gbps of_copy\n";
     for (const Record* r : section(all, "roofline"))
