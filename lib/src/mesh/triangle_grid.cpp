@@ -475,7 +475,13 @@ void TriangleGrid::scan_cell(const Vec3& p, PointBoxes& boxes, int x, int y, int
         for (unsigned m = boxes.near(k, limit) & valid_lanes(last - k); m; m &= m - 1) {
             const std::uint32_t tri = items_[k + std::uint32_t(lowest_lane(m))];
             const auto& t = T[tri];
-            const double d = point_triangle_dist_sq(p, V[t[0]], V[t[1]], V[t[2]]);
+            // The distance to the triangle's plane first: a box beside a slanted triangle
+            // lets through many that the plane alone shows too far (1e-6 covers its rounding).
+            const Vec3 &a = V[t[0]], &b = V[t[1]], &c = V[t[2]];
+            const Vec3 n = cross(sub(b, a), sub(c, a));
+            const double nn = dot(n, n), s = dot(sub(p, a), n);
+            if (nn > 0 && beyond(s * s / nn * (1 - 1e-6), best.dist_sq)) continue;
+            const double d = point_triangle_dist_sq(p, a, b, c);
             if (d < best.dist_sq) {
                 best = {d, tri};
                 limit = boxes.limit(d);
