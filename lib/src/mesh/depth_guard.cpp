@@ -632,15 +632,15 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double dep
     for (const auto& t : mesh.triangles)
         for (std::uint32_t v : t)
             if (v >= mesh.vertices.size()) throw InputError("keep_points_deep: a triangle uses a missing vertex");
-    const VertexLists rings = detail::rings(mesh);
+    VertexLists rings = detail::rings(mesh);
     VertexLists fans;
     fans.start = rings.start;
     fans.fill(mesh, detail::fan_item());
-    return detail::keep_points_deep(mesh, points, depth, voxel, lone, rings, fans);
+    return detail::keep_points_deep(mesh, points, depth, voxel, lone, std::move(rings), fans);
 }
 
 DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel,
-                                          double lone, const VertexLists& rings, const VertexLists& fans) {
+                                          double lone, VertexLists rings, const VertexLists& fans) {
     if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
         throw ParameterError("keep_points_deep: depth and voxel must be positive and finite");
     if (!(lone > 0)) throw ParameterError("keep_points_deep: lone must be positive");
@@ -733,6 +733,7 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, do
     for (double x : lift) report.near_vertices += x > 0;
     if (report.near_vertices == 0) return report;
     const std::vector<std::uint32_t> region = spread(mesh, rings, fans, lift);
+    rings = VertexLists();  // the repairs below walk fans only
     // The vertices that can move: where the lift reaches, and any with a -0 coordinate
     // (see Moving), each shifted along its normal by its lift.
     Moving moving(mesh, fans);

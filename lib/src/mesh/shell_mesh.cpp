@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #ifdef _OPENMP
@@ -80,7 +81,7 @@ Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* 
     if (result.tube_inner > 0) {
         const double lone = result.offset >= result.gap ? std::numeric_limits<double>::infinity() : result.offset;
         report = deep ? detail::keep_points_deep(mesh, points, result.offset - result.tube_inner, result.domain.h, lone,
-                                                 ring, fan)
+                                                 std::move(ring), fan)
                       : keep_points_deep(mesh, points, result.offset - result.tube_inner, result.domain.h, lone);
     }
     if (guard) *guard = report;

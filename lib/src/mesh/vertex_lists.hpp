@@ -56,9 +56,10 @@ inline VertexLists fans(const Mesh& m) { return VertexLists(m, fan_item()); }
 
 // The mesh passes with lists their caller built once for both (shell_mesh): the
 // triangles, hence the lists, do not change between them. Same results as fair_mesh
-// and keep_points_deep; the mesh must be valid (every index a vertex).
+// and keep_points_deep; the mesh must be valid (every index a vertex). The guard takes
+// the rings over and frees them once the lift is spread, before its repair rounds.
 void fair_mesh(Mesh& mesh, const MeshFairing& fairing, const VertexLists& rings);
 DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel, double lone,
-                                  const VertexLists& rings, const VertexLists& fans);
+                                  VertexLists rings, const VertexLists& fans);
 
 }  // namespace snvr::detail
