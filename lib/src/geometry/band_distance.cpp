@@ -399,7 +399,7 @@ void brick_by_tree(const PointIndex& index, const Domain& d, const CellRange& r,
 // per cell).
 template <class Real>
 BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index, const Domain& d,
-                                 const Band& band) {
+                                 const Band& band, const std::function<void(std::size_t)>& before_values) {
     const double L = d.length_scale();
     const double radius = (band.offset + band.cut) * L * (1 + 1e-9);  // world units
     const double rr = radius * radius;  // cells whose nearest point is not closer are far
@@ -412,6 +412,7 @@ BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index
     for (std::uint32_t b = 0; b < near.size(); ++b)
         if (near[b]) todo.push_back(b);
 
+    if (before_values) before_values(todo.size());
     BandDistance<Real> out;
     out.near_bricks = todo;
     out.far = far;
@@ -516,8 +517,10 @@ std::vector<Real> BandDistance<Real>::dense(const Domain& d) const {
 
 template struct BandDistance<double>;
 template struct BandDistance<float>;
-template BandDistance<double> band_distance<double>(const PointSet&, const PointIndex&, const Domain&, const Band&);
-template BandDistance<float> band_distance<float>(const PointSet&, const PointIndex&, const Domain&, const Band&);
+template BandDistance<double> band_distance<double>(const PointSet&, const PointIndex&, const Domain&, const Band&,
+                                                   const std::function<void(std::size_t)>&);
+template BandDistance<float> band_distance<float>(const PointSet&, const PointIndex&, const Domain&, const Band&,
+                                                 const std::function<void(std::size_t)>&);
 template void classify_band<double>(BandDistance<double>&, const Domain&, const Band&);
 template void classify_band<float>(BandDistance<float>&, const Domain&, const Band&);
 

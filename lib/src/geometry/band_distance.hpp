@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "solver/hierarchy.hpp"
@@ -37,10 +38,13 @@ struct BandDistance {
     std::vector<Real> dense(const Domain& domain) const;
 };
 
-// Computes near_bricks, near_values, far and queried_cells.
+// Computes near_bricks, near_values, far and queried_cells. `before_values` hears how
+// many bricks are near the points before their values are allocated (a memory check
+// may throw there).
 template <class Real>
 BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index, const Domain& domain,
-                                 const Band& band);
+                                 const Band& band,
+                                 const std::function<void(std::size_t near_bricks)>& before_values = {});
 
 // Sets brick_mask, inside_bricks and active_cells from the distance.
 template <class Real>

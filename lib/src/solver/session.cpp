@@ -1,5 +1,6 @@
 #include "solver/session.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <type_traits>
@@ -58,7 +59,9 @@ SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& par
                std::to_string(dom.levels) + " multigrid levels, backend " + backend_->name());
 
     const Band& band = problem_.band;
-    BandDistance<Real> dist = band_distance<Real>(points, index, dom, band);
+    BandDistance<Real> dist = band_distance<Real>(points, index, dom, band, [&](std::size_t near_bricks) {
+        require_memory(band_distance_bytes(near_bricks, params.precision) + problem_.plan.estimated_bytes, dom);
+    });
     classify_band(dist, dom, band);
     facts_.queried_cells = dist.queried_cells;
     facts_.active_cells = dist.active_cells;
@@ -67,9 +70,14 @@ SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& par
            std::to_string(dist.queried_cells) + " cells queried, " + std::to_string(dist.active_cells) + " in the band");
 
     layout_ = make_layout(dom, dist.brick_mask, dist.inside_bricks);
-    require_memory(layout_bytes(layout_, params.precision) + problem_.plan.estimated_bytes +
-                       dist.near_values.size() * sizeof(Real),
-                   dom);
+    {
+        // Held now: the band's distance; then its packed copy beside it, then the fields
+        // once it is gone.
+        const std::size_t near = dist.near_values.size() * sizeof(Real);
+        const std::size_t packed = layout_.grid(0).storage() * sizeof(Real);
+        require_memory(std::max(layout_bytes(layout_, params.precision), near + packed) + problem_.plan.estimated_bytes,
+                       dom, near);
+    }
     facts_.active_bricks = layout_.level(0).bricks.size();
     facts_.total_bricks = layout_.level(0).brick_count();
     // The band's distance moves into the layout's storage before the fields exist, and

@@ -39,14 +39,18 @@ std::size_t estimate_plan_bytes(const Domain& d) {
     return d.cells() / 8 + bricks * sizeof(std::uint32_t);
 }
 
+std::size_t band_distance_bytes(std::size_t near_bricks, Precision p) {
+    return 2 * near_bricks * kBrickCells * real_size(p);
+}
+
 std::size_t layout_bytes(const BrickLayout& layout, Precision p) {
     std::size_t cells = 0;
     for (int l = 0; l < layout.levels(); ++l) cells += (l == 0 ? 4 : 3) * layout.grid(l).storage();
     return cells * real_size(p);
 }
 
-void require_memory(std::size_t bytes, const Domain& d) {
-    const std::size_t avail = available_memory();
+void require_memory(std::size_t bytes, const Domain& d, std::size_t held) {
+    const std::size_t avail = available_memory() + held;
     if (bytes > avail / 10 * 9)
         throw ResourceError("a " + std::to_string(d.nx) + "x" + std::to_string(d.ny) + "x" + std::to_string(d.nz) +
                             " grid needs about " + gib(bytes) + " GiB but only " + gib(avail) +
