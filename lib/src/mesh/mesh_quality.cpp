@@ -18,6 +18,7 @@
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/quality.hpp"
+#include "mesh/cell_rings.hpp"
 #include "mesh/mesh_adjacency.hpp"
 #include "mesh/threads_here.hpp"
 #include "mesh/triangle_grid.hpp"
@@ -359,23 +360,8 @@ public:
             // beyond the best (or the bound).
             const std::array<int, 3> c{cell(0, q[0]), cell(1, q[1]), cell(2, q[2])};
             for (int r = 0;; ++r) {
-                const int z0 = std::max(0, c[2] - r), z1 = std::min(n_[2] - 1, c[2] + r);
-                const int y0 = std::max(0, c[1] - r), y1 = std::min(n_[1] - 1, c[1] + r);
-                const int x0 = std::max(0, c[0] - r), x1 = std::min(n_[0] - 1, c[0] + r);
-                for (int z = z0; z <= z1; ++z)
-                    for (int y = y0; y <= y1; ++y) {
-                        if (std::abs(z - c[2]) == r || std::abs(y - c[1]) == r) {
-                            for (int x = x0; x <= x1; ++x) scan(q, x, y, z, best);
-                        } else {
-                            if (c[0] - r >= 0) scan(q, c[0] - r, y, z, best);
-                            if (r > 0 && c[0] + r < n_[0]) scan(q, c[0] + r, y, z, best);
-                        }
-                    }
-                double bound = kInf;  // distance to the cells not visited yet
-                for (int d = 0; d < 3; ++d) {
-                    if (c[d] + r + 1 < n_[d]) bound = std::min(bound, std::max(0.0, lo_[d] + (c[d] + r + 1) * size_ - q[d]));
-                    if (c[d] - r - 1 >= 0) bound = std::min(bound, std::max(0.0, q[d] - (lo_[d] + (c[d] - r) * size_)));
-                }
+                detail::for_ring(c, r, n_, [&](int x, int y, int z) { scan(q, x, y, z, best); });
+                const double bound = detail::beyond_ring(lo_, size_, n_, c, r, q);  // to the cells not visited yet
                 if (bound == kInf || beyond(bound * bound, best.dist_sq)) break;
             }
         }
@@ -400,13 +386,7 @@ private:
         return std::size_t(x) + std::size_t(n_[0]) * (std::size_t(y) + std::size_t(n_[1]) * std::size_t(z));
     }
     void scan(const Vec3& q, int x, int y, int z, Hit& best) const {
-        const std::array<int, 3> at{x, y, z};
-        double gap_sq = 0;
-        for (int d = 0; d < 3; ++d) {
-            const double lo = lo_[d] + at[d] * size_;
-            const double gap = std::max(0.0, std::max(lo - q[d], q[d] - (lo + size_)));
-            gap_sq += gap * gap;
-        }
+        const double gap_sq = detail::cell_gap_sq(lo_, size_, {x, y, z}, q);
         if (!beyond(gap_sq, best.dist_sq)) scan_points(q, index(x, y, z), best);
     }
     void scan_points(const Vec3& q, std::size_t i, Hit& best) const {

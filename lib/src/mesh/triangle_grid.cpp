@@ -2,6 +2,7 @@
 // cells in order of their distance and ray casting by a 3D DDA walk (Amanatides &
 // Woo). Every query returns what testing all triangles would: cells and triangles
 // are skipped only when a bound, with room for rounding, shows they cannot win.
+#include "mesh/cell_rings.hpp"
 #include "mesh/float_rounding.hpp"
 #include "mesh/threads_here.hpp"
 #include "mesh/triangle_grid.hpp"
@@ -453,14 +454,7 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
 int TriangleGrid::cell(int d, double v) const { return clamp_cell((v - lo_[d]) * inv_size_, n_[d]); }
 
 double TriangleGrid::cell_gap_sq(const Vec3& p, int x, int y, int z) const {
-    const std::array<int, 3> at{x, y, z};
-    double box = 0;
-    for (int d = 0; d < 3; ++d) {
-        const double lo = lo_[d] + at[d] * size_;
-        const double gap = std::max(0.0, std::max(lo - p[d], p[d] - (lo + size_)));
-        box += gap * gap;
-    }
-    return box;
+    return detail::cell_gap_sq(lo_, size_, {x, y, z}, p);
 }
 
 void TriangleGrid::scan_cell(const Vec3& p, PointBoxes& boxes, int x, int y, int z, Closest& best) const {
@@ -528,29 +522,10 @@ TriangleGrid::Closest TriangleGrid::closest(const Vec3& p, double bound_sq) cons
         first_ring = kNear + 1;
     }
     for (int r = first_ring;; ++r) {
-        // The cells at Chebyshev distance exactly r from c, clipped to the grid.
-        const auto visit = [&](int x, int y, int z) {
+        detail::for_ring(c, r, n_, [&](int x, int y, int z) {
             if (!beyond(cell_gap_sq(p, x, y, z), best.dist_sq)) scan_cell(p, boxes, x, y, z, best);
-        };
-        const int z0 = std::max(0, c[2] - r), z1 = std::min(n_[2] - 1, c[2] + r);
-        const int y0 = std::max(0, c[1] - r), y1 = std::min(n_[1] - 1, c[1] + r);
-        const int x0 = std::max(0, c[0] - r), x1 = std::min(n_[0] - 1, c[0] + r);
-        for (int z = z0; z <= z1; ++z)
-            for (int y = y0; y <= y1; ++y) {
-                if (std::abs(z - c[2]) == r || std::abs(y - c[1]) == r) {
-                    for (int x = x0; x <= x1; ++x) visit(x, y, z);
-                } else {
-                    if (c[0] - r >= 0) visit(c[0] - r, y, z);
-                    if (r > 0 && c[0] + r < n_[0]) visit(c[0] + r, y, z);
-                }
-            }
-        // Every cell not yet visited lies beyond one of the box's faces that still
-        // has cells behind it: the nearest such face bounds what is left.
-        double bound = kInf;
-        for (int d = 0; d < 3; ++d) {
-            if (c[d] + r + 1 < n_[d]) bound = std::min(bound, std::max(0.0, lo_[d] + (c[d] + r + 1) * size_ - p[d]));
-            if (c[d] - r - 1 >= 0) bound = std::min(bound, std::max(0.0, p[d] - (lo_[d] + (c[d] - r) * size_)));
-        }
+        });
+        const double bound = detail::beyond_ring(lo_, size_, n_, c, r, p);
         if (bound == kInf || beyond(bound * bound, best.dist_sq)) return result();
     }
 }
