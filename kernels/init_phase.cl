@@ -1,19 +1,16 @@
 // Level 0, active bricks: phi = tanh((l - d) s), g = 1 - phi^2 (eqs. 4-5), and
-// phi = sign(l - d), g = 0 beyond the cut. `distance` is packed like the fields.
-// One work-item per cell.
+// phi = sign(l - d), g = 0 beyond the cut. `distance` is packed like the fields; tanh is
+// common.cl's. One work-item per row, 64 per brick; cells outside the grid keep their 0.
 kernel void init_phase(global const real* distance, global real* phi, global real* g,
                        global const uint* bricks, global const uint* slot, LEVEL_PARAMS,
                        real offset, real s, real cut) {
-    const size_t id = get_global_id(0);
-    const Cell c = brick_cell(slot, bx, by, bricks[id / BRICK_CELLS], (int)(id % BRICK_CELLS));
-    if (!in_grid(LEVEL_ARGS, c.i, c.j, c.k)) return;
-    const real diff = offset - distance[c.at];
-    if (fabs(diff) > cut) {
-        phi[c.at] = diff > (real)0 ? (real)1 : (real)-1;
-        g[c.at] = (real)0;
-    } else {
-        const real p = tanh(diff * s);
-        phi[c.at] = p;
-        g[c.at] = (real)1 - p * p;
-    }
+    const Row w = brick_row(slot, bx, by, bricks[get_group_id(0)], (int)get_local_id(0));
+    if (w.j >= ny || w.k >= nz) return;
+    const row_t diff = offset - load_row(distance, w.at);
+    const row_t p = tanh_of(diff * s);
+    const row_mask beyond = fabs(diff) > cut;
+    const row_t sign = select((row_t)(real)-1, (row_t)(real)1, diff > (real)0);
+    const row_mask inside = row_in_grid(w, nx);
+    vstore8(select(load_row(phi, w.at), select(p, sign, beyond), inside), 0, phi + w.at);
+    vstore8(select(load_row(g, w.at), select((real)1 - p * p, (row_t)(real)0, beyond), inside), 0, g + w.at);
 }

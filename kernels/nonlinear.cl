@@ -1,18 +1,18 @@
 // The exact nonlinear step (eq. 11): phi = phi / sqrt(e + phi^2 (1 - e)), e = exp(-k g),
 // k = 2 dt / eps^2; nothing to do where g = 0 (e = 1). Then the tube (backend.hpp):
-// tanh((inner - d) s) <= phi <= tanh((outer - d) s).
-// One work-item per cell.
+// tanh((inner - d) s) <= phi <= tanh((outer - d) s). exp and tanh: common.cl's.
+// One work-item per row, 64 per brick.
 kernel void nonlinear(global real* phi, global const real* g, global const real* distance,
                       global const uint* bricks, global const uint* slot, real k, real inner,
                       real outer, real s) {
-    const size_t id = get_global_id(0);
-    const size_t n = (size_t)slot[bricks[id / BRICK_CELLS]] * BRICK_CELLS + id % BRICK_CELLS;
-    const real gn = g[n];
-    if (gn == (real)0) return;
-    const real e = exp(-k * gn);
-    const real p = phi[n];
-    real q = p / sqrt(e + p * p * ((real)1 - e));
-    const real d = distance[n];
-    q = fmin(fmax(q, tanh((inner - d) * s)), tanh((outer - d) * s));
-    phi[n] = q;
+    const size_t at = (size_t)slot[bricks[get_group_id(0)]] * BRICK_CELLS + BRICK * get_local_id(0);
+    const row_t gn = load_row(g, at);
+    const row_mask frozen = gn == (real)0;
+    if (all(frozen)) return;  // most rows of a band's edge
+    const row_t p = load_row(phi, at);
+    const row_t e = exp_nonpositive(-k * gn);
+    row_t q = p / sqrt(e + p * p * ((real)1 - e));
+    const row_t d = load_row(distance, at);
+    q = fmin(fmax(q, tanh_of((inner - d) * s)), tanh_of((outer - d) * s));
+    vstore8(select(q, p, frozen), 0, phi + at);
 }

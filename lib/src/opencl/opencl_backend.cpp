@@ -101,7 +101,7 @@ public:
             LevelBuffers& b = levels_[0];
             if (b.active > 0) {
                 rt_.queue().enqueueWriteBuffer(b.distance, CL_TRUE, 0, b.cells * sizeof(Real), d.data());
-                launch(init_, b.active * kBrickCells, kCellGroup, b.distance, b.phi, b.g, b.bricks, b.slot, shape(0), offset, s, cut);
+                launch(init_, b.active * kRows, kRows, b.distance, b.phi, b.g, b.bricks, b.slot, shape(0), offset, s, cut);
                 rt_.queue().finish();
             }
             std::vector<Real>().swap(d);
@@ -184,7 +184,7 @@ public:
     void nonlinear(Real k, const Tube<Real>& tube) override {
         guarded("nonlinear", [&] {
             const LevelBuffers& b = levels_[0];
-            launch(nonlinear_, b.active * kBrickCells, kCellGroup, b.phi, b.g, b.distance, b.bricks, b.slot, k, tube.inner,
+            launch(nonlinear_, b.active * kRows, kRows, b.phi, b.g, b.distance, b.bricks, b.slot, k, tube.inner,
                    tube.outer, tube.s);
         });
     }

@@ -1,5 +1,6 @@
 #include "openmp/openmp_backend.hpp"
 #include "solver/brick_grid.hpp"
+#include "solver/phase_math.hpp"
 #include "solver/reduction.hpp"
 
 #include <omp.h>
@@ -80,7 +81,7 @@ public:
                 phi[c] = diff > 0 ? Real(1) : Real(-1);
                 g[c] = 0;
             } else {
-                const Real p = std::tanh(diff * s);
+                const Real p = detail::tanh_of(diff * s);
                 phi[c] = p;
                 g[c] = Real(1) - p * p;
             }
@@ -254,13 +255,15 @@ public:
         const Real* d = fields_[0].distance.data();
         const BrickGrid& bg = grids_[0];
         each_brick(0, [&](std::uint32_t b, std::size_t) {
+            // Every cell, then kept where g = 0 (e = 1: phi unchanged, and +-1 is inside
+            // the tube): a loop without branches vectorises.
             for (std::size_t n = bg.base(b); n < bg.base(b) + kBrickCells; ++n) {
-                if (g[n] == Real(0)) continue;  // e = 1: phi unchanged, and +-1 is inside the tube
-                const Real e = std::exp(-k * g[n]);
+                const Real e = detail::exp_nonpositive(-k * g[n]);
                 const Real p = phi[n];
                 Real q = p / std::sqrt(e + p * p * (Real(1) - e));
-                q = std::min(std::max(q, std::tanh((tube.inner - d[n]) * tube.s)), std::tanh((tube.outer - d[n]) * tube.s));
-                phi[n] = q;
+                q = std::min(std::max(q, detail::tanh_of((tube.inner - d[n]) * tube.s)),
+                             detail::tanh_of((tube.outer - d[n]) * tube.s));
+                phi[n] = g[n] == Real(0) ? p : q;
             }
         });
     }
