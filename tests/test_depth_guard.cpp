@@ -27,8 +27,9 @@ extern "C" void omp_set_num_threads(int);
 extern "C" int omp_get_max_threads();
 
 // The depth guard as it was before it searched with grids (commit a327733), serial: the
-// reference that the faster one must match bit for bit, ties included (the first of
-// equally near triangles in its point index's order).
+// reference that the faster one must match bit for bit, ties included. One change since:
+// of equally near triangles a repair takes the lowest (it took the first in its point
+// index's order, which cost the guard an index of every vertex to reproduce).
 namespace snvr::reference {
 
 using detail::fans;
@@ -216,7 +217,7 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double dep
             std::uint32_t nearest = 0;
             for (std::uint32_t t : w.triangles) {
                 const double d = triangle_distance(mesh, p, t);
-                if (d < dist) dist = d, nearest = t;
+                if (d < dist || (d == dist && t < nearest)) dist = d, nearest = t;
             }
             if (!(dist < depth)) continue;
             const auto& t = mesh.triangles[nearest];

@@ -401,9 +401,8 @@ double triangle_distance(const X& x, const Mesh& m, const Vec3& p, std::uint32_t
 // triangle within `within` has one) found each triangle of their fans, from its first
 // corner within reach. Rows here are gathered from a grid of the triangles, keeping the
 // index's distance test on the corners (index_takes), so they hold the same triangles,
-// in triangle order instead of the index's. Only a tie needs that order (the repair
-// takes the first of a point's nearest triangles, e.g. two sharing the nearest edge):
-// IndexOrder then rebuilds the index's row.
+// in triangle order instead of the index's. Of a point's equally near triangles (two
+// sharing the nearest edge, say) the repair takes the lowest, so that order never matters.
 //
 // A row is only needed for a point that is too shallow, or whose triangles moved since
 // it was last looked at: in the first round each point asks the grid for triangles
@@ -426,15 +425,11 @@ bool index_takes(const X& x, const Mesh& m, const Vec3& at, std::uint32_t t, dou
 // A point's nearest triangle of a set.
 struct Nearest {
     double dist = kInf;
-    std::uint32_t triangle = 0;
-    bool tied = false;  // another triangle of the set is exactly as near
+    std::uint32_t triangle = 0;  // the lowest of those at dist: the same whatever the order of add
     void add(double d, std::uint32_t t) {
-        if (d < dist) {
+        if (d < dist || (d == dist && t < triangle)) {
             dist = d;
             triangle = t;
-            tied = false;
-        } else if (d == dist) {
-            tied = true;
         }
     }
 };
@@ -563,7 +558,7 @@ private:
 };
 
 // The vertices as the watch list saw them: the repairs save each vertex they move before
-// its first move; positions() restores those, on first use.
+// its first move, and reading a vertex gives the saved position if there is one.
 class ListTime {
 public:
     explicit ListTime(const Mesh& mesh) : mesh_(mesh), slot_(mesh.vertices.size(), 0) {}
@@ -573,53 +568,11 @@ public:
         slot_[v] = std::uint32_t(was_.size());
     }
     const Vec3& operator[](std::size_t v) const { return slot_[v] ? was_[slot_[v] - 1] : mesh_.vertices[v]; }
-    // All of them, copied on first use (for an index, which keeps a reference).
-    const std::vector<Vec3>& copy() {
-        if (x_.empty()) {
-            x_ = mesh_.vertices;
-            for (std::size_t v = 0; v < x_.size(); ++v)
-                if (slot_[v]) x_[v] = was_[slot_[v] - 1];
-        }
-        return x_;
-    }
 
 private:
     const Mesh& mesh_;
     std::vector<std::uint32_t> slot_;  // 1 + index in was_, 0 if not moved
     std::vector<Vec3> was_;
-    std::vector<Vec3> x_;
-};
-
-// The index-based row of a point, in the index's order, from the vertices as the list saw
-// them; the index is built on first use.
-class IndexOrder {
-public:
-    IndexOrder(const Mesh& mesh, const VertexLists& fans, double within, double reach)
-        : mesh_(mesh), fans_(fans), within_(within), reach_(reach) {}
-    std::vector<std::uint32_t> row(const std::vector<Vec3>& as_was, const Vec3& at) {
-        if (!corners_) corners_ = std::make_unique<PointIndex>(as_was);
-        std::vector<std::uint32_t> row;
-        corners_->for_each_within(at, reach_, [&](std::size_t v) {
-            for (std::size_t f = fans_.start[v]; f < fans_.start[v + 1]; ++f) {
-                // Each triangle once: from its first corner within reach.
-                const std::uint32_t t = fans_.items[f];
-                for (std::uint32_t c : mesh_.triangles[t]) {
-                    if (c == v) {
-                        if (triangle_distance(as_was, mesh_, at, t) < within_) row.push_back(t);
-                        break;
-                    }
-                    if (norm(sub(as_was[c], at)) < reach_) break;
-                }
-            }
-        });
-        return row;
-    }
-
-private:
-    const Mesh& mesh_;
-    const VertexLists& fans_;
-    double within_, reach_;
-    std::unique_ptr<PointIndex> corners_;
 };
 
 }  // namespace
@@ -766,7 +719,6 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, do
         std::sqrt(std::max(start_cells.longest_sq(moving.triangles, moved_tri), moved_cells.longest_sq()));
     const double reach = within + longest / std::sqrt(3.0);
     ListTime list_time(mesh);
-    IndexOrder order(mesh, fans, within, reach);
     // Each point's nearest triangle of its row, as far as it matters: exact where below
     // the depth; dist = inf stands for "not below the depth".
     std::vector<Nearest> nearest(points.size());
@@ -807,30 +759,6 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, do
         std::sort(rows[p].begin(), rows[p].end());
         has_row[p] = 1;
         return rows[p];
-    };
-    // The first of point p's triangles at `dist` in the index's row. The row lists the
-    // triangles of each corner it finds (its fan, in triangle order) in turn, each
-    // triangle under its first corner within reach: if the tied triangles have the same
-    // such corner, the first is the lowest; else only the index can tell.
-    const auto first_tied = [&](std::uint32_t p, double dist) {
-        const Vec3& at = points[p];
-        std::uint32_t first = ~std::uint32_t(0), corner = ~std::uint32_t(0);
-        bool same = true;
-        for (std::uint32_t t : row(p)) {
-            if (!(triangle_distance(mesh.vertices, mesh, at, t) == dist)) continue;
-            std::uint32_t c = ~std::uint32_t(0);
-            for (std::uint32_t v : mesh.triangles[t])
-                if (index_dist_sq(at, list_time[v]) < reach * reach) {
-                    c = v;
-                    break;
-                }
-            if (first == ~std::uint32_t(0)) first = t, corner = c;
-            same = same && c == corner && c != ~std::uint32_t(0);
-        }
-        if (same && first != ~std::uint32_t(0)) return first;
-        for (std::uint32_t t : order.row(list_time.copy(), at))
-            if (triangle_distance(mesh.vertices, mesh, at, t) == dist) return t;
-        return first;
     };
     std::unique_ptr<CellGrid> point_cells;
     std::vector<Bound> point_bound;
@@ -908,9 +836,7 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, do
             const double dist = nearest[i].dist;
             if (!(dist < depth)) continue;
             const Vec3& p = points[std::size_t(i)];
-            std::uint32_t tri = nearest[i].triangle;
-            if (nearest[i].tied) tri = first_tied(std::uint32_t(i), dist);
-            const auto& t = mesh.triangles[tri];
+            const auto& t = mesh.triangles[nearest[i].triangle];
             const Vec3 n = face_vector(mesh, t);
             if (dot(sub(mesh.vertices[t[0]], p), n) <= 0) continue;  // the point is not under it
             ++report.shallow_points;
