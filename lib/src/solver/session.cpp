@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <type_traits>
 
 #include "geometry/band_distance.hpp"
@@ -49,14 +50,23 @@ void report(const ProgressCallback& cb, const std::string& stage, const std::str
 template <class Real>
 SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& params, const ProgressCallback& progress) {
     Stopwatch clock;
+    // Under `auto` the backend starts beside the planning and the distance (on PoCL,
+    // loading the driver and the program takes 0.1 s), as any failure there only falls
+    // back to OpenMP; a named device starts first, so that a wrong one stops the run
+    // before any work.
+    std::vector<std::string> start_notes;
+    std::future<std::unique_ptr<Backend<Real>>> starting;
+    if (params.device == "auto")
+        starting = std::async(std::launch::async, [&] { return make_backend<Real>(params.device, start_notes); });
+    else
+        backend_ = make_backend<Real>(params.device, facts_.notes);
     const PointIndex index(points);
     problem_ = make_problem(plan_domain(points, params, index), params);
     const Domain& dom = domain();
-    backend_ = make_backend<Real>(params.device, facts_.notes);
     facts_.seconds_domain = clock.lap();
     report(progress, "domain",
            "grid " + std::to_string(dom.nx) + "x" + std::to_string(dom.ny) + "x" + std::to_string(dom.nz) + ", " +
-               std::to_string(dom.levels) + " multigrid levels, backend " + backend_->name());
+               std::to_string(dom.levels) + " multigrid levels");
 
     const Band& band = problem_.band;
     BandDistance<Real> dist = band_distance<Real>(points, index, dom, band, [&](std::size_t near_bricks) {
@@ -69,6 +79,10 @@ SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& par
     report(progress, "distance",
            std::to_string(dist.queried_cells) + " cells queried, " + std::to_string(dist.active_cells) + " in the band");
 
+    if (starting.valid()) {
+        backend_ = starting.get();
+        facts_.notes.insert(facts_.notes.end(), start_notes.begin(), start_notes.end());
+    }
     layout_ = make_layout(dom, dist.brick_mask, dist.inside_bricks);
     {
         // Held now: the band's distance; then its packed copy beside it, then the fields
@@ -93,7 +107,7 @@ SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& par
     facts_.seconds_init = clock.lap();
     report(progress, "init",
            "phase field on " + std::to_string(facts_.active_bricks) + " of " + std::to_string(facts_.total_bricks) +
-               " bricks, " + std::to_string(facts_.solver_bytes >> 20) + " MiB of fields");
+               " bricks, " + std::to_string(facts_.solver_bytes >> 20) + " MiB of fields, backend " + facts_.backend);
 }
 
 template <class Real>
