@@ -24,6 +24,7 @@ struct ExpConstants<float> {
     static constexpr float ln2_hi = 6.9314575195e-01f;  // few bits: n * ln2_hi is exact for |n| < 2^9
     static constexpr float ln2_lo = 1.4286067653e-06f;
     static constexpr int mantissa = 23;
+    static constexpr Bits bias = 127;  // of the exponent field
 };
 
 template <>
@@ -35,6 +36,7 @@ struct ExpConstants<double> {
     static constexpr double ln2_hi = 6.93147180369123816490e-01;  // n * ln2_hi exact for |n| < 2^11
     static constexpr double ln2_lo = 1.90821492927058770002e-10;
     static constexpr int mantissa = 52;
+    static constexpr Bits bias = 1023;
 };
 
 // (e^r - 1) / r by Horner on 1/k!, |r| <= ln2 / 2: to r^6 in float, r^12 in double.
@@ -82,9 +84,8 @@ template <class Real>
     Bits bits, round_bits;
     std::memcpy(&bits, &shifted, sizeof bits);
     std::memcpy(&round_bits, &C::round, sizeof round_bits);
-    // 2^n: n + bias in the exponent field (bias 127 or 1023; n >= -126 or -1022 here).
-    const Bits bias = (Bits(1) << (sizeof(Bits) * 8 - C::mantissa - 2)) - 1;
-    const Bits pow2 = Bits(bits - round_bits + bias) << C::mantissa;
+    // 2^n: n + bias in the exponent field (n >= -126 or -1022 here).
+    const Bits pow2 = Bits(bits - round_bits + C::bias) << C::mantissa;
     ExpParts<Real> e;
     std::memcpy(&e.s, &pow2, sizeof pow2);
     e.q = r * expm1_over_r(r);
