@@ -26,6 +26,7 @@ struct ReconstructOptions {
     std::string input, output, volume;
     snvr::Parameters params;
     snvr::MeshFairing fairing;
+    bool measure = false;  // the check adds the surface figures (measure_quality, not measure_shell)
     bool quiet = false;
 };
 

@@ -96,8 +96,9 @@ int run_reconstruct(const std::vector<std::string>& args) {
     seconds.written = total.lap();
 
     say("check: " + grouped(mesh.triangles.size()) + " triangles, " + grouped(points.size()) + " points");
-    // Closed / manifold / oriented, points inside and their depth, walls and roughness.
-    const snvr::MeshQuality quality = snvr::measure_quality(mesh, points, result.offset, result.domain.h);
+    // Closed / manifold / oriented, points inside and their depth, walls; roughness on request.
+    const snvr::MeshQuality quality = o.measure ? snvr::measure_quality(mesh, points, result.offset, result.domain.h)
+                                                : snvr::measure_shell(mesh, points, result.offset, result.domain.h);
     const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
     seconds.check = stage.lap();
     for (const std::string& w : snvr::shell_warnings(quality, points.size(), clusters)) warn(w);

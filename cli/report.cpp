@@ -115,9 +115,12 @@ void print_summary(std::ostream& out, const RunSummary& run) {
                                grouped(q.points_inside).c_str(), grouped(q.points).c_str(), q.depth_min, q.depth_p01));
     row("walls", fmt("thinnest 1%% at %.3g voxels = %.3g x 2 offset (thinnest of all %.3g voxels)", q.wall_p01,
                      q.wall_p01_2l, q.wall_min));
-    row("surface", fmt("distance to the points - offset: RMS %.3g voxels, mean %+.3g; dihedral RMS %.3g deg, "
-                       "normal noise %.3g deg; genus %ld",
-                       q.offset_rms, q.offset_mean, q.dihedral_rms, q.normal_noise, q.genus));
+    if (q.has_surface)
+        row("surface", fmt("distance to the points - offset: RMS %.3g voxels, mean %+.3g; dihedral RMS %.3g deg, "
+                           "normal noise %.3g deg; genus %ld",
+                           q.offset_rms, q.offset_mean, q.dihedral_rms, q.normal_noise, q.genus));
+    else
+        row("surface", fmt("genus %ld (distance to the offset and smoothness: --measure)", q.genus));
     row("wrote", run.output + (run.volume.empty() ? "" : ", " + run.volume));
     out.flush();
 }

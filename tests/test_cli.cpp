@@ -107,6 +107,14 @@ TEST_CASE("the flow in cells by default; the paper's normalised dt and free flow
     CHECK(r.output.find("6 steps of dt") != std::string::npos);
     CHECK(r.output.find("(0.25 h^2): time 1.5 h^2; surface kept between") != std::string::npos);
     CHECK(r.output.find("walls            thinnest 1%") != std::string::npos);
+    // The surface's figures only when asked for: they double the check's time.
+    CHECK(r.output.find("surface          genus 0 (distance to the offset and smoothness: --measure)") != std::string::npos);
+    fs::remove(t.out());
+    r = run("reconstruct " + cloud + " -o " + t.out() + " --resolution 48 --measure");
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("surface          distance to the points - offset: RMS ") != std::string::npos);
+    CHECK(r.output.find("genus 0\n") != std::string::npos);
     fs::remove(t.out());
     r = run("reconstruct " + cloud + " -o " + t.out() + " --resolution 48 --dt 5e-5 --steps 3 --free-flow");
     CAPTURE(r.output);

@@ -1,6 +1,12 @@
 // The piece count the points suggest, used to warn when a shell breaks apart.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <random>
+#include <vector>
+
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"
 
@@ -14,4 +20,54 @@ TEST_CASE("clusters of points linked below a distance") {
     CHECK(count_point_clusters(points, 2.0) == 1);   // linked across the 1.5 gap
     CHECK(count_point_clusters(points, 1e-6) == points.size());  // nothing linked
     CHECK(count_point_clusters({}, 1.0) == 0);
+}
+
+namespace {
+
+// Every pair looked at: the clusters by definition.
+std::size_t clusters_brute_force(const PointSet& points, double link) {
+    std::vector<std::size_t> parent(points.size());
+    std::iota(parent.begin(), parent.end(), std::size_t(0));
+    const auto root = [&](std::size_t n) {
+        while (parent[n] != n) n = parent[n];
+        return n;
+    };
+    for (std::size_t i = 0; i < points.size(); ++i)
+        for (std::size_t j = i + 1; j < points.size(); ++j) {
+            const double dx = points[i][0] - points[j][0], dy = points[i][1] - points[j][1],
+                         dz = points[i][2] - points[j][2];
+            if (dx * dx + dy * dy + dz * dz < link * link) {
+                const std::size_t a = root(i), b = root(j);
+                if (a != b) parent[std::max(a, b)] = std::min(a, b);
+            }
+        }
+    std::size_t roots = 0;
+    for (std::size_t k = 0; k < points.size(); ++k) roots += root(k) == k;
+    return roots;
+}
+
+}  // namespace
+
+TEST_CASE("clusters: the same count as every pair looked at, dense, sparse and in between") {
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> unit(0, 1);
+    // Blobs of very different density, some of them touching at about the link distance.
+    PointSet points;
+    for (int blob = 0; blob < 12; ++blob) {
+        const Vec3 centre{unit(rng) * 4, unit(rng) * 4, unit(rng) * 1};
+        const double radius = 0.05 + 0.3 * unit(rng);
+        const int count = blob % 3 == 0 ? 600 : 40;
+        for (int k = 0; k < count; ++k)
+            points.push_back({centre[0] + radius * (2 * unit(rng) - 1), centre[1] + radius * (2 * unit(rng) - 1),
+                              centre[2] + radius * (2 * unit(rng) - 1)});
+    }
+    for (int k = 0; k < 100; ++k) points.push_back({unit(rng) * 4, unit(rng) * 4, unit(rng)});  // loose points
+    // Points exactly a link apart are not linked; a hair closer, they are.
+    points.push_back({10, 10, 10});
+    points.push_back({10.25, 10, 10});
+    points.push_back({10, 10.2499999, 10});
+    for (double link : {0.001, 0.02, 0.05, 0.1, 0.25, 0.4, 0.8, 1.5}) {
+        CAPTURE(link);
+        CHECK(count_point_clusters(points, link) == clusters_brute_force(points, link));
+    }
 }

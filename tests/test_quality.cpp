@@ -228,6 +228,51 @@ TEST_CASE("quality: dihedral angle and normal noise grow with noise") {
     CHECK(fine.interior_edges == 3 * fine.triangles / 2);
 }
 
+TEST_CASE("quality: measure_shell has measure_quality's figures for a print, and no surface figures") {
+    // The shell with its cavity, and the torus with points in its hole: the depth's sign
+    // comes from the windings alone here, so points outside must come out negative too.
+    const Mesh torus = isosurface(
+        [](const Vec3& p) {
+            const double ring = std::hypot(p[0] - 0.5, p[1] - 0.5) - 0.3;
+            return 0.1 - std::hypot(ring, p[2] - 0.5);
+        },
+        {0.05, 0.05, 0.3}, 0.02, 45);
+    PointSet around_torus = shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.03);  // in the tube and out of it
+    const struct {
+        const Mesh& mesh;
+        PointSet points;
+        double l, h;
+    } cases[] = {{shell(), shapes::sphere(kCentre, kR, 0.02), kL, kH}, {torus, around_torus, 0.1, 0.02}};
+    for (const auto& c : cases) {
+        const MeshQuality all = measure_quality(c.mesh, c.points, c.l, c.h);
+        const MeshQuality q = measure_shell(c.mesh, c.points, c.l, c.h);
+        CHECK(all.has_surface);
+        CHECK_FALSE(q.has_surface);
+        CHECK(q.closed == all.closed);
+        CHECK(q.manifold == all.manifold);
+        CHECK(q.oriented == all.oriented);
+        CHECK(q.components == all.components);
+        CHECK(q.solids == all.solids);
+        CHECK(q.genus == all.genus);
+        CHECK(q.points_inside == all.points_inside);
+        CHECK(q.points_outside == all.points_outside);
+        CHECK(q.depth_min == all.depth_min);
+        CHECK(q.depth_p01 == all.depth_p01);
+        CHECK(q.wall_min == all.wall_min);
+        CHECK(q.wall_p01 == all.wall_p01);
+        CHECK(q.wall_misses == all.wall_misses);
+        CHECK(std::isnan(q.offset_rms));
+        CHECK(std::isnan(q.dihedral_rms));
+        CHECK(std::isnan(q.normal_noise));
+        const std::string json = quality_json(q);
+        CHECK(json.find("\"wall_min_h\":") != std::string::npos);
+        CHECK(json.find("offset_rms") == std::string::npos);
+        CHECK(format_quality(q).find("smoothness") == std::string::npos);
+    }
+    CHECK(measure_shell(torus, around_torus, 0.1, 0.02).points_outside > 0);
+    CHECK_THROWS_AS(measure_shell(torus, around_torus, 0, 0.02), ParameterError);
+}
+
 TEST_CASE("quality: bad arguments") {
     const Mesh ball = icosphere(kCentre, 0.2, 1);
     CHECK_THROWS_AS(measure_quality(ball, {kCentre}, 0, 0.01), ParameterError);
@@ -375,6 +420,13 @@ TEST_CASE("quality: the same figures with one thread and with two") {
     const std::string one = json(1);
     CHECK(one == json(2));
     CHECK(one == json(3));
+    const auto shell_json = [&](int threads) {
+        return with_threads(threads, [&] {
+            std::string s = quality_json(measure_shell(mesh, points, kL, kH));
+            return s.substr(0, s.find("\"seconds\""));
+        });
+    };
+    CHECK(shell_json(1) == shell_json(2));
     CHECK(with_threads(1, [&] { return thinnest_wall(mesh); }) == with_threads(2, [&] { return thinnest_wall(mesh); }));
     const MeshReport r1 = with_threads(1, [&] { return check_mesh(mesh); });
     const MeshReport r2 = with_threads(2, [&] { return check_mesh(mesh); });

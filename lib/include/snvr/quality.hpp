@@ -27,13 +27,16 @@ struct MeshQuality {
     long genus = 0;                    // sum over closed components of (2 - V + E - F) / 2
     std::size_t open_components = 0;  // components with boundary edges (left out of genus)
 
-    std::size_t points_inside = 0;   // input points strictly inside the solid (count_points_inside)
+    std::size_t points_inside = 0;   // input points strictly inside the solid (count_points_inside;
+                                     // measure_shell: by the nearest triangle's side, else a ray)
     std::size_t points_outside = 0;  // points - points_inside
     double inside_fraction = 0;      // points_inside / points
     double depth_min = 0;  // over l: smallest distance to the surface of a point inside
     double depth_p01 = 0;  // over l: 1st percentile over all points of the signed depth (outside < 0)
     std::size_t inside_disagreements = 0;  // |inside by ray parity (which picks the points for
                                            // depth_min) - points_inside|: should be 0
+
+    bool has_surface = false;  // the surface figures below were measured (measure_quality, not measure_shell)
 
     double offset_rms = 0;   // over vertices, RMS of e = (distance to nearest point) - l, in h
     double offset_mean = 0;  // mean of e, in h
@@ -63,6 +66,12 @@ struct MeshQuality {
 // with out-of-range indices, ParameterError for offset or voxel <= 0.
 MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double offset, double voxel,
                             const std::function<double(const Vec3&)>& exact = {});
+
+// The figures a print needs, at about half measure_quality's cost: the verdicts,
+// pieces and genus, the points inside and their depth, the walls. The surface
+// figures (offset error, smoothness) and the second inside test are left out:
+// has_surface is false, those figures NaN or 0.
+MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offset, double voxel);
 
 // Smallest wall thickness of the mesh in world units: from each vertex along its
 // inward normal to the first surface met (infinity if no ray meets anything).

@@ -507,7 +507,7 @@ public:
         std::size_t parity_inside = 0;  // points inside by the parity of crossings
     };
 
-    PointDepths(const Mesh& m, const PointSet& points) : points_(points), order_(spatial_order(points)) {
+    PointDepths(const Mesh& m, const PointSet& points) : mesh_(m), points_(points), order_(spatial_order(points)) {
         for (const Vec3& v : m.vertices)
             for (int d = 0; d < 3; ++d) {
                 lo_[d] = std::min(lo_[d], v[d]);
@@ -517,9 +517,11 @@ public:
     std::size_t pieces() const { return (points_.size() + kPointChunk - 1) / kPointChunk; }
 
     // depth[n] for the points of piece c. near_vertex[n] bounds point n's squared
-    // distance to the surface (see measure_offset).
+    // distance to the surface (see measure_offset) or guesses it. Inside or not
+    // by the side of its nearest triangle when `by_nearest_face` and the nearest point
+    // lies inside that triangle's face (see face_side), else by a ray of its own.
     Piece measure(std::size_t c, const TriangleGrid& grid, const std::vector<double>& near_vertex,
-                  std::vector<double>& depth) const {
+                  bool by_nearest_face, std::vector<double>& depth) const {
         // Inside or not by the parity of crossings along a ray in a direction that no
         // grid-aligned edge of a marching-cubes mesh is parallel to.
         // Each ray heads for the nearer face of the mesh's box on every axis, to cut the walk short.
@@ -539,7 +541,12 @@ public:
             Vec3 toward = dir;
             for (int a = 0; a < 3; ++a)
                 if (p[a] - lo_[a] < hi_[a] - p[a]) toward[a] = -toward[a];
-            const bool inside = grid.count_crossings(p, toward) % 2 == 1;
+            const int side = by_nearest_face && near.triangle != TriangleGrid::none
+                                 ? face_side(p, mesh_.vertices[mesh_.triangles[near.triangle][0]],
+                                             mesh_.vertices[mesh_.triangles[near.triangle][1]],
+                                             mesh_.vertices[mesh_.triangles[near.triangle][2]])
+                                 : 0;
+            const bool inside = side != 0 ? side < 0 : grid.count_crossings(p, toward) % 2 == 1;
             depth[n] = inside ? d : -d;
             if (inside) {
                 piece.depth_min = std::min(piece.depth_min, d);
@@ -550,20 +557,23 @@ public:
     }
 
 private:
+    const Mesh& mesh_;
     const PointSet& points_;
     std::vector<std::uint32_t> order_;
     Vec3 lo_{kInf, kInf, kInf}, hi_{-kInf, -kInf, -kInf};  // the mesh's box
 };
 
-// The point figures from the pieces of PointDepths and count_points_inside.
+// The point figures from the pieces of PointDepths and, when given, count_points_inside
+// (the pieces' own count is then the second opinion).
 void measure_points(const std::vector<PointDepths::Piece>& pieces, std::vector<double>& depth,
-                    std::size_t points_inside, MeshQuality& q) {
+                    std::optional<std::size_t> counted_inside, MeshQuality& q) {
     double depth_min = kInf;  // a minimum and a count: the same in any order
     std::size_t parity_inside = 0;
     for (const PointDepths::Piece& p : pieces) {
         depth_min = std::min(depth_min, p.depth_min);
         parity_inside += p.parity_inside;
     }
+    const std::size_t points_inside = counted_inside.value_or(parity_inside);
     q.points_inside = points_inside;
     q.points_outside = q.points - q.points_inside;
     q.inside_fraction = q.points == 0 ? kNaN : double(q.points_inside) / double(q.points);
@@ -600,24 +610,26 @@ void measure_exact(const Mesh& m, const std::function<double(const Vec3&)>& exac
     q.exact_max = nv ? max_abs : kNaN;
 }
 
-}  // namespace
-
-MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double offset, double voxel,
-                            const std::function<double(const Vec3&)>& exact) {
+// The figures of measure_quality; the surface's (offset error, smoothness, the
+// second inside test) only when `surface` is set.
+MeshQuality measure(const char* who, const Mesh& mesh, const PointSet& points, double offset, double voxel,
+                    bool surface, const std::function<double(const Vec3&)>& exact) {
     const auto started = std::chrono::steady_clock::now();
     if (!(offset > 0) || !(voxel > 0) || !std::isfinite(offset) || !std::isfinite(voxel))
-        throw ParameterError("measure_quality: offset and voxel must be positive (got " +
+        throw ParameterError(std::string(who) + ": offset and voxel must be positive (got " +
                              detail::format_number(offset) + " and " + detail::format_number(voxel) + ")");
-    check_indices(mesh, "measure_quality");
+    check_indices(mesh, who);
     MeshQuality q;
     q.vertices = mesh.vertices.size();
     q.triangles = mesh.triangles.size();
     q.points = points.size();
     q.offset = offset;
     q.voxel = voxel;
+    q.has_surface = surface;
+    if (!surface) q.offset_rms = q.offset_mean = q.offset_max = q.dihedral_rms = q.normal_noise = kNaN;
 
     if (mesh.triangles.size() > std::numeric_limits<std::uint32_t>::max())
-        throw ResourceError("measure_quality: more than 2^32 triangles");
+        throw ResourceError(std::string(who) + ": more than 2^32 triangles");
     // Tasks on the team's threads, each part on one thread (their loops run
     // serially inside a task): the mesh's own figures (A) on one, the grid and
     // what needs no more (B) on the other, then the walls, which need only B,
@@ -626,6 +638,10 @@ MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double off
     // memory, so side by side they go faster than each with both threads. The
     // figures are the same either way: pieces write their own slots, and what
     // they add up is added up in a fixed order afterwards.
+    // Without the surface figures the points' depth searches start from a guess
+    // (twice the offset; a miss searches again without bound), and a point is
+    // inside by its nearest triangle's side (a ray only where that is unclear):
+    // one inside test, not two.
     const std::size_t nv = mesh.vertices.size();
     std::vector<double> near_vertex, wall(nv, kInf), depth(points.size());
     EdgeBuckets edges;
@@ -655,15 +671,18 @@ MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double off
                 detail::vertex_fans(mesh, fan_start, fan_tri);
                 detail::lower_edges(mesh, edges.start, edges.items);
                 q.report = detail::check_mesh_unchecked(mesh, fan_start, fan_tri, edges.start, edges.items, &piece);
-                near_vertex = measure_offset(mesh, points, fan_start, fan_tri, q);
+                if (surface)
+                    near_vertex = measure_offset(mesh, points, fan_start, fan_tri, q);
+                else
+                    near_vertex.assign(points.size(), 4 * offset * offset);
             }
             measure_topology(mesh, edges, piece, q);
-            measure_dihedral(mesh, edges, q);
+            if (surface) measure_dihedral(mesh, edges, q);
         });
         guarded(failed[1], [&] {
             grid.emplace(mesh);
             normals = unit_normals(mesh);
-            points_inside = points.empty() ? 0 : count_points_inside(mesh, points);
+            if (surface && !points.empty()) points_inside = count_points_inside(mesh, points);
             depths.emplace(mesh, points);
             pieces.resize(depths->pieces());
         });
@@ -677,7 +696,8 @@ MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double off
             for (std::size_t c = 0; c < pieces.size(); ++c)
 #pragma omp task firstprivate(c) depend(in : near_vertex)
                 guarded(failed[2], [&] {
-                    if (!failed[0]) pieces[c] = depths->measure(c, *grid, near_vertex, depth);
+                    if (!failed[0])
+                        pieces[c] = depths->measure(c, *grid, near_vertex, !surface, depth);
                 });
         }
 #pragma omp taskwait
@@ -691,13 +711,24 @@ MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double off
     q.closed = report.closed();
     q.manifold = report.manifold();
     q.oriented = report.oriented();
-    measure_normal_noise(normals, edges, q);
+    if (surface) measure_normal_noise(normals, edges, q);
     EdgeBuckets().swap(edges);
-    measure_points(pieces, depth, points_inside, q);
+    measure_points(pieces, depth, surface ? std::optional<std::size_t>(points_inside) : std::nullopt, q);
     measure_walls(wall, q);
     if (exact) measure_exact(mesh, exact, q);
     q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return q;
+}
+
+}  // namespace
+
+MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double offset, double voxel,
+                            const std::function<double(const Vec3&)>& exact) {
+    return measure("measure_quality", mesh, points, offset, voxel, true, exact);
+}
+
+MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offset, double voxel) {
+    return measure("measure_shell", mesh, points, offset, voxel, false, {});
 }
 
 double thinnest_wall(const Mesh& mesh) {
@@ -742,11 +773,13 @@ std::string format_quality(const MeshQuality& q) {
          " l (all, signed)";
     if (q.inside_disagreements) s += "; inside tests disagree on " + std::to_string(q.inside_disagreements);
     s += "\n";
-    s += "offset err:  RMS " + fixed(q.offset_rms) + " h, mean " + fixed(q.offset_mean) + " h, max |e| " +
-         fixed(q.offset_max) + " h   (l = " + detail::format_number(q.offset) +
-         ", h = " + detail::format_number(q.voxel) + ")\n";
-    s += "smoothness:  dihedral RMS " + fixed(q.dihedral_rms, 2) + " deg (" + std::to_string(q.interior_edges) +
-         " interior edges), normal noise " + fixed(q.normal_noise, 2) + " deg\n";
+    if (q.has_surface) {
+        s += "offset err:  RMS " + fixed(q.offset_rms) + " h, mean " + fixed(q.offset_mean) + " h, max |e| " +
+             fixed(q.offset_max) + " h   (l = " + detail::format_number(q.offset) +
+             ", h = " + detail::format_number(q.voxel) + ")\n";
+        s += "smoothness:  dihedral RMS " + fixed(q.dihedral_rms, 2) + " deg (" + std::to_string(q.interior_edges) +
+             " interior edges), normal noise " + fixed(q.normal_noise, 2) + " deg\n";
+    }
     s += "walls:       min " + fixed(q.wall_min) + " h = " + fixed(q.wall_min_2l) + " x 2l, 1st percentile " +
          fixed(q.wall_p01) + " h = " + fixed(q.wall_p01_2l) + " x 2l";
     if (q.wall_misses) s += "; " + std::to_string(q.wall_misses) + " rays met nothing";
@@ -798,13 +831,15 @@ std::string quality_json(const MeshQuality& q) {
     number("inside_fraction", q.inside_fraction);
     number("depth_min_l", q.depth_min);
     number("depth_p01_l", q.depth_p01);
-    count("inside_disagreements", q.inside_disagreements);
-    number("offset_rms_h", q.offset_rms);
-    number("offset_mean_h", q.offset_mean);
-    number("offset_max_h", q.offset_max);
-    number("dihedral_rms_deg", q.dihedral_rms);
-    count("interior_edges", q.interior_edges);
-    number("normal_noise_deg", q.normal_noise);
+    if (q.has_surface) {
+        count("inside_disagreements", q.inside_disagreements);
+        number("offset_rms_h", q.offset_rms);
+        number("offset_mean_h", q.offset_mean);
+        number("offset_max_h", q.offset_max);
+        number("dihedral_rms_deg", q.dihedral_rms);
+        count("interior_edges", q.interior_edges);
+        number("normal_noise_deg", q.normal_noise);
+    }
     number("wall_min_h", q.wall_min);
     number("wall_p01_h", q.wall_p01);
     number("wall_min_2l", q.wall_min_2l);

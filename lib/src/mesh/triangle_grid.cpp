@@ -223,6 +223,21 @@ double point_triangle_dist_sq(const Vec3& p, const Vec3& a, const Vec3& b, const
     return s * s / dot(n, n);
 }
 
+int face_side(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+    const Vec3 n = cross(ab, ac);
+    const double nn = dot(n, n), s = dot(ap, n);
+    // p's foot on the plane in barycentric coordinates, times |n|^2.
+    const Vec3 bp = sub(p, b), cp = sub(p, c);
+    const double wa = dot(cross(bp, cp), n), wb = dot(cross(cp, ap), n), wc = dot(cross(ap, bp), n);
+    // Margins far above rounding: near an edge or a corner another triangle may be as
+    // near, and near a corner its side can differ (a saddle).
+    constexpr double kClear = 1e-6;
+    if (!(nn > 0) || !(wa > kClear * nn && wb > kClear * nn && wc > kClear * nn)) return 0;
+    if (!(s * s > 1e-12 * nn * dot(ap, ap))) return 0;
+    return s > 0 ? 1 : -1;
+}
+
 // A point against item boxes, four at a time: lower bounds on the squared
 // distance, in box steps, from the point to each box, shrunk by the rounding of floats.
 class TriangleGrid::PointBoxes {

@@ -90,4 +90,11 @@ private:
 // Distance squared from p to the triangle (a, b, c), degenerate triangles included.
 double point_triangle_dist_sq(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
+// Which side of the triangle (a, b, c) p lies on, when p's nearest point on it lies
+// inside the face, clear of its edges and corners: +1 on the side its normal
+// (counter-clockwise a, b, c) points to, -1 on the other; 0 when the nearest point
+// is on or near an edge or corner, p (nearly) in the plane, or the triangle degenerate.
+// For the triangle nearest to p in a closed, oriented mesh, +1 means outside.
+int face_side(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
 }  // namespace snvr
