@@ -126,6 +126,16 @@ double ray_triangle(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, 
     return u >= 0 && v >= 0 && u + v <= 1 ? t : kInf;
 }
 
+// A torus about the z axis through (0.5, 0.5): ring radius 0.3, tube radius 0.1.
+Mesh torus_mesh() {
+    return isosurface(
+        [](const Vec3& p) {
+            const double ring = std::hypot(p[0] - 0.5, p[1] - 0.5) - 0.3;
+            return 0.1 - std::hypot(ring, p[2] - 0.5);
+        },
+        {0.05, 0.05, 0.3}, 0.02, 45);
+}
+
 }  // namespace
 
 TEST_CASE("quality: a sphere has genus 0, a torus genus 1") {
@@ -141,12 +151,7 @@ TEST_CASE("quality: a sphere has genus 0, a torus genus 1") {
     CHECK(s.open_components == 0);
     CHECK(s.points_inside == 1);
 
-    const Mesh torus = isosurface(
-        [](const Vec3& p) {
-            const double ring = std::hypot(p[0] - 0.5, p[1] - 0.5) - 0.3;
-            return 0.1 - std::hypot(ring, p[2] - 0.5);
-        },
-        {0.05, 0.05, 0.3}, 0.02, 45);
+    const Mesh torus = torus_mesh();
     // Points on the core circle are inside; those on the axis, in the hole, are not.
     PointSet points;
     for (int k = 0; k < 16; ++k) {
@@ -231,12 +236,7 @@ TEST_CASE("quality: dihedral angle and normal noise grow with noise") {
 TEST_CASE("quality: measure_shell has measure_quality's figures for a print, and no surface figures") {
     // The shell with its cavity, and the torus with points in its hole: the depth's sign
     // comes from the windings alone here, so points outside must come out negative too.
-    const Mesh torus = isosurface(
-        [](const Vec3& p) {
-            const double ring = std::hypot(p[0] - 0.5, p[1] - 0.5) - 0.3;
-            return 0.1 - std::hypot(ring, p[2] - 0.5);
-        },
-        {0.05, 0.05, 0.3}, 0.02, 45);
+    const Mesh torus = torus_mesh();
     PointSet around_torus = shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.03);  // in the tube and out of it
     const struct {
         const Mesh& mesh;
