@@ -244,7 +244,7 @@ Command reconstruct_command(ReconstructOptions& o) {
          fmt("passes of Taubin smoothing over the mesh, 0 for the raw\nisosurface (default %d)", snvr::MeshFairing{}.passes),
          store(o.fairing.passes), "Mesh"},
         {"--measure", "", "",
-         "the check also measures the surface: distance to the points\nminus the offset, dihedral and normal noise (about twice\nthe check's time)",
+         "the check also measures the surface: distance to the points\nminus the offset, dihedral and normal noise (the check\ntakes about 1.4 times as long)",
          set_flag(o.measure)},
         {"--quiet", "", "", "no progress or summary (errors and warnings still show)", set_flag(o.quiet),
          "Other"},

@@ -67,7 +67,7 @@ struct MeshQuality {
 MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double offset, double voxel,
                             const std::function<double(const Vec3&)>& exact = {});
 
-// The figures a print needs, at about half measure_quality's cost: the verdicts,
+// The figures a print needs, at about 0.7x measure_quality's cost: the verdicts,
 // pieces and genus, the points inside and their depth, the walls. The surface
 // figures (offset error, smoothness) and the second inside test are left out:
 // has_surface is false, those figures NaN or 0.

@@ -638,7 +638,8 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointSet& points, d
     // memory, so side by side they go faster than each with both threads. The
     // figures are the same either way: pieces write their own slots, and what
     // they add up is added up in a fixed order afterwards.
-    // Without the surface figures the points' depth searches start from a guess
+    // Without the surface figures (offset error, smoothness: about 0.3 of the
+    // thread time on the bunny) the points' depth searches start from a guess
     // (twice the offset; a miss searches again without bound), and a point is
     // inside by its nearest triangle's side (a ray only where that is unclear):
     // one inside test, not two.
