@@ -100,12 +100,14 @@ std::size_t count_point_clusters(const PointSet& points, double link_distance) {
             const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
             return dx * dx + dy * dy + dz * dz;
         };
-        // Each cell's box (of its points) and whether its points are all one set.
+        // Each cell's box (of its points) and whether its points are all one set, at
+        // the cell's first item: a slot per point, not per cell (a sparse cloud has
+        // up to 8 cells a point).
         struct Box {
             Vec3 lo, hi;
         };
-        std::vector<Box> box(n_cells);
-        std::vector<char> one_set(n_cells, 0);
+        std::vector<Box> box(n);
+        std::vector<char> one_set(n, 0);
         for (std::size_t c = 0; c < n_cells; ++c) {
             if (start[c] == start[c + 1]) continue;
             Box b{items[start[c]].p, items[start[c]].p};
@@ -114,11 +116,11 @@ std::size_t count_point_clusters(const PointSet& points, double link_distance) {
                     b.lo[d] = std::min(b.lo[d], items[i].p[d]);
                     b.hi[d] = std::max(b.hi[d], items[i].p[d]);
                 }
-            box[c] = b;
+            box[start[c]] = b;
             // Far below the link by more than any rounding of a pair's distance:
             // every pair in the box is linked.
             if (dist_sq(b.lo, b.hi) < link_sq * (1 - 1e-9)) {
-                one_set[c] = 1;
+                one_set[start[c]] = 1;
                 for (std::size_t i = start[c] + 1; i < start[c + 1]; ++i) unite(items[start[c]].index, items[i].index);
             } else {
                 for (std::size_t i = start[c]; i < start[c + 1]; ++i)
@@ -149,10 +151,10 @@ std::size_t count_point_clusters(const PointSet& points, double link_distance) {
                                 const int nx = x + dx, ny = y + dy, nz = z + dz;
                                 if (nx < 0 || ny < 0 || nx >= cells[0] || ny >= cells[1] || nz >= cells[2]) continue;
                                 const std::size_t o = index(nx, ny, nz);
-                                if (start[o] == start[o + 1] || gap_sq(box[c], box[o]) >= link_sq) continue;
+                                if (start[o] == start[o + 1] || gap_sq(box[start[c]], box[start[o]]) >= link_sq) continue;
                                 // Two cells of one set each: one link joins them, and
                                 // once joined nothing between them can change.
-                                const bool whole = one_set[c] && one_set[o];
+                                const bool whole = one_set[start[c]] && one_set[start[o]];
                                 if (whole && find_root(parent, items[start[c]].index) ==
                                                  find_root(parent, items[start[o]].index))
                                     continue;
