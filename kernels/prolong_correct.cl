@@ -1,12 +1,12 @@
 // phi += prolongation of the coarse correction, only where g > 0. Cell-centred
 // trilinear: 3/4 on the parent, 1/4 on the next coarse cell towards the child, coarse
 // indices clamped at the grid edge (mirror), applied x first, then y, then z; or
-// injection. One work-group of 64 per fine brick: the brick's 4x4x4 coarse parents
-// and a one-cell halo go to local memory, then one work-item per fine row.
+// injection. A plane kernel (common.cl): the planes of a brick load its 4x4x4 coarse
+// parents and a one-cell halo to local memory, then walk their rows.
 #define HALO 6  // coarse cells per axis around a fine brick
 
 // A fine row's x interpolation from halo row (jj, kk).
-inline row_t along_x(local const real* cv, int jj, int kk, int trilinear) {
+ALWAYS_INLINE row_t along_x(local const real* cv, int jj, int kk, int trilinear) {
     local const real* c = cv + HALO * (jj + HALO * kk);
     const row_t parent = (row_t)(c[1], c[1], c[2], c[2], c[3], c[3], c[4], c[4]);
     if (!trilinear) return parent;
@@ -15,31 +15,42 @@ inline row_t along_x(local const real* cv, int jj, int kk, int trilinear) {
 }
 
 kernel void prolong_correct(global real* phi, global const real* g, global const uint* bricks,
-                            global const uint* slot, LEVEL_PARAMS, global const real* phi_coarse,
+                            global const uint* slot, LEVEL_PARAMS, uint planes, global const real* phi_coarse,
                             global const uint* slot_coarse, int cnx, int cny, int cnz, int cbx, int cby,
                             int trilinear) {
-    local real cv[HALO * HALO * HALO];
-    const int lid = (int)get_local_id(0);
-    const Row w = brick_row(slot, bx, by, bricks[get_group_id(0)], lid);
-    // Halo origin in coarse cells: one before the brick's first parent.
-    const int I0 = w.i0 / 2 - 1, J0 = (w.j - w.lj) / 2 - 1, K0 = (w.k - w.lk) / 2 - 1;
-    for (int t = lid; t < HALO * HALO * HALO; t += ROWS_PER_BRICK)
-        cv[t] = phi_coarse[cell_index(slot_coarse, cbx, cby, clamp(I0 + t % HALO, 0, cnx - 1),
-                                      clamp(J0 + t / HALO % HALO, 0, cny - 1), clamp(K0 + t / (HALO * HALO), 0, cnz - 1))];
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (w.j >= ny || w.k >= nz) return;
-    const int J = (w.j >> 1) - J0, K = (w.k >> 1) - K0;
-    row_t correction;
-    if (!trilinear) {
-        correction = along_x(cv, J, K, 0);
-    } else {
-        const int J2 = J + ((w.j & 1) ? 1 : -1), K2 = K + ((w.k & 1) ? 1 : -1);
-        const real w0 = (real)0.75, w1 = (real)0.25;
-        const row_t plane_k = w0 * along_x(cv, J, K, 1) + w1 * along_x(cv, J2, K, 1);
-        const row_t plane_k2 = w0 * along_x(cv, J, K2, 1) + w1 * along_x(cv, J2, K2, 1);
-        correction = w0 * plane_k + w1 * plane_k2;
+    local real halo[PLANES_PER_GROUP / BRICK * HALO * HALO * HALO];
+    const uint item = (uint)get_global_id(0);
+    const int lid = (int)get_local_id(0), lk = lid % BRICK;
+    local real* cv = halo + HALO * HALO * HALO * (lid / BRICK);
+    BrickSite s;
+    if (item < planes) {
+        s = brick_site(slot, LEVEL_ARGS, bricks[item / BRICK]);
+        // Halo origin in coarse cells: one before the brick's first parent.
+        const int I0 = s.i0 / 2 - 1, J0 = s.j0 / 2 - 1, K0 = s.k0 / 2 - 1;
+        for (int t = lk; t < HALO * HALO * HALO; t += BRICK)
+            cv[t] = phi_coarse[cell_index(slot_coarse, cbx, cby, clamp(I0 + t % HALO, 0, cnx - 1),
+                                          clamp(J0 + t / HALO % HALO, 0, cny - 1), clamp(K0 + t / (HALO * HALO), 0, cnz - 1))];
     }
-    const row_t p = load_row(phi, w.at);
-    const row_mask live = load_row(g, w.at) != (row_t)0;  // g is 0 outside the grid too
-    vstore8(select(p, p + correction, live), 0, phi + w.at);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (item >= planes || lk >= s.nk) return;
+    const int k = s.k0 + lk;
+    const int K = (k >> 1) - (s.k0 / 2 - 1), K2 = K + ((k & 1) ? 1 : -1);
+    size_t at = s.at + (size_t)(BRICK * BRICK * lk);
+    for (int lj = 0; lj < s.nj; ++lj, at += BRICK) {
+        const int j = s.j0 + lj;
+        const int J = (j >> 1) - (s.j0 / 2 - 1);
+        row_t correction;
+        if (!trilinear) {
+            correction = along_x(cv, J, K, 0);
+        } else {
+            const int J2 = J + ((j & 1) ? 1 : -1);
+            const real w0 = (real)0.75, w1 = (real)0.25;
+            const row_t plane_k = w0 * along_x(cv, J, K, 1) + w1 * along_x(cv, J2, K, 1);
+            const row_t plane_k2 = w0 * along_x(cv, J, K2, 1) + w1 * along_x(cv, J2, K2, 1);
+            correction = w0 * plane_k + w1 * plane_k2;
+        }
+        const row_t p = load_row(phi, at);
+        const row_mask live = load_row(g, at) != (row_t)0;  // g is 0 outside the grid too
+        vstore8(select(p, p + correction, live), 0, phi + at);
+    }
 }

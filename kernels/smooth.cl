@@ -2,26 +2,27 @@
 // over-relaxed by omega (exactly the Gauss-Seidel value when omega is 1). Cells of one
 // colour read only the other colour, so the order inside a launch does not matter; a
 // row is written whole, its other colour with the values it already holds.
-// One work-item per row, 64 per brick; the update runs on the row's four cells of the
-// colour only (half the divisions).
-
-// The four lanes of the colour: even lanes when `odd` is 0, odd lanes otherwise.
-ALWAYS_INLINE half_row_t lanes(row_t v, int odd) { return odd ? v.odd : v.even; }
-
+// A plane kernel (common.cl); every lane is computed and the colour's lanes kept, which
+// costs less than gathering them.
 kernel void smooth(global real* phi, global const real* rhs, global const real* g,
-                   global const uint* bricks, global const uint* slot, LEVEL_PARAMS,
+                   global const uint* bricks, global const uint* slot, LEVEL_PARAMS, uint planes,
                    int color, real coef, real omega) {
-    const Row w = brick_row(slot, bx, by, bricks[get_group_id(0)], (int)get_local_id(0));
-    if (w.j >= ny || w.k >= nz) return;
-    const row_t p = load_row(phi, w.at);
-    const RowNeighbours n = row_neighbours(phi, slot, LEVEL_ARGS, w, p);
-    // Bricks start at even coordinates: lane q has the colour when (q + j + k + color) is even.
-    const int odd = (w.j + w.k + color) & 1;
-    const half_row_t a = lanes(load_row(g, w.at), odd) * coef;
-    const half_row_t old = lanes(p, odd);
-    const half_row_t gs = (lanes(load_row(rhs, w.at), odd) + a * lanes(n.sum, odd)) / ((half_row_t)1 + a * lanes(n.count, odd));
-    const half_row_t v = omega == (real)1 ? gs : old + omega * (gs - old);
-    const row_t merged = odd ? (row_t)(p.s0, v.s0, p.s2, v.s1, p.s4, v.s2, p.s6, v.s3)
-                             : (row_t)(v.s0, p.s1, v.s1, p.s3, v.s2, p.s5, v.s3, p.s7);
-    vstore8(select(p, merged, row_in_grid(w, nx)), 0, phi + w.at);
+    const uint item = (uint)get_global_id(0);
+    if (item >= planes) return;
+    const BrickSite s = brick_site(slot, LEVEL_ARGS, bricks[item / BRICK]);
+    const int lk = (int)(item % BRICK);
+    if (lk >= s.nk) return;
+    const row_mask inside = lanes_in_grid(s, nx);
+    const row_mask odd = ((row_mask)(0, 1, 2, 3, 4, 5, 6, 7) & (row_mask)1) != (row_mask)0;
+    const row_mask odd_lanes = odd & inside, even_lanes = ~odd & inside;
+    const bool relax = omega != (real)1;
+    for (PlaneWalk w = plane_walk(phi, s, lk); w.lj < s.nj; w = plane_step(phi, s, w)) {
+        const RowNeighbours n = plane_neighbours(phi, LEVEL_ARGS, s, w);
+        // Bricks start at even coordinates: lane q has the colour when (q + j + k + color) is even.
+        const row_mask mine = ((s.j0 + w.lj + s.k0 + lk + color) & 1) ? odd_lanes : even_lanes;
+        const row_t a = load_row(g, w.at) * coef;
+        const row_t gs = (load_row(rhs, w.at) + a * n.sum) / ((row_t)1 + a * n.count);
+        const row_t v = relax ? w.p + omega * (gs - w.p) : gs;
+        vstore8(select(w.p, v, mine), 0, phi + w.at);
+    }
 }
