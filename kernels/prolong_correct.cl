@@ -25,11 +25,21 @@ kernel void prolong_correct(global real* phi, global const real* g, global const
     BrickSite s;
     if (item < planes) {
         s = brick_site(slot, LEVEL_ARGS, bricks[item / BRICK]);
-        // Halo origin in coarse cells: one before the brick's first parent.
+        // Halo origin in coarse cells: one before the brick's first parent. A halo row's
+        // four middle cells (the parents) lie in one coarse brick: one load unless clamped.
         const int I0 = s.i0 / 2 - 1, J0 = s.j0 / 2 - 1, K0 = s.k0 / 2 - 1;
-        for (int t = lk; t < HALO * HALO * HALO; t += BRICK)
-            cv[t] = phi_coarse[cell_index(slot_coarse, cbx, cby, clamp(I0 + t % HALO, 0, cnx - 1),
-                                          clamp(J0 + t / HALO % HALO, 0, cny - 1), clamp(K0 + t / (HALO * HALO), 0, cnz - 1))];
+        const bool parents_inside = I0 + 4 < cnx;
+        for (int t = lk; t < HALO * HALO; t += BRICK) {
+            const int J = clamp(J0 + t % HALO, 0, cny - 1), K = clamp(K0 + t / HALO, 0, cnz - 1);
+            local real* row = cv + HALO * t;
+            row[0] = phi_coarse[cell_index(slot_coarse, cbx, cby, max(I0, 0), J, K)];
+            if (parents_inside) {
+                vstore4(vload4(0, phi_coarse + cell_index(slot_coarse, cbx, cby, I0 + 1, J, K)), 0, row + 1);
+            } else {
+                for (int q = 1; q < HALO - 1; ++q) row[q] = phi_coarse[cell_index(slot_coarse, cbx, cby, min(I0 + q, cnx - 1), J, K)];
+            }
+            row[HALO - 1] = phi_coarse[cell_index(slot_coarse, cbx, cby, min(I0 + HALO - 1, cnx - 1), J, K)];
+        }
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     if (item >= planes || lk >= s.nk) return;
