@@ -94,6 +94,8 @@ ALWAYS_INLINE row_mask row_in_grid(Row w, int nx) {
 // per work-group, walking the plane's rows along y with the y neighbours carried in
 // registers: the brick's place and neighbours are found once per plane, not per row,
 // and no row just written is read back (PoCL: sweeps 1.4x faster than an item per row).
+// Their first argument is the number of planes (8 per active brick): the last group is
+// padded.
 #define PLANES_PER_GROUP 64
 
 // A brick's place and where its six neighbours are stored (its own storage where a

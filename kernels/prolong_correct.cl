@@ -14,8 +14,8 @@ ALWAYS_INLINE row_t along_x(local const real* cv, int jj, int kk, int trilinear)
     return (real)0.75 * parent + (real)0.25 * next;
 }
 
-kernel void prolong_correct(global real* phi, global const real* g, global const uint* bricks,
-                            global const uint* slot, LEVEL_PARAMS, uint planes, global const real* phi_coarse,
+kernel void prolong_correct(uint planes, global real* phi, global const real* g, global const uint* bricks,
+                            global const uint* slot, LEVEL_PARAMS, global const real* phi_coarse,
                             global const uint* slot_coarse, int cnx, int cny, int cnz, int cbx, int cby,
                             int trilinear) {
     local real halo[PLANES_PER_GROUP / BRICK * HALO * HALO * HALO];

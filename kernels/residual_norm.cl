@@ -2,9 +2,9 @@
 // cells in x order, then the rows (y fastest, then z). A plane kernel (common.cl): each
 // item leaves its rows' sums in local memory, the brick's first plane adds them up;
 // rows and cells outside the grid add exact zeros.
-kernel void residual_norm(global const real* phi, global const real* rhs, global const real* g,
-                          global const uint* bricks, global const uint* slot, LEVEL_PARAMS, uint planes,
-                          real coef, global acc* partial) {
+kernel void residual_norm(uint planes, global const real* phi, global const real* rhs, global const real* g,
+                          global const uint* bricks, global const uint* slot, LEVEL_PARAMS, real coef,
+                          global acc* partial) {
     local acc rows[PLANES_PER_GROUP * BRICK];
     const uint item = (uint)get_global_id(0);
     const int lid = (int)get_local_id(0), lk = lid % BRICK;

@@ -3,8 +3,8 @@
 // A plane kernel (common.cl): each item leaves its plane's residual rows in local
 // memory, then computes 8 of its brick's 4x4x4 coarse cells. A fine brick's children
 // fill a block of one coarse brick, so bricks write disjoint coarse cells.
-kernel void restrict_residual(global const real* phi, global const real* rhs, global const real* g,
-                              global const uint* bricks, global const uint* slot, LEVEL_PARAMS, uint planes, real coef,
+kernel void restrict_residual(uint planes, global const real* phi, global const real* rhs, global const real* g,
+                              global const uint* bricks, global const uint* slot, LEVEL_PARAMS, real coef,
                               global real* phi_coarse, global real* rhs_coarse, global const real* g_coarse,
                               global const uint* slot_coarse, int cbx, int cby) {
     local real res[PLANES_PER_GROUP / BRICK * BRICK_CELLS];

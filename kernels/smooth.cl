@@ -4,9 +4,9 @@
 // row is written whole, its other colour with the values it already holds.
 // A plane kernel (common.cl); every lane is computed and the colour's lanes kept, which
 // costs less than gathering them.
-kernel void smooth(global real* phi, global const real* rhs, global const real* g,
-                   global const uint* bricks, global const uint* slot, LEVEL_PARAMS, uint planes,
-                   int color, real coef, real omega) {
+kernel void smooth(uint planes, global real* phi, global const real* rhs, global const real* g,
+                   global const uint* bricks, global const uint* slot, LEVEL_PARAMS, int color, real coef,
+                   real omega) {
     const uint item = (uint)get_global_id(0);
     if (item >= planes) return;
     const BrickSite s = brick_site(slot, LEVEL_ARGS, bricks[item / BRICK]);

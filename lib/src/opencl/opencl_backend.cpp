@@ -17,9 +17,6 @@ using opencl::guarded;
 // common.cl's PLANES_PER_GROUP); cell kernels one work-item per cell in groups of 256.
 constexpr std::size_t kRows = 64, kPlanes = 8, kPlaneGroup = 64, kCellGroup = 256, kReduceGroup = 256;
 
-// Work-items of a plane kernel over `active` bricks, whole groups.
-std::size_t plane_items(std::size_t active) { return (active * kPlanes + kPlaneGroup - 1) / kPlaneGroup * kPlaneGroup; }
-
 // The five ints kernels take as LEVEL_PARAMS.
 struct Shape {
     cl_int nx, ny, nz, bx, by;
@@ -132,8 +129,7 @@ public:
     void smooth(int level, int color, Real c, Real omega) override {
         guarded("smooth", [&] {
             const LevelBuffers& b = levels_[std::size_t(level)];
-            launch(smooth_, plane_items(b.active), kPlaneGroup, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level),
-                   cl_uint(b.active * kPlanes), cl_int(color), c, omega);
+            launch_planes(smooth_, b.active, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level), cl_int(color), c, omega);
         });
     }
 
@@ -141,8 +137,7 @@ public:
         return guarded("residual_sum_squares", [&] {
             const LevelBuffers& b = levels_[std::size_t(level)];
             if (b.active == 0) return 0.0;
-            launch(residual_norm_, plane_items(b.active), kPlaneGroup, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level),
-                   cl_uint(b.active * kPlanes), c, partial_);
+            launch_planes(residual_norm_, b.active, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level), c, partial_);
             launch(sum_partials_, kReduceGroup, kReduceGroup, partial_, cl_uint(b.active), total_);
             if (rt_.double_accumulator()) return read_scalar<double>();
             return double(read_scalar<float>());
@@ -153,16 +148,16 @@ public:
         guarded("restrict_residual", [&] {
             const LevelBuffers &f = levels_[std::size_t(level)], &cb = levels_[std::size_t(level) + 1];
             const Shape cs = shape(level + 1);
-            launch(restrict_residual_, plane_items(f.active), kPlaneGroup, f.phi, f.rhs, f.g, f.bricks, f.slot, shape(level),
-                   cl_uint(f.active * kPlanes), c, cb.phi, cb.rhs, cb.g, cb.slot, cs.bx, cs.by);
+            launch_planes(restrict_residual_, f.active, f.phi, f.rhs, f.g, f.bricks, f.slot, shape(level), c, cb.phi, cb.rhs,
+                          cb.g, cb.slot, cs.bx, cs.by);
         });
     }
 
     void prolong_correct(int level, bool trilinear) override {
         guarded("prolong_correct", [&] {
             const LevelBuffers &f = levels_[std::size_t(level)], &cb = levels_[std::size_t(level) + 1];
-            launch(prolong_, plane_items(f.active), kPlaneGroup, f.phi, f.g, f.bricks, f.slot, shape(level),
-                   cl_uint(f.active * kPlanes), cb.phi, cb.slot, shape(level + 1), cl_int(trilinear));
+            launch_planes(prolong_, f.active, f.phi, f.g, f.bricks, f.slot, shape(level), cb.phi, cb.slot, shape(level + 1),
+                          cl_int(trilinear));
         });
     }
 
@@ -288,6 +283,13 @@ private:
         if (global == 0) return;  // a level without active bricks
         set_args(k, 0, args...);
         rt_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(local));
+    }
+
+    // A plane kernel over `active` bricks: its plane count first, then args; whole groups.
+    template <class... Args>
+    void launch_planes(cl::Kernel& k, std::size_t active, const Args&... args) {
+        const std::size_t planes = active * kPlanes;
+        launch(k, (planes + kPlaneGroup - 1) / kPlaneGroup * kPlaneGroup, kPlaneGroup, cl_uint(planes), args...);
     }
 
     opencl::Runtime rt_;
