@@ -2,6 +2,8 @@
 // turns exceptions into messages and exit codes (0 ok, 1 failure, 2 usage).
 #include <unistd.h>
 
+#include <csignal>
+
 #include <cstdlib>
 #include <iostream>
 #include <new>
@@ -10,6 +12,8 @@
 
 #include "commands.hpp"
 #include "options.hpp"
+#include "snvr/error.hpp"
+#include "snvr/io.hpp"
 
 #ifndef SNVR_VERSION
 #define SNVR_VERSION "unknown"
@@ -38,10 +42,31 @@ void prefer_passive_waiting(char** argv) {
     ::execv("/proc/self/exe", argv);  // returns only on failure: carry on spinning
 }
 
+// Ctrl-C, a terminal closing or a SIGTERM while a temporary has a name (briefly before
+// its rename, or throughout where the file system has no unnamed files) removes it,
+// then ends the process by the same signal, as the caller expects.
+extern "C" void remove_temporaries_and_stop(int sig) {
+    snvr::remove_temporary_files();
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+}
+
+void remove_temporaries_on_signals() {
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        struct sigaction old {};
+        if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;  // nohup and the like
+        struct sigaction action {};
+        action.sa_handler = remove_temporaries_and_stop;
+        sigemptyset(&action.sa_mask);
+        ::sigaction(sig, &action, nullptr);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     prefer_passive_waiting(argv);
+    remove_temporaries_on_signals();
     const std::vector<std::string> args(argv + 1, argv + argc);
     const std::string command = args.empty() ? "" : args[0];
     try {
@@ -63,7 +88,7 @@ int main(int argc, char** argv) {
         std::cerr << "snvr-cl: error: out of memory\n";
         return kFailure;
     } catch (const std::exception& e) {
-        std::cerr << "snvr-cl: error: " << e.what() << '\n';
+        std::cerr << "snvr-cl: error: " << snvr::printable(e.what()) << '\n';
         return kFailure;
     }
 }

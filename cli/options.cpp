@@ -187,6 +187,11 @@ Command reconstruct_command(ReconstructOptions& o) {
         else if (value == "float") p.precision = snvr::Precision::Single;
         else bad_value(option, value, "double or float");
     };
+    auto origin = [&o](const std::string& option, const std::string& value) {
+        if (value == "center") o.centre_origin = true;
+        else if (value == "keep") o.centre_origin = false;
+        else bad_value(option, value, "center or keep");
+    };
     Command c;
     c.usage = "snvr-cl reconstruct INPUT -o OUTPUT [options]";
     c.description =
@@ -198,6 +203,9 @@ Command reconstruct_command(ReconstructOptions& o) {
         {"--output", "-o", "FILE", "mesh to write (required): .stl (binary), .ply (binary) or .obj",
          store(o.output), "Output"},
         {"--volume", "", "FILE", "also write the final phase field phi: .vti or .nrrd", store(o.volume)},
+        {"--origin", "", "center|keep",
+         "center: shift the points by their box centre, rounded\n(shown in the summary), so that far coordinates such as\nsurvey data keep their precision in float32 STL and PLY\n(default keep: coordinates as read)",
+         origin},
         {"--offset", "", "L",
          "distance of each wall from the points, world units\n"
          "(default: the larger of 2.5 voxels and the points' sampling gap)",

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/parameters.hpp"
 
@@ -14,7 +15,7 @@ namespace cli {
 
 // A mistake on the command line: exit status 2 and a hint to read --help.
 struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+    explicit UsageError(const std::string& message) : std::runtime_error(snvr::printable(message)) {}
 };
 
 // The whole token must be a finite decimal number (or an integer), else UsageError
@@ -26,6 +27,7 @@ struct ReconstructOptions {
     std::string input, output, volume;
     snvr::Parameters params;
     snvr::MeshFairing fairing;
+    bool centre_origin = false;  // --origin center: points shifted by snvr::round_centre
     bool measure = false;  // the check adds the surface figures (measure_quality, not measure_shell)
     bool quiet = false;
 };

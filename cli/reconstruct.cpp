@@ -29,6 +29,15 @@ void check_writable_location(const std::string& path) {
         throw snvr::IoError("cannot write '" + path + "': directory '" + dir.string() + "' does not exist");
 }
 
+// The user's files are never outputs: an output that is the input (the same path, or
+// reached through a symbolic or hard link) is refused before anything runs.
+void refuse_overwriting_input(const std::string& input, const std::string& output, const char* which) {
+    std::error_code ec;
+    if (std::filesystem::equivalent(input, output, ec))
+        throw snvr::IoError("refusing to write " + std::string(which) + " '" + output + "': it is the input '" +
+                            input + "'; choose another output file");
+}
+
 }  // namespace
 
 int run_reconstruct(const std::vector<std::string>& args) {
@@ -36,18 +45,25 @@ int run_reconstruct(const std::vector<std::string>& args) {
     if (!parsed) return 0;
     const ReconstructOptions& o = *parsed;
     const auto say = [&o](const std::string& line) {
-        if (!o.quiet) std::cerr << line << std::endl;
+        if (!o.quiet) std::cerr << snvr::printable(line) << std::endl;
     };
 
     Stopwatch total, stage;
     Seconds seconds;
     check_writable_location(o.output);
-    if (!o.volume.empty()) check_writable_location(o.volume);
+    refuse_overwriting_input(o.input, o.output, "the mesh");
+    if (!o.volume.empty()) {
+        check_writable_location(o.volume);
+        refuse_overwriting_input(o.input, o.volume, "the volume");
+    }
 
     say("read: " + o.input);
-    const snvr::PointSet points = snvr::read_points(o.input);
+    snvr::PointSet points = snvr::read_points(o.input);
     seconds.read = stage.lap();
     say("read: " + grouped(points.size()) + " points");
+    const snvr::Vec3 shift = o.centre_origin ? snvr::round_centre(points) : snvr::Vec3{0, 0, 0};
+    for (snvr::Vec3& p : points)
+        for (int a = 0; a < 3; ++a) p[a] -= shift[a];
 
     snvr::Result result = snvr::reconstruct(points, o.params, [&o](const snvr::Progress& p) {
         if (!o.quiet) print_progress(std::cerr, p);
@@ -77,35 +93,32 @@ int run_reconstruct(const std::vector<std::string>& args) {
                               "%.6g, voxel %.6g); try a larger --offset or a finer --resolution. Nothing written",
                               result.domain.nx, result.domain.ny, result.domain.nz, result.offset,
                               result.domain.h));
+    snvr::require_written_precision(mesh, o.output, result.domain.h);
 
-    // Written first, checked after: the checks only warn, and the file is there sooner.
-    say("write: " + o.output);
-    snvr::write_mesh(mesh, o.output);
-    if (!o.volume.empty()) {
-        say("write: " + o.volume);
-        try {
-            snvr::write_field(result.phi, result.domain, o.volume);
-        } catch (...) {
-            // A failed run leaves no outputs behind, not even the finished mesh.
-            std::remove(o.output.c_str());
-            throw;
-        }
-    }
-    result.phi = snvr::Field();  // meshed and written: its memory goes to the check
+    // Staged first (whole files, not yet visible), checked, then renamed into place
+    // together: a failure anywhere leaves every output as it was, and a written
+    // output always means exit 0 (the checks only warn).
+    say("write: " + o.output + (o.volume.empty() ? "" : ", " + o.volume));
+    snvr::OutputFiles outputs;
+    outputs.add_mesh(mesh, o.output);
+    if (!o.volume.empty()) outputs.add_field(result.phi, result.domain, o.volume);
+    result.phi = snvr::Field();  // meshed and staged: its memory goes to the check
     seconds.write = stage.lap();
-    seconds.written = total.lap();
 
     say("check: " + grouped(mesh.triangles.size()) + " triangles, " + grouped(points.size()) + " points");
     // Closed / manifold / oriented, points inside and their depth, walls; roughness on request.
-    const snvr::MeshQuality quality = o.measure ? snvr::measure_quality(mesh, points, result.offset, result.domain.h)
-                                                : snvr::measure_shell(mesh, points, result.offset, result.domain.h);
+    // On the mesh as its file holds it (float32 for STL and PLY).
+    const snvr::Mesh written = snvr::as_written(mesh, o.output);
+    const snvr::MeshQuality quality = o.measure ? snvr::measure_quality(written, points, result.offset, result.domain.h)
+                                                : snvr::measure_shell(written, points, result.offset, result.domain.h);
     const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
     seconds.check = stage.lap();
+    outputs.commit();
+    seconds.total = total.lap();
     for (const std::string& w : snvr::shell_warnings(quality, points.size(), clusters)) warn(w);
-    seconds.total = seconds.written + total.lap();
 
     if (!o.quiet)
-        print_summary(std::cerr, RunSummary{result, quality, seconds, o.output, o.volume});
+        print_summary(std::cerr, RunSummary{result, quality, seconds, o.output, o.volume, shift});
     return 0;
 }
 

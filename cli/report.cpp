@@ -1,4 +1,5 @@
 #include "report.hpp"
+#include "snvr/error.hpp"
 
 #include <sys/resource.h>
 
@@ -31,7 +32,7 @@ std::string grouped(std::size_t n) {
     return out;
 }
 
-void warn(const std::string& message) { std::cerr << "snvr-cl: warning: " << message << std::endl; }
+void warn(const std::string& message) { std::cerr << "snvr-cl: warning: " << snvr::printable(message) << std::endl; }
 
 void print_progress(std::ostream& out, const snvr::Progress& p) {
     if (p.stage == "step" && p.stats) {
@@ -82,6 +83,9 @@ void print_summary(std::ostream& out, const RunSummary& run) {
     out << "summary:\n";
     row("grid", fmt("%d x %d x %d (%s cells), voxel %.6g, %d multigrid levels", d.nx, d.ny, d.nz,
                     grouped(d.cells()).c_str(), d.h, d.levels));
+    if (run.shift != snvr::Vec3{0, 0, 0})
+        row("origin", fmt("shifted by (%.17g, %.17g, %.17g): add that back to place the shell", -run.shift[0],
+                          -run.shift[1], -run.shift[2]));
     row("offset", fmt("%.6g (%.3g voxels), thickness %.6g; why: %s", r.offset, r.offset / d.h, 2 * r.offset,
                       r.offset_reason.empty() ? "not reported" : r.offset_reason.c_str()));
     row("sampling gap", fmt("%.6g", r.gap));
@@ -103,14 +107,16 @@ void print_summary(std::ostream& out, const RunSummary& run) {
     const snvr::StageSeconds& s = r.seconds;
     row("seconds", fmt("read %.2f, domain %.2f, distance %.2f, init %.2f, steps %.2f,", run.seconds.read,
                        s.domain, s.distance, s.init, s.steps));
-    row("", fmt("mesh %.2f, write %.2f (written after %.2f), check %.2f; total %.2f", run.seconds.mesh,
-                run.seconds.write, run.seconds.written, run.seconds.check, run.seconds.total));
+    row("", fmt("mesh %.2f, write %.2f, check %.2f; total %.2f", run.seconds.mesh, run.seconds.write,
+                run.seconds.check, run.seconds.total));
     const snvr::MeshQuality& q = run.quality;
     const snvr::MeshReport& m = q.report;
     row("mesh", fmt("%s triangles, %s vertices, %zu component%s", grouped(m.triangles).c_str(),
                     grouped(m.vertices).c_str(), m.components, m.components == 1 ? "" : "s"));
     row("", fmt("%zu solid piece%s (the other components bound cavities)", m.solids, m.solids == 1 ? "" : "s"));
-    row("", fmt("closed %s, manifold %s, oriented %s", yes_no(m.closed()), yes_no(m.manifold()), yes_no(m.oriented())));
+    row("", fmt("closed %s, manifold %s, oriented %s%s", yes_no(m.closed()), yes_no(m.manifold()),
+                yes_no(m.oriented()),
+                m.zero_area_triangles ? fmt(", %zu zero-area triangles", m.zero_area_triangles).c_str() : ""));
     row("points enclosed", fmt("%s of %s; the nearest to the surface %.3g x offset deep (1st percentile %.3g)",
                                grouped(q.points_inside).c_str(), grouped(q.points).c_str(), q.depth_min, q.depth_p01));
     row("walls", fmt("thinnest 1%% at %.3g voxels = %.3g x 2 offset (thinnest of all %.3g voxels)", q.wall_p01,

@@ -30,8 +30,7 @@ void print_progress(std::ostream& out, const snvr::Progress& progress);
 
 struct Seconds {
     double read = 0, mesh = 0, write = 0, check = 0;  // measured by the CLI
-    double written = 0;  // from the start to the mesh on disk
-    double total = 0;    // including the checks after writing
+    double total = 0;    // from the start to the outputs in place
 };
 
 struct RunSummary {
@@ -39,6 +38,7 @@ struct RunSummary {
     const snvr::MeshQuality& quality;  // its report is check_mesh's
     Seconds seconds;
     std::string output, volume;
+    snvr::Vec3 shift{};  // subtracted from the points (--origin center)
 };
 void print_summary(std::ostream& out, const RunSummary& run);
 

@@ -478,3 +478,83 @@ TEST_CASE("write_points: PLY and text read back; a bad extension writes nothing"
     CHECK_THROWS_AS(snvr::write_points(points, dir.file("p.stl")), snvr::InputError);
     CHECK(dir.entries() == 2);  // no temporary and no p.stl left
 }
+
+TEST_CASE("OutputFiles: all outputs or none; a named temporary goes with remove_temporary_files") {
+    TempDir dir("io");
+    const snvr::Mesh mesh = tetrahedron();
+    const std::string first = dir.file("first.stl"), second = dir.file("second.obj");
+    write_bytes(first, "old first");
+    SUBCASE("a failure in the second leaves the first as it was") {
+        snvr::OutputFiles out;
+        out.add_mesh(mesh, first);
+        check_throws<snvr::InputError>([&] { out.add_mesh(snvr::Mesh{}, second); }, second, {"no triangles"});
+        CHECK(read_bytes(first) == "old first");  // staged, not yet in place
+        CHECK(dir.entries() == 1);
+    }
+    SUBCASE("dropped without commit: nothing changes") {
+        {
+            snvr::OutputFiles out;
+            out.add_mesh(mesh, first);
+            out.add_mesh(mesh, second);
+        }
+        CHECK(read_bytes(first) == "old first");
+        CHECK(dir.entries() == 1);
+    }
+    SUBCASE("commit puts both in place") {
+        snvr::OutputFiles out;
+        out.add_mesh(mesh, first);
+        out.add_mesh(mesh, second);
+        out.commit();
+        CHECK(snvr::read_mesh(first).triangles.size() == 4);
+        CHECK(snvr::read_points(second) == mesh.vertices);
+        CHECK(dir.entries() == 2);
+    }
+    SUBCASE("what a signal handler removes is only ever a temporary") {
+        snvr::AtomicFile out(first);
+        out.write("new");
+        snvr::remove_temporary_files();  // the unnamed temporary has nothing to remove
+        out.commit();
+        snvr::remove_temporary_files();  // nor anything left once it is in place
+        CHECK(read_bytes(first) == "new");
+        CHECK(dir.entries() == 1);
+    }
+}
+
+TEST_CASE("printable: control bytes and broken UTF-8 escaped, the rest as it is") {
+    using snvr::printable;
+    CHECK(printable("plain text, tab\tand\nnewline") == "plain text, tab\tand\nnewline");
+    CHECK(printable(std::string("a\0b", 3)) == "a\\x00b");
+    CHECK(printable("\x1b[31mred\r\x7f") == "\\x1b[31mred\\x0d\\x7f");
+    CHECK(printable("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x99\x82") == "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x99\x82");
+    CHECK(printable("\xc3") == "\\xc3");                  // cut short
+    CHECK(printable("\xc0\xaf") == "\\xc0\\xaf");         // overlong '/'
+    CHECK(printable("\xed\xa0\x80") == "\\xed\\xa0\\x80");  // a surrogate
+    CHECK(printable("\xff") == "\\xff");
+    // Every library error is made printable where it is thrown.
+    CHECK(std::string(snvr::InputError(std::string("x\0y", 3)).what()) == "x\\x00y");
+}
+
+TEST_CASE("as written: float32 formats round, OBJ keeps every digit; the precision rule") {
+    snvr::Mesh far = tetrahedron();
+    for (Vec3& v : far.vertices) v = {500000 + v[0] * 3.3, 4000000 + v[1] * 3.3, v[2] * 3.3};
+    const snvr::Mesh stl = snvr::as_written(far, "x.stl"), obj = snvr::as_written(far, "x.obj");
+    CHECK(obj.vertices == far.vertices);
+    for (std::size_t i = 0; i < far.vertices.size(); ++i)
+        for (int a = 0; a < 3; ++a) CHECK(stl.vertices[i][a] == double(float(far.vertices[i][a])));
+    // y = 4e6 has a float32 step of 0.25: a 0.05 voxel cannot be held, a 100 one can.
+    check_throws<snvr::InputError>([&] { snvr::require_written_precision(far, "x.stl", 0.05); }, "x.stl",
+                                   {"32-bit floats", "--origin center"});
+    CHECK_NOTHROW(snvr::require_written_precision(far, "x.stl", 100.0));
+    CHECK_NOTHROW(snvr::require_written_precision(far, "x.obj", 0.05));
+}
+
+TEST_CASE("round_centre: the box centre to a round figure at the box's scale") {
+    const PointSet survey{{500001.2, 4000003.9, 12.5}, {500008.1, 4000010.2, 14.0}};
+    CHECK(snvr::round_centre(survey) == Vec3{500005, 4000007, 13});
+    const Vec3 small = snvr::round_centre(PointSet{{0.12, 0.5, -0.3}, {0.2, 0.9, -0.1}});  // steps of 0.1
+    CHECK(small[0] == doctest::Approx(0.2));
+    CHECK(small[1] == doctest::Approx(0.7));
+    CHECK(small[2] == doctest::Approx(-0.2));
+    CHECK(snvr::round_centre(PointSet{{3, 4, 5}}) == Vec3{3, 4, 5});
+    CHECK(snvr::round_centre(PointSet{}) == Vec3{0, 0, 0});
+}

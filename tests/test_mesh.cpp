@@ -309,6 +309,18 @@ TEST_CASE("check_mesh detects defects") {
         CHECK_FALSE(r.manifold());
         CHECK(r.boundary_edges == 0);
     }
+    SUBCASE("zero-area triangles: corners at one place or on one line") {
+        Mesh m = cube;
+        CHECK(check_mesh(m).zero_area_triangles == 0);
+        m.vertices[1] = m.vertices[0];  // an edge of length zero
+        const std::size_t at_one_place = check_mesh(m).zero_area_triangles;
+        CHECK(at_one_place > 0);
+        m = cube;
+        m.vertices.push_back({0.5, 0, 0});  // on the edge from (0,0,0) to (1,0,0)
+        m.triangles.push_back({0, std::uint32_t(m.vertices.size() - 1), 1});
+        CHECK(check_mesh(m).zero_area_triangles == 1);
+        CHECK(check_mesh(m).degenerate_triangles == 0);
+    }
     SUBCASE("two separate closed pieces") {
         const MeshReport r = check_mesh(merge(cube, tetrahedron({3, 3, 3}, 1)));
         require_watertight(r);

@@ -531,5 +531,6 @@ TEST_CASE("read_mesh: round trip through write_mesh, and bad files") {
     CHECK_THROWS_AS(read_mesh(ply), InputError);
     CHECK(message(ply).find("face records") != std::string::npos);
     CHECK_THROWS_AS(read_mesh(dir.file("missing.stl")), IoError);
+    fs::copy_file(ply, dir.file("m.off"));  // a file that exists, with an extension it does not read
     CHECK_THROWS_AS(read_mesh(dir.file("m.off")), InputError);
 }

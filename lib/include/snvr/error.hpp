@@ -3,11 +3,17 @@
 #pragma once
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace snvr {
 
+// text with control characters (but newline and tab) and bytes that are not part of
+// valid UTF-8 written as \xNN: a message may quote a file's contents or a path, and
+// must print as it reads (no NUL cutting it short, no escape sequence for the terminal).
+std::string printable(std::string_view text);
+
 struct Error : std::runtime_error {
-    using std::runtime_error::runtime_error;
+    explicit Error(const std::string& message) : std::runtime_error(printable(message)) {}
 };
 // Malformed or unusable input data (file contents, point sets).
 struct InputError : Error {

@@ -2,13 +2,18 @@
 // temporary file next to the target and renames it on success, so a failure
 // never leaves a half-written output.
 #pragma once
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "snvr/domain.hpp"
 #include "snvr/field.hpp"
 #include "snvr/geometry.hpp"
+#include "snvr/mesh.hpp"
 
 namespace snvr {
+
+class AtomicFile;
 
 // Chooses the reader from the extension: .ply (ASCII, binary little/big endian,
 // float or double x/y/z among any other properties), .xyz/.pts/.txt (whitespace
@@ -35,5 +40,39 @@ void write_points(const PointSet& points, const std::string& path, const std::st
 // Writes the field as VTK image data (.vti, raw appended binary) or NRRD (.nrrd),
 // with the origin at the centre of cell (0,0,0) (domain.origin + h/2) and spacing h.
 void write_field(const Field& field, const Domain& domain, const std::string& path);
+
+// The mesh as a reader of `path` gets it: for the formats that store float32
+// coordinates (.stl, .ply) every vertex rounded to float32; for .obj (exact digits)
+// a copy. Checks of what is written run on this.
+Mesh as_written(const Mesh& mesh, const std::string& path);
+
+// Throws InputError when the format of `path` cannot hold the mesh's coordinates to
+// 1% of a voxel (float32 far from the origin: at x = 500000 its step is 0.03), giving
+// the distance and the remedies (an exact format, or coordinates shifted to the origin).
+void require_written_precision(const Mesh& mesh, const std::string& path, double voxel);
+
+// Outputs that appear together or not at all: each add_ writes its file in full to a
+// temporary (and throws, naming it, if it cannot), and only commit() renames them onto
+// their targets. A failure before commit(), or an OutputFiles dropped without it, leaves
+// every target as it was and no temporary behind.
+class OutputFiles {
+public:
+    OutputFiles();
+    ~OutputFiles();
+    OutputFiles(const OutputFiles&) = delete;
+    OutputFiles& operator=(const OutputFiles&) = delete;
+
+    void add_mesh(const Mesh& mesh, const std::string& path);
+    void add_field(const Field& field, const Domain& domain, const std::string& path);
+    void commit();
+
+private:
+    std::vector<std::unique_ptr<AtomicFile>> files_;
+};
+
+// Removes the named temporary files this process's writers have open (most have none:
+// on Linux a temporary has no name until its final rename). Async-signal-safe, for a
+// SIGINT or SIGTERM handler that then ends the process.
+void remove_temporary_files() noexcept;
 
 }  // namespace snvr

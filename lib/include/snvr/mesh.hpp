@@ -43,6 +43,7 @@ struct MeshReport {
     std::size_t misoriented_edges = 0;  // interior edges whose two triangles traverse it the same way
     std::size_t nonmanifold_vertices = 0;  // vertices whose triangle fan is not a single disc
     std::size_t degenerate_triangles = 0;  // repeated vertex indices
+    std::size_t zero_area_triangles = 0;   // three vertices, but on one line or two at one place
     std::size_t components = 0;            // edge-connected pieces
     std::size_t solids = 0;                // pieces enclosing positive volume: separate solid
                                            // parts (the other pieces bound cavities in them)

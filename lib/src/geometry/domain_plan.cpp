@@ -31,6 +31,26 @@ Box bounding_box(const PointSet& points) {
     return b;
 }
 
+std::string fmt(double v);
+
+// Points 1e308 and -1e308 apart span more than a double holds, and every figure
+// computed from the span would be NaN: the two points are named instead.
+void require_finite_extent(const PointSet& points, const Box& box) {
+    for (int a = 0; a < 3; ++a) {
+        if (std::isfinite(box.extent(a))) continue;
+        std::size_t lo = 0, hi = 0;
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            if (points[i][a] == box.lo[a]) lo = i;
+            if (points[i][a] == box.hi[a]) hi = i;
+        }
+        const std::string axis(1, "xyz"[a]);
+        throw InputError("the points span more than a double can hold along " + axis + ": point " +
+                         std::to_string(lo) + " at " + axis + " = " + fmt(box.lo[a]) + " and point " +
+                         std::to_string(hi) + " at " + axis + " = " + fmt(box.hi[a]) +
+                         " (points are counted from 0); remove the stray points");
+    }
+}
+
 std::string fmt(double v) {
     std::ostringstream s;
     s.precision(4);
@@ -63,6 +83,7 @@ DomainPlan plan_domain(const PointSet& points, const Parameters& params, const P
     params.validate();
     if (points.empty()) throw InputError("the point set is empty");
     const Box box = params.box ? Box{(*params.box)[0], (*params.box)[1]} : bounding_box(points);
+    if (!params.box) require_finite_extent(points, box);
 
     DomainPlan plan;
     plan.gap = sampling_gap(points, index);

@@ -1,8 +1,12 @@
 // Writes a file so that readers see either the old contents or the complete
-// new ones: the data goes to a temporary next to the target (same directory,
-// so the final rename cannot cross file systems) and commit() renames it onto
-// the target. If commit() is never reached, or any step fails, the temporary
-// is removed and the target is left as it was.
+// new ones. The data goes to an unnamed file in the target's directory (Linux's
+// O_TMPFILE: a process killed even by SIGKILL leaves nothing behind) and commit()
+// links it under a temporary name and renames that onto the target, so the
+// final step cannot cross file systems. Where the file system has no unnamed
+// files, a named temporary next to the target is used instead; while one exists
+// it is listed for remove_temporary_files() (snvr/io.hpp), which a signal
+// handler may call. If commit() is never reached, or any step fails, the
+// temporary is removed and the target is left as it was.
 #pragma once
 #include <cstddef>
 #include <cstdio>
@@ -24,7 +28,11 @@ public:
     void write(const void* data, std::size_t size);
     void write(std::string_view text) { write(text.data(), text.size()); }
 
-    // Flushes, closes and renames onto the target; throws IoError on failure.
+    // Writes out everything buffered, so that commit() has only the rename left
+    // to fail; throws IoError on failure (and removes the temporary).
+    void finish();
+
+    // finish(), then renames onto the target; throws IoError on failure.
     void commit();
 
     const std::string& target() const { return target_; }
@@ -33,11 +41,13 @@ private:
     void flush_buffer();
     void discard() noexcept;
     [[noreturn]] void fail(const std::string& action, int err);
+    void name_temporary();
 
     std::string target_;
-    std::string temp_;
+    std::string temp_;  // empty while the file has no name
     std::FILE* file_ = nullptr;
     std::vector<char> buffer_;
+    bool finished_ = false;
     bool committed_ = false;
 };
 

@@ -209,6 +209,8 @@ public:
         return true;
     }
     std::size_t offset() const { return pos_; }
+    std::size_t bytes_left() const { return data_.size() - pos_; }
+    void skip(std::size_t bytes) { pos_ += bytes; }
 
 private:
     bool take(std::size_t size, const char*& at) {
@@ -224,6 +226,16 @@ private:
     const std::string& path_;
 };
 
+// Bytes per item of an element without lists (false if it has one).
+bool fixed_item_size(const Element& element, std::size_t& size) {
+    size = 0;
+    for (const Property& p : element.properties) {
+        if (p.is_list) return false;
+        size += scalar_size(p.type);
+    }
+    return true;
+}
+
 PointSet read_binary(const Header& header, std::string_view data, const std::string& path) {
     const bool file_little = header.format == Format::BinaryLittle;
     BinaryReader in(data, header.data_offset, file_little != host_is_little_endian(), path);
@@ -232,6 +244,16 @@ PointSet read_binary(const Header& header, std::string_view data, const std::str
         const Element& element = header.elements[e];
         const bool keep = e == header.vertex;
         if (keep) points.reserve(plausible_count(element.count, data.size() - header.data_offset));
+        std::size_t size = 0;
+        if (!keep && fixed_item_size(element, size)) {
+            // Skipped in one step: a loop over a huge count of empty items would not end.
+            const std::uint64_t fit = size ? in.bytes_left() / size : element.count;
+            if (fit < element.count)
+                throw InputError(path + ": " + ends_early(element.count, fit, item_noun(element)) + " (byte offset " +
+                                 std::to_string(in.offset() + fit * size) + ")");
+            in.skip(std::size_t(element.count * size));
+            continue;
+        }
         Vec3 xyz{};
         for (std::uint64_t i = 0; i < element.count; ++i) {
             if (!in.read_item(element, xyz))

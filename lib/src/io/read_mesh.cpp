@@ -389,6 +389,7 @@ Mesh read_obj(std::string_view data, const std::string& path) {
 }  // namespace
 
 Mesh read_mesh(const std::string& path) {
+    detail::require_regular_file(path);  // before the extension: "'dir' is a directory"
     const std::string ext = detail::lower_extension(path);
     Mesh (*parse)(std::string_view, const std::string&) = nullptr;
     if (ext == ".stl") parse = read_stl;

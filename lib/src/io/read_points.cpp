@@ -45,6 +45,7 @@ void check_points(const PointSet& points, const std::string& path) {
 }  // namespace
 
 PointSet read_points(const std::string& path) {
+    detail::require_regular_file(path);  // before the extension: "'dir' is a directory"
     const Parser parse = parser_for(path);
     const std::string data = detail::read_whole_file(path);
     PointSet points = parse(data, path);

@@ -1,12 +1,13 @@
-// read_whole_file: one file into memory, for the readers that parse from memory.
+// read_whole_file: one regular file into memory, for the readers that parse from memory.
 #include "io/read_whole_file.hpp"
 
-#include <algorithm>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <memory>
+#include <exception>
 #include <string>
 
 #include "snvr/error.hpp"
@@ -14,32 +15,61 @@
 namespace snvr::detail {
 namespace {
 
-struct FileCloser {
-    void operator()(std::FILE* file) const { std::fclose(file); }
+std::string system_reason(int err) { return std::strerror(err != 0 ? err : EIO); }
+
+// What a path names when it is not a regular file, for the message.
+const char* kind_of(mode_t mode) {
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISFIFO(mode)) return "a named pipe";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "not a regular file";
+}
+
+void require_regular(const std::string& path, const struct stat& st) {
+    if (!S_ISREG(st.st_mode))
+        throw IoError("cannot read '" + path + "': it is " + kind_of(st.st_mode) + ", not a regular file");
+}
+
+struct Descriptor {
+    int fd;
+    ~Descriptor() { ::close(fd); }
 };
 
 }  // namespace
 
+void require_regular_file(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) throw IoError("cannot open '" + path + "': " + system_reason(errno));
+    require_regular(path, st);
+}
+
 std::string read_whole_file(const std::string& path) {
-    errno = 0;
-    const std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
-    if (!file) throw IoError("cannot open '" + path + "': " + std::strerror(errno != 0 ? errno : EIO));
-    // Sized from the file system so a regular file takes one fread; the loop
-    // still copes with files that grow or report no size.
-    std::error_code ignored;
-    const std::uintmax_t size = std::filesystem::file_size(path, ignored);
-    std::size_t block = ignored ? std::size_t(1) << 20 : std::size_t(size) + 1;
+    // O_NONBLOCK: opening a named pipe must not wait for a writer; the type is then
+    // taken from the open file itself, whatever the path names by now.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) throw IoError("cannot open '" + path + "': " + system_reason(errno));
+    const Descriptor file{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) throw IoError("cannot read '" + path + "': " + system_reason(errno));
+    require_regular(path, st);
     std::string data;
-    for (;;) {
-        const std::size_t old = data.size();
-        data.resize(old + block);
-        errno = 0;
-        const std::size_t got = std::fread(&data[old], 1, block, file.get());
-        data.resize(old + got);
-        if (got < block) break;
-        block = std::max(block, data.size());
+    try {
+        data.resize(std::size_t(st.st_size));
+    } catch (const std::exception&) {  // length_error or bad_alloc
+        throw ResourceError("cannot read '" + path + "': its " + std::to_string(st.st_size) +
+                            " bytes do not fit in memory");
     }
-    if (std::ferror(file.get())) throw IoError("cannot read '" + path + "': " + std::strerror(errno != 0 ? errno : EIO));
+    std::size_t got = 0;
+    while (got < data.size()) {
+        const ssize_t n = ::read(fd, &data[got], data.size() - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throw IoError("cannot read '" + path + "': " + system_reason(errno));
+        if (n == 0) break;  // shrunk since it was opened: what is there is all there is
+        got += std::size_t(n);
+    }
+    data.resize(got);
     return data;
 }
 

@@ -5,6 +5,9 @@
 #include <charconv>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <locale.h>
+#include <stdlib.h>
 #include <string>
 #include <string_view>
 
@@ -56,12 +59,22 @@ inline std::string_view strip_comment(std::string_view line) {
 }
 
 // The whole token must be a number; a leading '+' is allowed (from_chars rejects it).
+// A number beyond a double's range is still a number: 1e-400 reads as 0 and 1e400
+// as infinity (which the readers then report as a non-finite coordinate).
 inline bool parse_number(std::string_view token, double& out) {
     if (token.size() > 1 && token[0] == '+' && token[1] != '-' && token[1] != '+') token.remove_prefix(1);
     if (token.empty()) return false;
     const char* end = token.data() + token.size();
     const auto result = std::from_chars(token.data(), end, out);
-    return result.ec == std::errc() && result.ptr == end;
+    if (result.ptr != end) return false;
+    if (result.ec == std::errc::result_out_of_range) {
+        // strtod rounds where from_chars refuses; in the C locale, whatever the caller's.
+        static const locale_t c_locale = ::newlocale(LC_ALL_MASK, "C", locale_t(0));
+        const std::string copy(token);
+        out = ::strtod_l(copy.c_str(), nullptr, c_locale);
+        return true;
+    }
+    return result.ec == std::errc();
 }
 
 inline bool parse_count(std::string_view token, std::uint64_t& out) {

@@ -1,10 +1,12 @@
 // write_field: VTK image data (.vti, raw appended binary) and NRRD (.nrrd),
 // both placing samples at cell centres, both written atomically.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "io/atomic_file.hpp"
+#include "io/staged_writes.hpp"
 #include "io/io_common.hpp"
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
@@ -103,12 +105,17 @@ Writer writer_for(const std::string& path) {
 
 }  // namespace
 
-void write_field(const Field& field, const Domain& domain, const std::string& path) {
+std::unique_ptr<AtomicFile> detail::stage_field(const Field& field, const Domain& domain, const std::string& path) {
     const Writer write = writer_for(path);
     validate_field(field, domain, path);
-    AtomicFile out(path);
-    write(field, domain, out);
-    out.commit();
+    auto out = std::make_unique<AtomicFile>(path);
+    write(field, domain, *out);
+    out->finish();
+    return out;
+}
+
+void write_field(const Field& field, const Domain& domain, const std::string& path) {
+    detail::stage_field(field, domain, path)->commit();
 }
 
 }  // namespace snvr

@@ -3,9 +3,11 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include "io/atomic_file.hpp"
+#include "io/staged_writes.hpp"
 #include "io/io_common.hpp"
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
@@ -111,12 +113,15 @@ Writer writer_for(const std::string& path) {
 
 }  // namespace
 
-void write_mesh(const Mesh& mesh, const std::string& path) {
+std::unique_ptr<AtomicFile> detail::stage_mesh(const Mesh& mesh, const std::string& path) {
     const Writer write = writer_for(path);
     validate_mesh(mesh, path);
-    AtomicFile out(path);
-    write(mesh, out);
-    out.commit();
+    auto out = std::make_unique<AtomicFile>(path);
+    write(mesh, *out);
+    out->finish();
+    return out;
 }
+
+void write_mesh(const Mesh& mesh, const std::string& path) { detail::stage_mesh(mesh, path)->commit(); }
 
 }  // namespace snvr

@@ -34,6 +34,14 @@ constexpr std::size_t kParallelTriangles = 1 << 15, kParallelPoints = 1 << 10;
 
 bool degenerate(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
 
+// The cross product of two edges is zero. Exact for float32 coordinates (as written to
+// STL): their differences and the products of those are exact in double.
+bool zero_area(const Mesh& m, const Tri& t) {
+    const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    return u[1] * v[2] == u[2] * v[1] && u[2] * v[0] == u[0] * v[2] && u[0] * v[1] == u[1] * v[0];
+}
+
 void check_indices(const Mesh& mesh, const char* who) {
     const std::size_t nv = mesh.vertices.size();
     // The largest index first (a loop without branches): there is rarely anything to report.
@@ -301,8 +309,17 @@ MeshReport check_mesh_unchecked(const Mesh& mesh, const std::vector<std::size_t>
     MeshReport r;
     r.vertices = nv;
     r.triangles = nt;
-    for (const Tri& t : T) r.degenerate_triangles += degenerate(t);
     const bool parallel = nt >= kParallelTriangles;
+    std::size_t repeated = 0, zero = 0;
+#pragma omp parallel for reduction(+ : repeated, zero) if (parallel)
+    for (std::size_t t = 0; t < nt; ++t) {
+        if (degenerate(T[t]))
+            ++repeated;
+        else
+            zero += zero_area(mesh, T[t]);
+    }
+    r.degenerate_triangles = repeated;
+    r.zero_area_triangles = zero;
     const auto upper = [](std::uint64_t item) { return std::uint32_t(item >> 32); };
 
     // Edges at their smaller end (so each once), and fans, vertex by vertex.

@@ -30,6 +30,8 @@ std::vector<std::string> shell_warnings(const MeshQuality& q, std::size_t points
         out.push_back(sentence("the mesh is not manifold: %zu non-manifold edges, %zu non-manifold vertices, "
                                "%zu degenerate triangles",
                                m.nonmanifold_edges, m.nonmanifold_vertices, m.degenerate_triangles));
+    if (m.zero_area_triangles)
+        out.push_back(sentence("%zu triangles have zero area (slicers report them as errors)", m.zero_area_triangles));
     if (!m.oriented())
         out.push_back(sentence("the mesh is not consistently oriented: %zu misoriented edges, volume %.6g",
                                m.misoriented_edges, m.volume));

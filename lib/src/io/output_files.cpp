@@ -1,0 +1,29 @@
+// OutputFiles: every output staged in full before any is renamed into place.
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "io/atomic_file.hpp"
+#include "io/staged_writes.hpp"
+#include "snvr/io.hpp"
+
+namespace snvr {
+
+OutputFiles::OutputFiles() = default;
+OutputFiles::~OutputFiles() = default;  // uncommitted temporaries are removed here
+
+void OutputFiles::add_mesh(const Mesh& mesh, const std::string& path) {
+    files_.push_back(detail::stage_mesh(mesh, path));
+}
+
+void OutputFiles::add_field(const Field& field, const Domain& domain, const std::string& path) {
+    files_.push_back(detail::stage_field(field, domain, path));
+}
+
+// Only the renames are left: they fail only if the directory changed under us.
+void OutputFiles::commit() {
+    std::vector<std::unique_ptr<AtomicFile>> files = std::move(files_);
+    for (auto& file : files) file->commit();
+}
+
+}  // namespace snvr
