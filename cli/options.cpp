@@ -48,6 +48,15 @@ bool is_decimal(const std::string& text) {
     throw UsageError("bad value '" + text + "' for " + option + ": expected " + expected);
 }
 
+// The length units --units knows, in millimetres; 0 for another name.
+double millimetres_per(const std::string& unit) {
+    if (unit == "mm") return 1;
+    if (unit == "cm") return 10;
+    if (unit == "m") return 1000;
+    if (unit == "in") return 25.4;
+    return 0;
+}
+
 // ---------------------------------------------------------------- option tables
 
 // Called with the option's name and its value ("" for a flag).
@@ -187,6 +196,10 @@ Command reconstruct_command(ReconstructOptions& o) {
         else if (value == "float") p.precision = snvr::Precision::Single;
         else bad_value(option, value, "double or float");
     };
+    auto units = [&o](const std::string& option, const std::string& value) {
+        if (!millimetres_per(value)) bad_value(option, value, "mm, cm, m or in");
+        o.units = value;
+    };
     auto origin = [&o](const std::string& option, const std::string& value) {
         if (value == "center") o.centre_origin = true;
         else if (value == "keep") o.centre_origin = false;
@@ -200,9 +213,15 @@ Command reconstruct_command(ReconstructOptions& o) {
         "INPUT: points as .ply, .xyz/.pts/.txt, .obj or .off. Lengths are in the\n"
         "points' (world) units unless the option says cells.\n";
     c.options = {
-        {"--output", "-o", "FILE", "mesh to write (required): .stl (binary), .ply (binary) or .obj",
+        {"--output", "-o", "FILE", "mesh to write (required): .stl (binary), .ply (binary), .obj\nor .3mf (millimetres)",
          store(o.output), "Output"},
         {"--volume", "", "FILE", "also write the final phase field phi: .vti or .nrrd", store(o.volume)},
+        {"--report", "", "FILE", "also write the summary and the warnings as JSON (.json)", store(o.report)},
+        {"--units", "", "mm|cm|m|in",
+         "the input's length unit (default mm); every output is written\nin millimetres, the unit slicers assume (3MF says so)",
+         units},
+        {"--scale", "", "S", "multiply the input's coordinates by S (default 1), e.g. to\nprint a model at 1:100",
+         store(o.scale)},
         {"--origin", "", "center|keep",
          "center: shift the points by their box centre, rounded\n(shown in the summary), so that far coordinates such as\nsurvey data keep their precision in float32 STL and PLY\n(default keep: coordinates as read)",
          origin},
@@ -353,6 +372,8 @@ std::string lower_extension(const std::string& path) {
     return ext;
 }
 
+double ReconstructOptions::to_millimetres() const { return scale * millimetres_per(units); }
+
 std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::string>& args, std::ostream& help_out) {
     ReconstructOptions o;
     const Command command = reconstruct_command(o);
@@ -362,8 +383,14 @@ std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::strin
     }
     o.input = only_positional(parse(command, args), "input file (the points)");
     if (o.output.empty()) throw UsageError("missing output: give -o FILE");
-    require_extension("output", o.output, {".stl", ".ply", ".obj"});
+    require_extension("output", o.output, {".stl", ".ply", ".obj", ".3mf"});
     if (!o.volume.empty()) require_extension("--volume", o.volume, {".vti", ".nrrd"});
+    if (!o.report.empty()) require_extension("--report", o.report, {".json"});
+    if (!(o.scale > 0) || !std::isfinite(o.scale)) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", o.scale);
+        bad_value("--scale", text, "a positive number");
+    }
     // Out-of-range values are the command line's fault, so a usage error, not a failure.
     try {
         o.params.validate();

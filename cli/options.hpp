@@ -24,10 +24,14 @@ double parse_real(const std::string& option, const std::string& text);
 int parse_int(const std::string& option, const std::string& text);
 
 struct ReconstructOptions {
-    std::string input, output, volume;
+    std::string input, output, volume, report;
     snvr::Parameters params;
     snvr::MeshFairing fairing;
     bool centre_origin = false;  // --origin center: points shifted by snvr::round_centre
+    std::string units = "mm";    // the input's length unit (--units)
+    double scale = 1;            // --scale: input lengths times this
+    // Every output is in millimetres: points and length options are multiplied by this.
+    double to_millimetres() const;
     bool measure = false;  // the check adds the surface figures (measure_quality, not measure_shell)
     bool quiet = false;
 };

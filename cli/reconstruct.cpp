@@ -1,8 +1,12 @@
 // snvr-cl reconstruct: read, reconstruct, mesh, check, write, report.
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 #include "commands.hpp"
 #include "options.hpp"
@@ -50,26 +54,38 @@ int run_reconstruct(const std::vector<std::string>& args) {
 
     Stopwatch total, stage;
     Seconds seconds;
-    check_writable_location(o.output);
-    refuse_overwriting_input(o.input, o.output, "the mesh");
-    if (!o.volume.empty()) {
-        check_writable_location(o.volume);
-        refuse_overwriting_input(o.input, o.volume, "the volume");
+    for (const auto& [path, which] : {std::pair{o.output, "the mesh"}, {o.volume, "the volume"}, {o.report, "the report"}}) {
+        if (path.empty()) continue;
+        check_writable_location(path);
+        refuse_overwriting_input(o.input, path, which);
     }
+    std::vector<std::string> warnings;  // shown as they come, and kept for --report
+    const auto warning = [&warnings](const std::string& message) {
+        warn(message);
+        warnings.push_back(message);
+    };
 
     say("read: " + o.input);
     snvr::PointSet points = snvr::read_points(o.input);
     seconds.read = stage.lap();
     say("read: " + grouped(points.size()) + " points");
+    // From here on every length is in millimetres: the points, the options, the outputs.
+    const double to_mm = o.to_millimetres();
+    snvr::Parameters params = o.params;
+    if (to_mm != 1) {
+        for (snvr::Vec3& p : points)
+            for (double& x : p) x *= to_mm;
+        snvr::scale_lengths(params, to_mm);
+    }
     const snvr::Vec3 shift = o.centre_origin ? snvr::round_centre(points) : snvr::Vec3{0, 0, 0};
     for (snvr::Vec3& p : points)
         for (int a = 0; a < 3; ++a) p[a] -= shift[a];
 
-    snvr::Result result = snvr::reconstruct(points, o.params, [&o](const snvr::Progress& p) {
+    snvr::Result result = snvr::reconstruct(points, params, [&o](const snvr::Progress& p) {
         if (!o.quiet) print_progress(std::cerr, p);
     });
     stage.lap();
-    for (const std::string& w : result.warnings) warn(w);
+    for (const std::string& w : result.warnings) warning(w);
 
     say("mesh: extracting the zero level set");
     snvr::DepthGuardReport guard;
@@ -86,7 +102,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
                 1 - result.tube_inner / result.offset, except.c_str()));
     }
     if (guard.shallow_points)
-        warn(fmt("%s points stay shallower than %.3g x offset after %d repair rounds",
+        warning(fmt("%s points stay shallower than %.3g x offset after %d repair rounds",
                  grouped(guard.shallow_points).c_str(), 1 - result.tube_inner / result.offset, guard.repair_rounds));
     if (mesh.triangles.empty())
         throw snvr::Error(fmt("the reconstructed shell is empty (no triangles on the %d x %d x %d grid, offset "
@@ -100,8 +116,8 @@ int run_reconstruct(const std::vector<std::string>& args) {
     // output always means exit 0 (the checks only warn).
     say("write: " + o.output + (o.volume.empty() ? "" : ", " + o.volume));
     snvr::OutputFiles outputs;
-    outputs.add_mesh(mesh, o.output);
-    if (!o.volume.empty()) outputs.add_field(result.phi, result.domain, o.volume);
+    const std::uint64_t mesh_bytes = outputs.add_mesh(mesh, o.output);
+    const std::uint64_t volume_bytes = o.volume.empty() ? 0 : outputs.add_field(result.phi, result.domain, o.volume);
     result.phi = snvr::Field();  // meshed and staged: its memory goes to the check
     seconds.write = stage.lap();
 
@@ -113,12 +129,17 @@ int run_reconstruct(const std::vector<std::string>& args) {
                                                 : snvr::measure_shell(written, points, result.offset, result.domain.h);
     const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
     seconds.check = stage.lap();
+    for (const std::string& w : snvr::shell_warnings(quality, points.size(), clusters)) warning(w);
+    const snvr::Vec3 size = mesh_size(written);
+    if (std::max({size[0], size[1], size[2]}) < 2)
+        warning(fmt("the shell is only %.3g mm across: if the points are not in millimetres, give --units (m, cm "
+                    "or in)", std::max({size[0], size[1], size[2]})));
+    RunSummary summary{result, quality, seconds, o.output, o.volume, shift, size, o.units, to_mm,
+                       o.input, points.size(), mesh_bytes, volume_bytes, warnings};
+    summary.seconds.total = total.lap();
+    if (!o.report.empty()) outputs.add_text(report_json(summary), o.report);
     outputs.commit();
-    seconds.total = total.lap();
-    for (const std::string& w : snvr::shell_warnings(quality, points.size(), clusters)) warn(w);
-
-    if (!o.quiet)
-        print_summary(std::cerr, RunSummary{result, quality, seconds, o.output, o.volume, shift});
+    if (!o.quiet) print_summary(std::cerr, summary);
     return 0;
 }
 

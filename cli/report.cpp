@@ -66,16 +66,33 @@ std::size_t peak_rss_bytes() {
 #endif
 }
 
+snvr::Vec3 mesh_size(const snvr::Mesh& mesh) {
+    if (mesh.vertices.empty()) return {0, 0, 0};
+    snvr::Vec3 lo = mesh.vertices[0], hi = lo;
+    for (const snvr::Vec3& v : mesh.vertices)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], v[a]);
+            hi[a] = std::max(hi[a], v[a]);
+        }
+    return {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+}
+
+CycleTotals cycle_totals(const snvr::Result& result) {
+    CycleTotals c;
+    for (const snvr::StepStats& s : result.steps) {
+        c.total += s.cycles;
+        c.most_in_a_step = std::max(c.most_in_a_step, s.cycles);
+        c.not_converged += s.converged ? 0 : 1;
+    }
+    return c;
+}
+
 void print_summary(std::ostream& out, const RunSummary& run) {
     const snvr::Result& r = run.result;
     const snvr::Domain& d = r.domain;
     const double cells = double(d.cells());
-    int total_cycles = 0, max_cycles = 0, unconverged = 0;
-    for (const snvr::StepStats& s : r.steps) {
-        total_cycles += s.cycles;
-        max_cycles = std::max(max_cycles, s.cycles);
-        unconverged += s.converged ? 0 : 1;
-    }
+    const CycleTotals cycles = cycle_totals(r);
+    const int total_cycles = cycles.total, max_cycles = cycles.most_in_a_step, unconverged = cycles.not_converged;
     const auto row = [&out](const char* key, const std::string& value) {
         out << "  " << key << std::string(17 - std::min<std::size_t>(17, std::char_traits<char>::length(key)), ' ')
             << value << '\n';
@@ -111,6 +128,9 @@ void print_summary(std::ostream& out, const RunSummary& run) {
                 run.seconds.check, run.seconds.total));
     const snvr::MeshQuality& q = run.quality;
     const snvr::MeshReport& m = q.report;
+    row("size", fmt("%.4g x %.4g x %.4g mm%s", run.size[0], run.size[1], run.size[2],
+                    run.to_mm == 1 ? " (lengths as read: --units mm)"
+                                   : fmt(" (lengths in %s times %.6g)", run.units.c_str(), run.to_mm).c_str()));
     row("mesh", fmt("%s triangles, %s vertices, %zu component%s", grouped(m.triangles).c_str(),
                     grouped(m.vertices).c_str(), m.components, m.components == 1 ? "" : "s"));
     row("", fmt("%zu solid piece%s (the other components bound cavities)", m.solids, m.solids == 1 ? "" : "s"));

@@ -1,6 +1,7 @@
 // What snvr-cl tells the user on stderr: progress lines, warnings and the summary.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -33,14 +34,34 @@ struct Seconds {
     double total = 0;    // from the start to the outputs in place
 };
 
+// V-cycles over the run's steps.
+struct CycleTotals {
+    int total = 0, most_in_a_step = 0, not_converged = 0;
+};
+CycleTotals cycle_totals(const snvr::Result& result);
+
 struct RunSummary {
     const snvr::Result& result;
     const snvr::MeshQuality& quality;  // its report is check_mesh's
     Seconds seconds;
     std::string output, volume;
     snvr::Vec3 shift{};  // subtracted from the points (--origin center)
+    snvr::Vec3 size{};   // the shell's box, in millimetres
+    std::string units;   // the input's (--units), and
+    double to_mm = 1;    // what its lengths were multiplied by (--units, --scale)
+    std::string input;
+    std::size_t points = 0;
+    std::uint64_t output_bytes = 0, volume_bytes = 0;
+    std::vector<std::string> warnings;
 };
+
+// The extent of the mesh's vertices along x, y and z.
+snvr::Vec3 mesh_size(const snvr::Mesh& mesh);
 void print_summary(std::ostream& out, const RunSummary& run);
+
+// Everything the summary says, and the warnings, as a JSON document (--report;
+// report_json.cpp).
+std::string report_json(const RunSummary& run);
 
 // Peak resident set size of this process in bytes (0 if unknown).
 std::size_t peak_rss_bytes();

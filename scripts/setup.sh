@@ -3,7 +3,8 @@
 # extra package names given as arguments too (scripts/bench.sh adds gnuplot-nox and OpenVDB).
 set -euo pipefail
 packages=(build-essential cmake libomp-dev ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers
-          pocl-opencl-icd libclblast-dev libnanoflann-dev doctest-dev libpng-dev "$@")
+          pocl-opencl-icd libclblast-dev libnanoflann-dev doctest-dev libpng-dev lib3mf-dev
+          nlohmann-json3-dev zlib1g-dev "$@")
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -14,9 +14,12 @@
 #include <string>
 #include <vector>
 
+#include <Model/COM/NMR_DLLInterfaces.h>
+
 #include "io/atomic_file.hpp"
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
+#include "snvr/snvr.hpp"
 #include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -354,8 +357,8 @@ TEST_CASE("write_mesh: STL, PLY and OBJ") {
         snvr::Mesh broken = mesh;
         broken.triangles[1][2] = 4;
         check_throws<snvr::InputError>([&] { snvr::write_mesh(broken, path); }, path, {"triangle 1", "vertex 4"});
-        const std::string odd = dir.file("tet.3mf");
-        check_throws<snvr::InputError>([&] { snvr::write_mesh(mesh, odd); }, odd, {".3mf", ".stl", ".ply", ".obj"});
+        const std::string odd = dir.file("tet.amf");
+        check_throws<snvr::InputError>([&] { snvr::write_mesh(mesh, odd); }, odd, {".amf", ".stl", ".ply", ".obj", ".3mf"});
         CHECK(dir.entries() == 0);
     }
 }
@@ -557,4 +560,65 @@ TEST_CASE("round_centre: the box centre to a round figure at the box's scale") {
     CHECK(small[2] == doctest::Approx(-0.2));
     CHECK(snvr::round_centre(PointSet{{3, 4, 5}}) == Vec3{3, 4, 5});
     CHECK(snvr::round_centre(PointSet{}) == Vec3{0, 0, 0});
+}
+
+namespace {
+
+struct Counts {
+    std::size_t objects = 0, vertices = 0, triangles = 0;
+    DWORD unit = 999;
+};
+
+// A 3MF file read back by lib3mf itself (not by our writer's assumptions).
+Counts read_3mf(const std::string& path) {
+    Counts c;
+    NMR::PLib3MFModel* model = nullptr;
+    REQUIRE(NMR::lib3mf_createmodel(&model) == LIB3MF_OK);
+    NMR::PLib3MFModelReader* reader = nullptr;
+    REQUIRE(NMR::lib3mf_model_queryreader(model, "3mf", &reader) == LIB3MF_OK);
+    REQUIRE(NMR::lib3mf_reader_readfromfileutf8(reader, path.c_str()) == LIB3MF_OK);
+    REQUIRE(NMR::lib3mf_model_getunit(model, &c.unit) == LIB3MF_OK);
+    NMR::PLib3MFModelResourceIterator* it = nullptr;
+    REQUIRE(NMR::lib3mf_model_getmeshobjects(model, &it) == LIB3MF_OK);
+    BOOL more = false;
+    while (NMR::lib3mf_resourceiterator_movenext(it, &more) == LIB3MF_OK && more) {
+        NMR::PLib3MFModelResource* object = nullptr;
+        REQUIRE(NMR::lib3mf_resourceiterator_getcurrent(it, &object) == LIB3MF_OK);
+        DWORD nv = 0, nt = 0;
+        NMR::lib3mf_meshobject_getvertexcount(object, &nv);
+        NMR::lib3mf_meshobject_gettrianglecount(object, &nt);
+        c.objects += 1;
+        c.vertices += nv;
+        c.triangles += nt;
+        NMR::lib3mf_release(object);
+    }
+    NMR::lib3mf_release(it);
+    NMR::lib3mf_release(reader);
+    NMR::lib3mf_release(model);
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("write_mesh: 3MF in millimetres, read back by lib3mf, a third of binary STL") {
+    TempDir dir("io");
+    const PointSet points = snvr::shapes::sphere({0, 0, 0}, 1.0, 0.05);
+    snvr::Parameters p;
+    p.resolution = 48;
+    p.device = "openmp";
+    const snvr::Mesh mesh = snvr::shell_mesh(snvr::reconstruct(points, p), points);
+    const std::string path = dir.file("shell.3mf");
+    snvr::write_mesh(mesh, path);
+    const Counts c = read_3mf(path);
+    CHECK(c.objects == 1);
+    CHECK(c.vertices == mesh.vertices.size());
+    CHECK(c.triangles == mesh.triangles.size());
+    CHECK(c.unit == NMR::MODELUNIT_MILLIMETER);
+    snvr::write_mesh(mesh, dir.file("shell.stl"));
+    CHECK(double(fs::file_size(path)) < 0.4 * double(fs::file_size(dir.file("shell.stl"))));
+    CHECK(dir.entries() == 2);
+    // As written: float32 and six decimals.
+    const snvr::Mesh held = snvr::as_written(mesh, path);
+    for (std::size_t i = 0; i < 10; ++i)
+        for (int a = 0; a < 3; ++a) CHECK(std::abs(held.vertices[i][a] - mesh.vertices[i][a]) <= 6e-7);
 }

@@ -2,6 +2,7 @@
 // temporary file next to the target and renames it on success, so a failure
 // never leaves a half-written output.
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,7 +30,8 @@ PointSet read_points(const std::string& path);
 // IoError (cannot open or read) or InputError (malformed, names file and place).
 Mesh read_mesh(const std::string& path);
 
-// Chooses the format from the extension: .stl (binary), .ply (binary little endian), .obj.
+// Chooses the format from the extension: .stl (binary), .ply (binary little endian), .obj,
+// .3mf (its unit set to millimetres: coordinates are taken to be in mm).
 void write_mesh(const Mesh& mesh, const std::string& path);
 
 // Writes points as binary little-endian PLY (.ply, float32 x y z, `comment` in the
@@ -42,7 +44,8 @@ void write_points(const PointSet& points, const std::string& path, const std::st
 void write_field(const Field& field, const Domain& domain, const std::string& path);
 
 // The mesh as a reader of `path` gets it: for the formats that store float32
-// coordinates (.stl, .ply) every vertex rounded to float32; for .obj (exact digits)
+// coordinates (.stl, .ply) every vertex rounded to float32, for .3mf also to the six
+// decimals lib3mf prints; for .obj (exact digits)
 // a copy. Checks of what is written run on this.
 Mesh as_written(const Mesh& mesh, const std::string& path);
 
@@ -62,8 +65,10 @@ public:
     OutputFiles(const OutputFiles&) = delete;
     OutputFiles& operator=(const OutputFiles&) = delete;
 
-    void add_mesh(const Mesh& mesh, const std::string& path);
-    void add_field(const Field& field, const Domain& domain, const std::string& path);
+    // Each returns the size of the file it staged, in bytes.
+    std::uint64_t add_mesh(const Mesh& mesh, const std::string& path);
+    std::uint64_t add_field(const Field& field, const Domain& domain, const std::string& path);
+    std::uint64_t add_text(const std::string& text, const std::string& path);
     void commit();
 
 private:

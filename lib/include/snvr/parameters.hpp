@@ -81,6 +81,11 @@ struct Parameters {
     void validate() const;
 };
 
+// Multiplies every length in p (offset, thickness, box, voxel, eps, xi) by factor, as
+// when the points are rescaled or given in other units; the rest is in cells or
+// normalised units and stays.
+void scale_lengths(Parameters& p, double factor);
+
 // eps_m = m h / (2 sqrt(2) atanh(0.99)): the width (in the units of h) over which
 // tanh profiles go from -0.99 to 0.99 across about m cells.
 double eps_of_cells(double m, double h);

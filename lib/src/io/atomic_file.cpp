@@ -143,6 +143,7 @@ void AtomicFile::flush_buffer() {
 
 void AtomicFile::write(const void* data, std::size_t size) {
     if (!file_ || finished_) throw IoError("cannot write '" + target_ + "': file already closed");
+    bytes_ += size;
     if (buffer_.size() + size > buffer_capacity) flush_buffer();
     if (size >= buffer_capacity) {
         errno = 0;

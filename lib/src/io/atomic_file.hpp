@@ -9,6 +9,7 @@
 // temporary is removed and the target is left as it was.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <string_view>
@@ -36,6 +37,7 @@ public:
     void commit();
 
     const std::string& target() const { return target_; }
+    std::uint64_t bytes() const { return bytes_; }  // written so far
 
 private:
     void flush_buffer();
@@ -47,6 +49,7 @@ private:
     std::string temp_;  // empty while the file has no name
     std::FILE* file_ = nullptr;
     std::vector<char> buffer_;
+    std::uint64_t bytes_ = 0;
     bool finished_ = false;
     bool committed_ = false;
 };

@@ -12,12 +12,22 @@ namespace snvr {
 OutputFiles::OutputFiles() = default;
 OutputFiles::~OutputFiles() = default;  // uncommitted temporaries are removed here
 
-void OutputFiles::add_mesh(const Mesh& mesh, const std::string& path) {
+std::uint64_t OutputFiles::add_mesh(const Mesh& mesh, const std::string& path) {
     files_.push_back(detail::stage_mesh(mesh, path));
+    return files_.back()->bytes();
 }
 
-void OutputFiles::add_field(const Field& field, const Domain& domain, const std::string& path) {
+std::uint64_t OutputFiles::add_field(const Field& field, const Domain& domain, const std::string& path) {
     files_.push_back(detail::stage_field(field, domain, path));
+    return files_.back()->bytes();
+}
+
+std::uint64_t OutputFiles::add_text(const std::string& text, const std::string& path) {
+    auto file = std::make_unique<AtomicFile>(path);
+    file->write(text);
+    file->finish();
+    files_.push_back(std::move(file));
+    return files_.back()->bytes();
 }
 
 // Only the renames are left: they fail only if the directory changed under us.

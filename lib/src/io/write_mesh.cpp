@@ -1,4 +1,4 @@
-// write_mesh: binary STL, binary little endian PLY and OBJ, each streamed
+// write_mesh: binary STL, binary little endian PLY, OBJ and 3MF, each streamed
 // through an AtomicFile so a failure never leaves a half-written mesh.
 #include <cmath>
 #include <cstdint>
@@ -7,6 +7,7 @@
 #include <string>
 
 #include "io/atomic_file.hpp"
+#include "io/mesh_writers.hpp"
 #include "io/staged_writes.hpp"
 #include "io/io_common.hpp"
 #include "snvr/error.hpp"
@@ -108,7 +109,8 @@ Writer writer_for(const std::string& path) {
     if (ext == ".stl") return write_stl;
     if (ext == ".ply") return write_ply;
     if (ext == ".obj") return write_obj;
-    throw InputError(path + ": unsupported mesh file extension '" + ext + "' (supported: .stl, .ply, .obj)");
+    if (ext == ".3mf") return detail::write_3mf;
+    throw InputError(path + ": unsupported mesh file extension '" + ext + "' (supported: .stl, .ply, .obj, .3mf)");
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // What a mesh becomes in its file: float32 formats round every coordinate, which far
-// from the origin (survey data) moves vertices by a sizeable part of a voxel.
+// from the origin (survey data) moves vertices by a sizeable part of a voxel; 3MF
+// also rounds to six decimals, which matters for a tiny part in large units.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,9 +17,21 @@ namespace {
 // (the fairing moves vertices by ~0.1 voxel), and no zero-area triangle comes of it.
 constexpr double kLargestMove = 0.01;
 
-bool stores_float32(const std::string& path) {
+// How each format holds a coordinate: STL and PLY as float32; 3MF (lib3mf 1.x) as
+// float32 printed with six decimals; OBJ with every digit.
+enum class Holds { Exactly, Float32, Float32SixDecimals };
+
+Holds holds(const std::string& path) {
     const std::string ext = detail::lower_extension(path);
-    return ext == ".stl" || ext == ".ply";
+    if (ext == ".stl" || ext == ".ply") return Holds::Float32;
+    if (ext == ".3mf") return Holds::Float32SixDecimals;
+    return Holds::Exactly;
+}
+
+double as_held(double x, Holds how) {
+    if (how == Holds::Exactly) return x;
+    const double f = double(float(x));
+    return how == Holds::Float32 ? f : std::round(f * 1e6) / 1e6;
 }
 
 std::string short_number(double v) {
@@ -31,22 +44,26 @@ std::string short_number(double v) {
 
 Mesh as_written(const Mesh& mesh, const std::string& path) {
     Mesh out = mesh;
-    if (stores_float32(path))
+    const Holds how = holds(path);
+    if (how != Holds::Exactly)
         for (Vec3& v : out.vertices)
-            for (double& x : v) x = double(float(x));
+            for (double& x : v) x = as_held(x, how);
     return out;
 }
 
 void require_written_precision(const Mesh& mesh, const std::string& path, double voxel) {
-    if (!stores_float32(path)) return;
+    const Holds how = holds(path);
+    if (how == Holds::Exactly) return;
     double largest = 0, farthest = 0;
     for (const Vec3& v : mesh.vertices)
         for (double x : v) {
-            largest = std::max(largest, std::fabs(x - double(float(x))));
+            largest = std::max(largest, std::fabs(x - as_held(x, how)));
             farthest = std::max(farthest, std::fabs(x));
         }
     if (largest <= kLargestMove * voxel) return;
-    throw InputError(path + ": the format stores 32-bit floats, which at coordinates up to " +
+    throw InputError(path + ": the format stores 32-bit floats" +
+                     std::string(how == Holds::Float32SixDecimals ? " with six decimals" : "") +
+                     ", which at coordinates up to " +
                      short_number(farthest) + " move vertices by up to " +
                      short_number(largest / voxel) + " voxels (" + short_number(largest) +
                      "); nothing written. Write .obj (exact digits), or shift the coordinates to the origin "

@@ -29,6 +29,14 @@ void require_positive(const std::optional<double>& v, const char* name) {
 
 }  // namespace
 
+void scale_lengths(Parameters& p, double factor) {
+    for (std::optional<double>* length : {&p.offset, &p.thickness, &p.voxel, &p.eps, &p.xi})
+        if (*length) **length *= factor;
+    if (p.box)
+        for (Vec3& corner : *p.box)
+            for (double& x : corner) x *= factor;
+}
+
 void Parameters::validate() const {
     require(!(offset && thickness), "give the offset or the thickness, not both");
     require_positive(offset, "offset");

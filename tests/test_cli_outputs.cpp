@@ -1,0 +1,110 @@
+// What a printer user gets from snvr-cl: 3MF, lengths in millimetres whatever the
+// input's unit, and a report a script can read.
+#include <doctest/doctest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "cli_run.hpp"
+
+namespace fs = std::filesystem;
+using namespace cli_testing;
+
+namespace {
+
+// Points on a sphere of radius r (in the file's units) around the origin.
+std::string sphere_xyz(double r) {
+    std::string text;
+    char line[120];
+    for (int i = 0; i < 24; ++i)
+        for (int j = 0; j < 48; ++j) {
+            const double th = M_PI * (i + 0.5) / 24, ph = M_PI * j / 24;
+            std::snprintf(line, sizeof line, "%.9g %.9g %.9g\n", r * std::sin(th) * std::cos(ph),
+                          r * std::sin(th) * std::sin(ph), r * std::cos(th));
+            text += line;
+        }
+    return text;
+}
+
+// 1234567 -> "1,234,567", as the summary prints counts.
+std::string grouped_digits(std::size_t n) {
+    std::string digits = std::to_string(n), out;
+    for (std::size_t i = 0; i < digits.size(); ++i) {
+        if (i && (digits.size() - i) % 3 == 0) out += ',';
+        out += digits[i];
+    }
+    return out;
+}
+
+nlohmann::json read_json(const fs::path& path) {
+    std::ifstream in(path);
+    return nlohmann::json::parse(in);
+}
+
+}  // namespace
+
+TEST_CASE("--units and --scale: every output in millimetres, the size in the summary") {
+    TempDir t;
+    // A sphere of radius 0.05 m: a shell about 100 mm across (plus the wall).
+    const std::string input = t.file("ball.xyz", sphere_xyz(0.05));
+    Run r = run("reconstruct " + input + " -o " + t.out() + " --resolution 48 --units m");
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("(lengths in m times 1000)") != std::string::npos);
+    CHECK(r.output.find("size             11") != std::string::npos);  // 100 mm and the wall
+    CHECK(r.output.find("mm across") == std::string::npos);           // no small-shell warning
+    // The same file in mm is 0.1 mm across: the summary says so, and a warning asks for --units.
+    fs::remove(t.out());
+    r = run("reconstruct " + input + " -o " + t.out() + " --resolution 48");
+    CHECK(r.code == 0);
+    CHECK(r.output.find("warning: the shell is only 0.1") != std::string::npos);
+    CHECK(r.output.find("give --units") != std::string::npos);
+    // Inches at 1:2 with a given offset (in inches too): 0.05 in x 2 x 25.4 = 2.54 mm.
+    fs::remove(t.out());
+    r = run("reconstruct " + input + " -o " + t.out() + " --resolution 48 --units in --scale 2 --offset 0.005");
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("offset           0.254 ") != std::string::npos);
+    CHECK(r.output.find("(lengths in in times 50.8)") != std::string::npos);
+    fs::remove(t.out());
+    expect_failure("reconstruct " + input + " -o " + t.out() + " --units furlong", 2, "mm, cm, m or in", t);
+    expect_failure("reconstruct " + input + " -o " + t.out() + " --scale -1", 2, "--scale", t);
+}
+
+TEST_CASE("3MF output and a JSON report, written with the mesh or not at all") {
+    TempDir t;
+    const std::string input = t.file("ball.xyz", sphere_xyz(30));  // mm
+    const fs::path mesh = t.path / "ball.3mf", report = t.path / "ball.json", volume = t.path / "ball.nrrd";
+    const Run r = run("reconstruct " + input + " -o " + mesh.string() + " --resolution 48 --volume " +
+                      volume.string() + " --report " + report.string());
+    CAPTURE(r.output);
+    REQUIRE(r.code == 0);
+    const nlohmann::json j = read_json(report);
+    CHECK(j["units"] == "mm");
+    CHECK(j["outputs"][0]["path"] == mesh.string());
+    CHECK(j["outputs"][0]["bytes"] == fs::file_size(mesh));
+    CHECK(j["outputs"][1]["bytes"] == fs::file_size(volume));
+    CHECK(j["mesh"]["closed"] == true);
+    CHECK(j["mesh"]["manifold"] == true);
+    CHECK(j["mesh"]["oriented"] == true);
+    CHECK(j["mesh"]["zero_area_triangles"] == 0);
+    CHECK(j["check"]["points_inside"] == 24 * 48);
+    CHECK(j["check"]["wall_p01_2l"].get<double>() > 0.5);
+    CHECK(j["grid"]["nx"].get<int>() >= 48);
+    CHECK(j["offset"]["why"].get<std::string>().find("voxels") != std::string::npos);
+    CHECK(j["seconds"]["total"].get<double>() >= j["seconds"]["steps"].get<double>());
+    CHECK(j["size"][0].get<double>() > 60);
+    CHECK(j["warnings"].empty());
+    CHECK(j["v_cycles"]["total"].get<int>() >= int(j["flow"]["steps"].get<std::size_t>()));
+    // The summary's triangle count is the file's (3MF read back: test_io).
+    CHECK(r.output.find(grouped_digits(j["mesh"]["triangles"].get<std::size_t>())) != std::string::npos);
+    // A report that cannot be written: neither the mesh nor the report appears.
+    fs::remove(mesh);
+    const std::string nowhere = (t.path / "missing" / "r.json").string();
+    const Run bad = run("reconstruct " + input + " -o " + mesh.string() + " --resolution 48 --report " + nowhere);
+    CHECK(bad.code == 1);
+    CHECK(!fs::exists(mesh));
+    expect_failure("reconstruct " + input + " -o " + t.out() + " --report r.txt", 2, ".json", t);
+}
