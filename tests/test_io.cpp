@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <charconv>
 #include <cstdint>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include <Model/COM/NMR_DLLInterfaces.h>
+#include <zlib.h>
 
 #include "io/atomic_file.hpp"
 #include "snvr/error.hpp"
@@ -238,10 +240,10 @@ TEST_CASE("read_points: missing file and unknown extension") {
     const std::string missing = dir.file("missing.ply");
     check_throws<snvr::IoError>([&] { snvr::read_points(missing); }, missing,
                                 {"cannot open '" + missing + "': No such file or directory"});
-    const std::string weird = dir.file("points.las");
+    const std::string weird = dir.file("points.e57");
     write_bytes(weird, "1 2 3\n");
     check_throws<snvr::InputError>([&] { snvr::read_points(weird); }, weird,
-                                   {".las", ".ply", ".xyz", ".pts", ".txt", ".obj", ".off"});
+                                   {".e57", ".ply", ".xyz", ".pts", ".txt", ".obj", ".off", ".las", ".gz"});
 }
 
 TEST_CASE("read_points: malformed PLY headers") {
@@ -298,7 +300,7 @@ TEST_CASE("read_points: non-finite coordinates and empty clouds") {
 TEST_CASE("read_points: malformed XYZ, OBJ and OFF") {
     TempDir dir("io");
     check_read_fails(dir, "text.xyz", "1 2 3\n\n4 five 6\n", {"line 3", "'five'"});
-    check_read_fails(dir, "header.txt", "x y z\n1 2 3\n", {"line 1", "'x'"});
+    check_read_fails(dir, "header.txt", "x y z\n1 2 3\nx y z\n", {"line 3", "'x'"});  // a header comes first only
     check_read_fails(dir, "two.xyz", "1 2 3\n4 5\n", {"line 2", "expected x y z"});
     check_read_fails(dir, "short.obj", "v 1 2 3\nvn 1 2 3\nv 1 2\n", {"line 3", "expected x y z"});
     check_read_fails(dir, "bad.obj", "v 1 2 3\nv 1 2 z\n", {"line 2", "'z'"});
@@ -621,4 +623,106 @@ TEST_CASE("write_mesh: 3MF in millimetres, read back by lib3mf, a third of binar
     const snvr::Mesh held = snvr::as_written(mesh, path);
     for (std::size_t i = 0; i < 10; ++i)
         for (int a = 0; a < 3; ++a) CHECK(std::abs(held.vertices[i][a] - mesh.vertices[i][a]) <= 6e-7);
+}
+
+namespace {
+
+const PointSet kScanPoints{{1.5, -2.25, 3}, {0.125, 4, -5.5}, {10, 20, 30}};
+
+void put_le(std::string& s, std::size_t at, const void* value, std::size_t bytes) {
+    std::memcpy(&s[at], value, bytes);  // the test hosts are little endian, as LAS is
+}
+
+// A LAS file of kScanPoints: version 1.minor, point format `format`, records of `length` bytes.
+std::string las_file(int minor, int format, std::uint16_t length, bool legacy_count = true) {
+    const std::uint16_t header = minor >= 4 ? 375 : 227;
+    std::string s(header, '\0');
+    s.replace(0, 4, "LASF");
+    s[24] = 1;
+    s[25] = char(minor);
+    const std::uint32_t first = header, count = std::uint32_t(kScanPoints.size());
+    const std::uint64_t count64 = count;
+    const double scale[3] = {0.001, 0.001, 0.01}, offset[3] = {500000, 4000000, 0};
+    put_le(s, 94, &header, 2);
+    put_le(s, 96, &first, 4);
+    s[104] = char(format);
+    put_le(s, 105, &length, 2);
+    const std::uint32_t legacy = legacy_count ? count : 0;
+    put_le(s, 107, &legacy, 4);
+    put_le(s, 131, scale, 24);
+    put_le(s, 155, offset, 24);
+    if (minor >= 4) put_le(s, 247, &count64, 8);
+    for (const Vec3& p : kScanPoints) {
+        std::string record(length, '\x7f');
+        for (int a = 0; a < 3; ++a) {
+            const std::int32_t v = std::int32_t(std::lround((p[a] + offset[a] - offset[a]) / scale[a]));
+            put_le(record, 4 * std::size_t(a), &v, 4);
+        }
+        s += record;
+    }
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("read_points: text as scanners write it") {
+    TempDir dir("io");
+    const auto read = [&](const std::string& name, const std::string& bytes) {
+        write_bytes(dir.file(name), bytes);
+        return snvr::read_points(dir.file(name));
+    };
+    // Comma separated with a header of names and extra columns (colour).
+    CHECK(read("a.csv", "X,Y,Z,R,G,B\n1.5,-2.25,3,255,0,0\n0.125,4,-5.5,0,255,0\n10,20,30,0,0,255\n") == kScanPoints);
+    // Semicolons with decimal commas, a "//" header, CRLF, an intensity column.
+    CHECK(read("b.txt", "//X;Y;Z;Intensity\r\n1,5;-2,25;3;17\r\n0,125;4;-5,5;18\r\n10;20;30;19\r\n") == kScanPoints);
+    // CR-only line endings after a UTF-8 byte-order mark, tabs between columns.
+    CHECK(read("c.xyz", "\xEF\xBB\xBF" "1.5\t-2.25\t3\r0.125\t4\t-5.5\r10\t20\t30\r") == kScanPoints);
+    // A header only on the first line: a word later on is still an error that names its line.
+    check_throws<snvr::InputError>([&] { read("d.xyz", "x y z\n1 2 3\nx y z\n"); }, dir.file("d.xyz"),
+                                   {"line 3", "'x'"});
+}
+
+TEST_CASE("read_points: gzip-compressed files and LAS point records") {
+    TempDir dir("io");
+    const std::string xyz = "1.5 -2.25 3\n0.125 4 -5.5\n10 20 30\n";
+    // Two gzip members, as `cat a.gz b.gz` makes: both are read.
+    const std::string gz = dir.file("scan.xyz.gz");
+    for (int member = 0; member < 2; ++member) {
+        gzFile f = gzopen(gz.c_str(), member ? "ab" : "wb");
+        REQUIRE(f != nullptr);
+        gzwrite(f, xyz.data(), unsigned(xyz.size()));
+        gzclose(f);
+    }
+    PointSet twice = kScanPoints;
+    twice.insert(twice.end(), kScanPoints.begin(), kScanPoints.end());
+    CHECK(snvr::read_points(gz) == twice);
+    const std::string whole = read_bytes(gz);
+    write_bytes(dir.file("cut.xyz.gz"), whole.substr(0, whole.size() / 2 - 9));
+    check_throws<snvr::InputError>([&] { snvr::read_points(dir.file("cut.xyz.gz")); }, dir.file("cut.xyz.gz"),
+                                   {"compressed byte offset"});
+    write_bytes(dir.file("plain.ply.gz"), "ply\n");
+    check_throws<snvr::InputError>([&] { snvr::read_points(dir.file("plain.ply.gz")); }, dir.file("plain.ply.gz"),
+                                   {"not gzip"});
+
+    // LAS 1.2 (format 1, 28-byte records) and 1.4 (format 6, legacy count 0, extra bytes).
+    for (const auto& [name, bytes] : {std::pair{"v12.las", las_file(2, 1, 28)}, {"v14.las", las_file(4, 6, 34, false)}}) {
+        CAPTURE(name);
+        write_bytes(dir.file(name), bytes);
+        const PointSet got = snvr::read_points(dir.file(name));
+        REQUIRE(got.size() == kScanPoints.size());
+        for (std::size_t i = 0; i < got.size(); ++i)
+            for (int a = 0; a < 3; ++a) CHECK(got[i][a] == doctest::Approx(500000.0 * (a == 0) + 4000000.0 * (a == 1) + kScanPoints[i][a]).epsilon(1e-12));
+    }
+    std::string laz = las_file(2, 1, 28);
+    laz[104] = char(0x81);
+    write_bytes(dir.file("z.las"), laz);
+    check_throws<snvr::InputError>([&] { snvr::read_points(dir.file("z.las")); }, dir.file("z.las"), {"LAZ"});
+    write_bytes(dir.file("short.las"), las_file(2, 1, 28).substr(0, 227 + 40));
+    check_throws<snvr::InputError>([&] { snvr::read_points(dir.file("short.las")); }, dir.file("short.las"),
+                                   {"expected 3 point records, file ends after 1"});
+    write_bytes(dir.file("small.las"), las_file(2, 3, 28));
+    check_throws<snvr::InputError>([&] { snvr::read_points(dir.file("small.las")); }, dir.file("small.las"),
+                                   {"format 3 needs at least 34"});
+    write_bytes(dir.file("scan.laz"), laz);
+    check_throws<snvr::InputError>([&] { snvr::read_points(dir.file("scan.laz")); }, dir.file("scan.laz"), {"laszip"});
 }

@@ -13,5 +13,6 @@ PointSet parse_ply(std::string_view data, const std::string& path);
 PointSet parse_xyz(std::string_view data, const std::string& path);  // also .pts and .txt
 PointSet parse_obj(std::string_view data, const std::string& path);
 PointSet parse_off(std::string_view data, const std::string& path);
+PointSet parse_las(std::string_view data, const std::string& path);  // las_reader.cpp
 
 }  // namespace snvr::detail

@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "io/gunzip.hpp"
 #include "io/io_common.hpp"
 #include "io/read_whole_file.hpp"
 #include "io/point_readers.hpp"
@@ -21,14 +22,27 @@ namespace {
 
 using Parser = PointSet (*)(std::string_view, const std::string&);
 
+// "scan.xyz.gz" is read as "scan.xyz" after inflating.
+bool gzipped(const std::string& path) { return detail::lower_extension(path) == ".gz"; }
+
 Parser parser_for(const std::string& path) {
-    const std::string ext = detail::lower_extension(path);
+    const std::string name = gzipped(path) ? path.substr(0, path.size() - 3) : path;
+    const std::string ext = detail::lower_extension(name);
     if (ext == ".ply") return detail::parse_ply;
-    if (ext == ".xyz" || ext == ".pts" || ext == ".txt") return detail::parse_xyz;
+    if (ext == ".xyz" || ext == ".pts" || ext == ".txt" || ext == ".csv") return detail::parse_xyz;
     if (ext == ".obj") return detail::parse_obj;
     if (ext == ".off") return detail::parse_off;
+    if (ext == ".las") return detail::parse_las;
+    if (ext == ".laz")
+        throw InputError(path + ": LAZ (compressed LAS) is not read; decompress it first, e.g. laszip -i " + path +
+                         " -o points.las");
     throw InputError(path + ": unsupported point file extension '" + ext +
-                     "' (supported: .ply, .xyz, .pts, .txt, .obj, .off)");
+                     "' (supported: .ply, .xyz, .pts, .txt, .csv, .obj, .off, .las, each also gzipped as .gz)");
+}
+
+// A UTF-8 byte-order mark, as some Windows tools write before text.
+std::string_view without_bom(std::string_view data) {
+    return data.substr(0, 3) == "\xEF\xBB\xBF" ? data.substr(3) : data;
 }
 
 void check_points(const PointSet& points, const std::string& path) {
@@ -47,8 +61,9 @@ void check_points(const PointSet& points, const std::string& path) {
 PointSet read_points(const std::string& path) {
     detail::require_regular_file(path);  // before the extension: "'dir' is a directory"
     const Parser parse = parser_for(path);
-    const std::string data = detail::read_whole_file(path);
-    PointSet points = parse(data, path);
+    std::string data = detail::read_whole_file(path);
+    if (gzipped(path)) data = detail::gunzip(data, path);
+    PointSet points = parse(without_bom(data), path);
     check_points(points, path);
     return points;
 }

@@ -1,8 +1,9 @@
-// Line-based point formats: XYZ/PTS/TXT columns, OBJ "v" lines and OFF vertex
-// blocks. '#' starts a comment in all of them.
+// Line-based point formats: XYZ/PTS/TXT columns as scanners export them, OBJ "v"
+// lines and OFF vertex blocks. '#' starts a comment in all of them.
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <utility>
 
 #include "io/point_readers.hpp"
 #include "snvr/error.hpp"
@@ -32,15 +33,46 @@ std::size_t next_tokens(LineScanner& lines, std::string_view* tokens, std::size_
     return count;
 }
 
+// A number whose decimal mark may be a comma ("2,5" in semicolon-separated exports).
+bool parse_field(std::string_view token, bool decimal_comma, double& out) {
+    if (!decimal_comma || token.find(',') == std::string_view::npos) return parse_number(token, out);
+    char copy[64];
+    if (token.size() >= sizeof copy) return false;
+    for (std::size_t i = 0; i < token.size(); ++i) copy[i] = token[i] == ',' ? '.' : token[i];
+    return parse_number(std::string_view(copy, token.size()), out);
+}
+
 // The first three of `count` tokens as a point.
-Vec3 to_point(const std::string_view* tokens, std::size_t count, const std::string& path, std::size_t line) {
+Vec3 to_point(const std::string_view* tokens, std::size_t count, const std::string& path, std::size_t line,
+              bool decimal_comma = false) {
     if (count < 3) line_error(path, line, "expected x y z, found " + std::to_string(count) + " value(s)");
     Vec3 point{};
     for (std::size_t axis = 0; axis < 3; ++axis) {
-        if (!parse_number(tokens[axis], point[axis]))
+        if (!parse_field(tokens[axis], decimal_comma, point[axis]))
             line_error(path, line, "expected a number, found " + in_quotes(tokens[axis]));
     }
     return point;
+}
+
+// Up to `max` leading fields of a scanner's text line: separated by spaces, tabs, commas
+// or semicolons, where a line with semicolons takes commas for decimal marks; '#' and a
+// leading "//" start comments. Returns how many; decimal_comma tells how to read them.
+std::size_t scanner_fields(std::string_view line, std::string_view* fields, std::size_t max, bool& decimal_comma) {
+    line = strip_comment(line);
+    std::size_t first = 0;
+    while (first < line.size() && is_space(line[first])) ++first;
+    if (line.compare(first, 2, "//") == 0) return 0;
+    decimal_comma = line.find(';') != std::string_view::npos;
+    const auto separates = [decimal_comma](char c) { return is_space(c) || c == ';' || (c == ',' && !decimal_comma); };
+    std::size_t n = 0, i = first;
+    while (n < max) {
+        while (i < line.size() && separates(line[i])) ++i;
+        if (i == line.size()) break;
+        const std::size_t start = i;
+        while (i < line.size() && !separates(line[i])) ++i;
+        fields[n++] = line.substr(start, i - start);
+    }
+    return n;
 }
 
 // One point per line is typical, so the newline count is a good (and bounded) reservation.
@@ -63,16 +95,19 @@ PointSet parse_xyz(std::string_view data, const std::string& path) {
     PointSet points = reserved_points(data);
     LineScanner lines(data);
     std::string_view line, tokens[3];
+    bool first = true, decimal_comma = false;
     while (lines.next(line)) {
-        const std::size_t count = leading_tokens(line, tokens, 3);
+        const std::size_t count = scanner_fields(line, tokens, 3, decimal_comma);
         if (count == 0) continue;
+        double value = 0;
+        const bool numeric = parse_field(tokens[0], decimal_comma, value);
+        // A first line of names ("X Y Z", "x,y,z,r,g,b") is a header.
+        if (std::exchange(first, false) && !numeric) continue;
         if (count == 1) {  // a lone number is a PTS point count, not a point
-            double ignored = 0;
-            if (!parse_number(tokens[0], ignored))
-                line_error(path, lines.line_number(), "expected a number, found " + in_quotes(tokens[0]));
+            if (!numeric) line_error(path, lines.line_number(), "expected a number, found " + in_quotes(tokens[0]));
             continue;
         }
-        points.push_back(to_point(tokens, count, path, lines.line_number()));
+        points.push_back(to_point(tokens, count, path, lines.line_number(), decimal_comma));
     }
     return points;
 }

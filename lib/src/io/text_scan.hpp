@@ -13,16 +13,19 @@
 
 namespace snvr::detail {
 
-// Hands out one line at a time (without "\n" or "\r\n") and counts lines.
+// Hands out one line at a time (without "\n" or "\r\n") and counts lines. A text
+// with no "\n" at all but some "\r" (old Mac files) has its lines ended by "\r".
 class LineScanner {
 public:
     // lines_before: how many file lines precede `text`, so numbers match the file.
     explicit LineScanner(std::string_view text, std::size_t lines_before = 0)
-        : text_(text), line_(lines_before) {}
+        : text_(text),
+          end_(text.find('\n') == std::string_view::npos && text.find('\r') != std::string_view::npos ? '\r' : '\n'),
+          line_(lines_before) {}
 
     bool next(std::string_view& line) {
         if (pos_ >= text_.size()) return false;
-        std::size_t end = text_.find('\n', pos_);
+        std::size_t end = text_.find(end_, pos_);
         if (end == std::string_view::npos) end = text_.size();
         line = text_.substr(pos_, end - pos_);
         if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
@@ -35,6 +38,7 @@ public:
 
 private:
     std::string_view text_;
+    char end_;
     std::size_t pos_ = 0;
     std::size_t line_ = 0;
 };

@@ -1,0 +1,70 @@
+// LAS 1.0-1.4 point clouds (ASPRS LiDAR format), uncompressed point records of any
+// format 0-10: every record starts with X, Y, Z as int32, scaled and offset by the
+// header's doubles. Compressed LAZ is refused by name.
+#include <cstdint>
+#include <string>
+
+#include "io/io_common.hpp"
+#include "io/point_readers.hpp"
+#include "snvr/error.hpp"
+
+namespace snvr::detail {
+namespace {
+
+// Byte offsets in the public header block.
+constexpr std::size_t kVersionMajor = 24, kVersionMinor = 25, kHeaderSize = 94, kPointOffset = 96,
+                      kPointFormat = 104, kRecordLength = 105, kLegacyCount = 107, kScale = 131, kOffset = 155,
+                      kCount64 = 247, kHeader12 = 227, kHeader14 = 375;
+
+// The smallest record of each point data format 0-10.
+constexpr std::uint16_t kRecordBytes[] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
+
+template <typename T>
+T field(std::string_view data, std::size_t at) {
+    return load_bytes<T>(data.data() + at, !host_is_little_endian());  // LAS is little endian
+}
+
+}  // namespace
+
+PointSet parse_las(std::string_view data, const std::string& path) {
+    const auto fail = [&](const std::string& what) { return InputError(path + ": " + what); };
+    if (data.size() < 4 || data.substr(0, 4) != "LASF") throw fail("not a LAS file (no 'LASF' signature)");
+    if (data.size() < kHeader12) throw fail("the LAS header is cut short (" + std::to_string(data.size()) + " bytes)");
+    const int major = field<std::uint8_t>(data, kVersionMajor), minor = field<std::uint8_t>(data, kVersionMinor);
+    const std::string version = std::to_string(major) + "." + std::to_string(minor);
+    if (major != 1 || minor > 4) throw fail("LAS version " + version + " (readable: 1.0 to 1.4)");
+    const std::uint16_t header = field<std::uint16_t>(data, kHeaderSize);
+    const std::uint32_t first = field<std::uint32_t>(data, kPointOffset);
+    const std::uint8_t format_byte = field<std::uint8_t>(data, kPointFormat);
+    const std::uint16_t length = field<std::uint16_t>(data, kRecordLength);
+    if (format_byte & 0xC0)
+        throw fail("compressed point records (LAZ) are not read; decompress first, e.g. laszip -i in.laz -o out.las");
+    if (format_byte > 10) throw fail("unknown point data format " + std::to_string(format_byte) + " (known: 0 to 10)");
+    if (length < kRecordBytes[format_byte])
+        throw fail("point records of " + std::to_string(length) + " bytes, but format " + std::to_string(format_byte) +
+                   " needs at least " + std::to_string(kRecordBytes[format_byte]));
+    std::uint64_t count = field<std::uint32_t>(data, kLegacyCount);
+    if (count == 0 && minor >= 4 && header >= kHeader14 && data.size() >= kHeader14)
+        count = field<std::uint64_t>(data, kCount64);  // formats 6-10 may leave the legacy count 0
+    if (first < header || first > data.size())
+        throw fail("the point data offset " + std::to_string(first) + " lies outside the file (" +
+                   std::to_string(data.size()) + " bytes, header " + std::to_string(header) + ")");
+    const std::uint64_t fit = (data.size() - first) / length;
+    if (count > fit)
+        throw fail("expected " + std::to_string(count) + " point records, file ends after " + std::to_string(fit) +
+                   " (byte offset " + std::to_string(first + fit * length) + ")");
+    double scale[3], offset[3];
+    for (int a = 0; a < 3; ++a) {
+        scale[a] = field<double>(data, kScale + 8 * std::size_t(a));
+        offset[a] = field<double>(data, kOffset + 8 * std::size_t(a));
+    }
+    PointSet points(count);
+    for (std::uint64_t i = 0; i < count; ++i) {
+        const std::size_t at = first + std::size_t(i) * length;
+        for (int a = 0; a < 3; ++a)
+            points[i][std::size_t(a)] = double(field<std::int32_t>(data, at + 4 * std::size_t(a))) * scale[a] + offset[a];
+    }
+    return points;
+}
+
+}  // namespace snvr::detail
