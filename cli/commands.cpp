@@ -58,11 +58,11 @@ int run_sample(const std::vector<std::string>& args) {
     if (!parsed) return 0;
     snvr::PointSet points;
     try {
-        points = snvr::shapes::by_name(parsed->shape, parsed->spacing);
+        points = snvr::shapes::with_outliers(snvr::shapes::by_name(parsed->shape, parsed->spacing), parsed->outliers);
     } catch (const snvr::ParameterError& e) {
         throw UsageError(e.what());  // an unknown shape name or a bad spacing came from the command line
     }
-    snvr::write_points(points, parsed->output, fmt("snvr-cl sample %s --spacing %g", parsed->shape.c_str(), parsed->spacing));
+    snvr::write_points(points, parsed->output, fmt("snvr-cl sample %s --spacing %g --outliers %g", parsed->shape.c_str(), parsed->spacing, parsed->outliers));
     std::cerr << "wrote " << grouped(points.size()) << " points to " << parsed->output << '\n';
     return 0;
 }

@@ -222,6 +222,11 @@ Command reconstruct_command(ReconstructOptions& o) {
          units},
         {"--scale", "", "S", "multiply the input's coordinates by S (default 1), e.g. to\nprint a model at 1:100",
          store(o.scale)},
+        {"--outliers", "", "FILE",
+         "write the points dropped as outliers (.ply or .xyz)", store(o.outliers)},
+        {"--keep-outliers", "", "",
+         "use every point: by default points far sparser than the\nsurface, and clusters of under 10 points (and under 1%) that\nthe shell would leave apart as loose beads, are dropped",
+         set_flag(o.keep_outliers)},
         {"--origin", "", "center|keep",
          "center: shift the points by their box centre, rounded\n(shown in the summary), so that far coordinates such as\nsurvey data keep their precision in float32 STL and PLY\n(default keep: coordinates as read)",
          origin},
@@ -311,6 +316,9 @@ Command sample_command(SampleOptions& o) {
          store(o.output), "Options"},
         {"--spacing", "", "S", fmt("distance between neighbouring points (default %g)", o.spacing),
          store(o.spacing)},
+        {"--outliers", "", "F",
+         "add F times as many points uniform in the shape's box (the\npaper's Fig. 10 uses 0.05 to 0.15; default 0)",
+         store(o.outliers)},
         help_option(),
     };
     c.epilogue = kExitCodes;
@@ -386,6 +394,8 @@ std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::strin
     require_extension("output", o.output, {".stl", ".ply", ".obj", ".3mf"});
     if (!o.volume.empty()) require_extension("--volume", o.volume, {".vti", ".nrrd"});
     if (!o.report.empty()) require_extension("--report", o.report, {".json"});
+    if (!o.outliers.empty()) require_extension("--outliers", o.outliers, {".ply", ".xyz"});
+    if (!o.outliers.empty() && o.keep_outliers) throw UsageError("--outliers and --keep-outliers exclude each other");
     if (!(o.scale > 0) || !std::isfinite(o.scale)) {
         char text[32];
         std::snprintf(text, sizeof text, "%g", o.scale);

@@ -24,7 +24,8 @@ double parse_real(const std::string& option, const std::string& text);
 int parse_int(const std::string& option, const std::string& text);
 
 struct ReconstructOptions {
-    std::string input, output, volume, report;
+    std::string input, output, volume, report, outliers;  // outliers: where the dropped points go
+    bool keep_outliers = false;
     snvr::Parameters params;
     snvr::MeshFairing fairing;
     bool centre_origin = false;  // --origin center: points shifted by snvr::round_centre
@@ -39,6 +40,7 @@ struct ReconstructOptions {
 struct SampleOptions {
     std::string shape, output;
     double spacing = 0.005;
+    double outliers = 0;  // fraction of random points added in the shape's box
 };
 
 // Each returns nullopt when -h/--help was given; the help then went to `help_out`.

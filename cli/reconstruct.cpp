@@ -54,7 +54,8 @@ int run_reconstruct(const std::vector<std::string>& args) {
 
     Stopwatch total, stage;
     Seconds seconds;
-    for (const auto& [path, which] : {std::pair{o.output, "the mesh"}, {o.volume, "the volume"}, {o.report, "the report"}}) {
+    for (const auto& [path, which] : {std::pair{o.output, "the mesh"}, {o.volume, "the volume"}, {o.report, "the report"},
+                                      {o.outliers, "the outliers"}}) {
         if (path.empty()) continue;
         check_writable_location(path);
         refuse_overwriting_input(o.input, path, which);
@@ -77,9 +78,20 @@ int run_reconstruct(const std::vector<std::string>& args) {
             for (double& x : p) x *= to_mm;
         snvr::scale_lengths(params, to_mm);
     }
+    snvr::OutlierSplit outliers;
+    if (!o.keep_outliers) {
+        outliers = snvr::split_outliers(points, params);
+        if (!outliers.outliers.empty()) {
+            say(fmt("read: %s outliers dropped (sparse, or in clusters of under 10 points apart by over 2 x offset, "
+                    "%.3g mm); --keep-outliers keeps them", grouped(outliers.outliers.size()).c_str(), outliers.link));
+            points = std::move(outliers.kept);
+        }
+    }
+    seconds.outliers = stage.lap();
     const snvr::Vec3 shift = o.centre_origin ? snvr::round_centre(points) : snvr::Vec3{0, 0, 0};
-    for (snvr::Vec3& p : points)
-        for (int a = 0; a < 3; ++a) p[a] -= shift[a];
+    for (snvr::PointSet* set : {&points, &outliers.outliers})  // outliers written where they were
+        for (snvr::Vec3& p : *set)
+            for (int a = 0; a < 3; ++a) p[a] -= shift[a];
 
     snvr::Result result = snvr::reconstruct(points, params, [&o](const snvr::Progress& p) {
         if (!o.quiet) print_progress(std::cerr, p);
@@ -118,6 +130,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
     snvr::OutputFiles outputs;
     const std::uint64_t mesh_bytes = outputs.add_mesh(mesh, o.output);
     const std::uint64_t volume_bytes = o.volume.empty() ? 0 : outputs.add_field(result.phi, result.domain, o.volume);
+    if (!o.outliers.empty()) outputs.add_points(outliers.outliers, o.outliers, "outliers dropped by snvr-cl");
     result.phi = snvr::Field();  // meshed and staged: its memory goes to the check
     seconds.write = stage.lap();
 
@@ -135,7 +148,8 @@ int run_reconstruct(const std::vector<std::string>& args) {
         warning(fmt("the shell is only %.3g mm across: if the points are not in millimetres, give --units (m, cm "
                     "or in)", std::max({size[0], size[1], size[2]})));
     RunSummary summary{result, quality, seconds, o.output, o.volume, shift, size, o.units, to_mm,
-                       o.input, points.size(), mesh_bytes, volume_bytes, warnings};
+                       o.input, points.size(), mesh_bytes, volume_bytes, warnings, outliers.outliers.size(),
+                       outliers.link, o.outliers};
     summary.seconds.total = total.lap();
     if (!o.report.empty()) outputs.add_text(report_json(summary), o.report);
     outputs.commit();

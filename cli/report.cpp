@@ -98,6 +98,10 @@ void print_summary(std::ostream& out, const RunSummary& run) {
             << value << '\n';
     };
     out << "summary:\n";
+    if (run.outlier_link > 0)
+        row("outliers", fmt("%s dropped, %s used (sparse, or in clusters of under 10 points apart by over %.3g mm)%s",
+                            grouped(run.outliers).c_str(), grouped(run.points).c_str(), run.outlier_link,
+                            run.outliers_file.empty() ? "" : (": written to " + run.outliers_file).c_str()));
     row("grid", fmt("%d x %d x %d (%s cells), voxel %.6g, %d multigrid levels", d.nx, d.ny, d.nz,
                     grouped(d.cells()).c_str(), d.h, d.levels));
     if (run.shift != snvr::Vec3{0, 0, 0})
@@ -122,8 +126,8 @@ void print_summary(std::ostream& out, const RunSummary& run) {
     row("V-cycles", fmt("%d in %zu steps, at most %d in a step%s", total_cycles, r.steps.size(), max_cycles,
                         unconverged ? fmt(", %d not converged", unconverged).c_str() : ""));
     const snvr::StageSeconds& s = r.seconds;
-    row("seconds", fmt("read %.2f, domain %.2f, distance %.2f, init %.2f, steps %.2f,", run.seconds.read,
-                       s.domain, s.distance, s.init, s.steps));
+    row("seconds", fmt("read %.2f, outliers %.2f, domain %.2f, distance %.2f, init %.2f, steps %.2f,",
+                       run.seconds.read, run.seconds.outliers, s.domain, s.distance, s.init, s.steps));
     row("", fmt("mesh %.2f, write %.2f, check %.2f; total %.2f", run.seconds.mesh, run.seconds.write,
                 run.seconds.check, run.seconds.total));
     const snvr::MeshQuality& q = run.quality;

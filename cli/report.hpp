@@ -30,7 +30,7 @@ void warn(const std::string& message);
 void print_progress(std::ostream& out, const snvr::Progress& progress);
 
 struct Seconds {
-    double read = 0, mesh = 0, write = 0, check = 0;  // measured by the CLI
+    double read = 0, outliers = 0, mesh = 0, write = 0, check = 0;  // measured by the CLI
     double total = 0;    // from the start to the outputs in place
 };
 
@@ -53,6 +53,9 @@ struct RunSummary {
     std::size_t points = 0;
     std::uint64_t output_bytes = 0, volume_bytes = 0;
     std::vector<std::string> warnings;
+    std::size_t outliers = 0;       // points dropped as outliers,
+    double outlier_link = 0;        // linked within this (0: not looked for),
+    std::string outliers_file;      // and where they went
 };
 
 // The extent of the mesh's vertices along x, y and z.

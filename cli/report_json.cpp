@@ -30,6 +30,7 @@ std::string report_json(const RunSummary& run) {
           {"units", run.units},
           {"to_millimetres", run.to_mm},
           {"origin_shift", {0.0 - run.shift[0], 0.0 - run.shift[1], 0.0 - run.shift[2]}}}},  // no -0
+        {"outliers", {{"dropped", run.outliers}, {"link", run.outlier_link}, {"file", run.outliers_file}}},
         {"outputs", outputs},
         {"grid",
          {{"nx", d.nx}, {"ny", d.ny}, {"nz", d.nz}, {"cells", d.cells()}, {"voxel", d.h}, {"levels", d.levels},
@@ -49,6 +50,7 @@ std::string report_json(const RunSummary& run) {
         {"v_cycles", {{"total", cycles.total}, {"most_in_a_step", cycles.most_in_a_step}, {"not_converged", cycles.not_converged}}},
         {"seconds",
          {{"read", run.seconds.read},
+          {"outliers", run.seconds.outliers},
           {"domain", r.seconds.domain},
           {"distance", r.seconds.distance},
           {"init", r.seconds.init},

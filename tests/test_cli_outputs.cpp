@@ -108,3 +108,29 @@ TEST_CASE("3MF output and a JSON report, written with the mesh or not at all") {
     CHECK(!fs::exists(mesh));
     expect_failure("reconstruct " + input + " -o " + t.out() + " --report r.txt", 2, ".json", t);
 }
+
+TEST_CASE("outliers: dropped by default, written where asked, kept on request") {
+    TempDir t;
+    // The sampler's sphere with 5% random points in its box (the paper's Fig. 10).
+    const std::string points = (t.path / "noisy.ply").string();
+    REQUIRE(run("sample sphere --spacing 0.01 --outliers 0.05 -o " + points).code == 0);
+    const std::string dropped = (t.path / "dropped.xyz").string();
+    Run r = run("reconstruct " + points + " -o " + t.out() + " --resolution 96 --outliers " + dropped);
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("2 components") != std::string::npos);
+    CHECK(r.output.find("written to " + dropped) != std::string::npos);
+    std::ifstream in(dropped);
+    std::size_t lines = 0;
+    for (std::string line; std::getline(in, line);) ++lines;
+    CHECK(lines > 385);  // most of the 770
+    CHECK(r.output.find("outliers         " + std::to_string(lines) + " dropped") != std::string::npos);
+    fs::remove(t.out());
+    r = run("reconstruct " + points + " -o " + t.out() + " --resolution 96 --keep-outliers");
+    CHECK(r.code == 0);
+    CHECK(r.output.find("outliers         ") == std::string::npos);
+    CHECK(r.output.find("2 components") == std::string::npos);  // beads and bubbles
+    fs::remove(t.out());
+    expect_failure("reconstruct " + points + " -o " + t.out() + " --keep-outliers --outliers " + dropped, 2,
+                   "exclude each other", t);
+}

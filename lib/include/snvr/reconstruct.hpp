@@ -77,6 +77,26 @@ Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* 
 // in the sampling).
 std::size_t count_point_clusters(const PointSet& points, double link_distance);
 
+// Points that are not surface, as scanners and the paper's Fig. 10 (5-15% uniform
+// random points) add them. First each point whose `neighbours`-th nearest point is
+// farther than reach_factor times the median of that distance: the surface is dense
+// where a point in space is not, and outliers up to half the points do not move a
+// median (left in, they would set the sampling gap and so the offset). Then, among the
+// rest, the clusters a shell of the offset planned for them (2 l: see
+// count_point_clusters) would leave apart as loose beads, if they have fewer than
+// min_cluster points and under 1% of all.
+struct OutlierSettings {
+    std::size_t neighbours = 8;
+    double reach_factor = 3;
+    std::size_t min_cluster = 10;
+    void validate() const;  // throws ParameterError naming the bad value
+};
+struct OutlierSplit {
+    PointSet kept, outliers;  // each in input order
+    double link = 0;          // 2 l, the clusters' link (0 when none was looked for)
+};
+OutlierSplit split_outliers(const PointSet& points, const Parameters& params, const OutlierSettings& settings = {});
+
 // The grid reconstruct() would use, and the offset and gap it would choose.
 struct DomainPlan {
     Domain domain;

@@ -44,6 +44,9 @@ PointSet helicoid(const Vec3& c, double radius, double pitch, double turns, doub
 // standard deviation sigma per coordinate (so the radial residual has std sigma).
 // Deterministic for a seed, on every platform (own normal deviates from mt19937_64).
 PointSet noisy_sphere(const Vec3& c, double r, double spacing, double sigma, std::uint64_t seed = 1);
+// points plus fraction x their count of points uniform in their bounding box, as in the
+// paper's Fig. 10 (5-15% random points); the same for a given seed on every platform.
+PointSet with_outliers(PointSet points, double fraction, std::uint64_t seed = 1);
 // Sphere whose points per area fall smoothly (exponentially in z) by the factor
 // `ratio` >= 1 from the top pole (spacing `spacing`) to the bottom pole (spacing
 // `spacing` * sqrt(ratio)); a Fibonacci lattice with warped heights.

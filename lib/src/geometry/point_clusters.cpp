@@ -7,6 +7,7 @@
 #include <numeric>
 #include <vector>
 
+#include "geometry/point_clusters.hpp"
 #include "snvr/reconstruct.hpp"
 
 namespace snvr {
@@ -30,8 +31,8 @@ bool finite(const Vec3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) &
 // different sets, and only until one linked pair is found. Dense scans have
 // hundreds of points within a link: looking at every pair cost more than the
 // reconstruction.
-std::size_t count_point_clusters(const PointSet& points, double link_distance) {
-    if (points.empty()) return 0;
+std::vector<std::size_t> point_cluster_labels(const PointSet& points, double link_distance) {
+    if (points.empty()) return {};
     const double link_sq = link_distance * link_distance;
     std::vector<std::size_t> parent(points.size());
     std::iota(parent.begin(), parent.end(), std::size_t(0));
@@ -171,8 +172,14 @@ std::size_t count_point_clusters(const PointSet& points, double link_distance) {
                             }
                 }
     }
+    for (std::size_t k = 0; k < points.size(); ++k) parent[k] = find_root(parent, k);
+    return parent;
+}
+
+std::size_t count_point_clusters(const PointSet& points, double link_distance) {
+    const std::vector<std::size_t> label = point_cluster_labels(points, link_distance);
     std::size_t roots = 0;
-    for (std::size_t k = 0; k < points.size(); ++k) roots += find_root(parent, k) == k;
+    for (std::size_t k = 0; k < label.size(); ++k) roots += label[k] == k;
     return roots;
 }
 

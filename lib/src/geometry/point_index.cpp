@@ -1,6 +1,9 @@
 #include "geometry/point_index.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
+#include <vector>
 #include <nanoflann.hpp>
 
 namespace snvr {
@@ -96,6 +99,16 @@ double PointIndex::nearest_other(std::size_t n) const {
     NearestDistinct result;
     impl_->tree.findNeighbors(result, impl_->adaptor.pts[n].data(), nanoflann::SearchParams());
     return result.best() == std::numeric_limits<double>::max() ? 0.0 : std::sqrt(result.best());
+}
+
+double PointIndex::kth_nearest(std::size_t n, std::size_t k) const {
+    const std::size_t want = std::min(k + 1, impl_->adaptor.pts.size());  // the point itself comes first
+    std::vector<std::uint32_t> index(want);
+    std::vector<double> dist_sq(want);
+    nanoflann::KNNResultSet<double, std::uint32_t> result(want);
+    result.init(index.data(), dist_sq.data());
+    impl_->tree.findNeighbors(result, impl_->adaptor.pts[n].data(), nanoflann::SearchParams());
+    return std::sqrt(dist_sq[result.size() - 1]);
 }
 
 }  // namespace snvr

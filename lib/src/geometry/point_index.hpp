@@ -34,6 +34,10 @@ public:
     // Distance from point n to its nearest *distinct* point (0 if all points coincide).
     double nearest_other(std::size_t n) const;
 
+    // Distance from point n to its k-th nearest other point (duplicates count; k >= 1;
+    // the farthest there is when there are fewer than k others).
+    double kth_nearest(std::size_t n, std::size_t k) const;
+
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;

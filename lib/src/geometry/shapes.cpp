@@ -491,6 +491,27 @@ PointSet noisy_sphere(const Vec3& c, double r, double spacing, double sigma, std
     return out;
 }
 
+PointSet with_outliers(PointSet points, double fraction, std::uint64_t seed) {
+    require_non_negative("outlier fraction", fraction);
+    if (points.empty() || fraction == 0) return points;
+    Vec3 lo = points[0], hi = points[0];
+    for (const Vec3& p : points)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+        }
+    std::mt19937_64 gen(seed);
+    const auto uniform = [&gen] { return double(gen() >> 11) * 0x1p-53; };  // in [0, 1)
+    const std::size_t count = std::size_t(std::llround(fraction * double(points.size())));
+    points.reserve(points.size() + count);
+    for (std::size_t i = 0; i < count; ++i) {
+        Vec3 p;
+        for (int a = 0; a < 3; ++a) p[a] = lo[a] + (hi[a] - lo[a]) * uniform();
+        points.push_back(p);
+    }
+    return points;
+}
+
 PointSet varying_sphere(const Vec3& c, double r, double spacing, double ratio) {
     require_finite(c);
     require_positive("radius", r);

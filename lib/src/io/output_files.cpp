@@ -22,6 +22,11 @@ std::uint64_t OutputFiles::add_field(const Field& field, const Domain& domain, c
     return files_.back()->bytes();
 }
 
+std::uint64_t OutputFiles::add_points(const PointSet& points, const std::string& path, const std::string& comment) {
+    files_.push_back(detail::stage_points(points, path, comment));
+    return files_.back()->bytes();
+}
+
 std::uint64_t OutputFiles::add_text(const std::string& text, const std::string& path) {
     auto file = std::make_unique<AtomicFile>(path);
     file->write(text);

@@ -1,21 +1,25 @@
 // write_points: binary PLY (float32 x y z) or text (one point per line, round-trip
 // digits), through an AtomicFile like every writer of the library.
+#include <memory>
 #include <string>
 
 #include "io/atomic_file.hpp"
+#include "io/staged_writes.hpp"
 #include "io/io_common.hpp"
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
 
 namespace snvr {
 
-void write_points(const PointSet& points, const std::string& path, const std::string& comment) {
+std::unique_ptr<AtomicFile> detail::stage_points(const PointSet& points, const std::string& path,
+                                                 const std::string& comment) {
     const std::string ext = detail::lower_extension(path);
     const bool ply = ext == ".ply";
     if (!ply && ext != ".xyz" && ext != ".pts" && ext != ".txt")
         throw InputError(path + ": unsupported point file extension '" + ext + "' (supported: .ply, .xyz, .pts, .txt)");
     if (comment.find('\n') != std::string::npos) throw InputError(path + ": the comment must be one line");
-    AtomicFile out(path);
+    auto file = std::make_unique<AtomicFile>(path);
+    AtomicFile& out = *file;
     if (ply) {
         out.write("ply\nformat binary_little_endian 1.0\n" + (comment.empty() ? "" : "comment " + comment + "\n") +
                   "element vertex " + std::to_string(points.size()) +
@@ -37,7 +41,12 @@ void write_points(const PointSet& points, const std::string& path, const std::st
             out.write(line);
         }
     }
-    out.commit();
+    out.finish();
+    return file;
+}
+
+void write_points(const PointSet& points, const std::string& path, const std::string& comment) {
+    detail::stage_points(points, path, comment)->commit();
 }
 
 }  // namespace snvr
