@@ -87,6 +87,12 @@ double parse_as<double>(const std::string& option, const std::string& text) { re
 template <>
 int parse_as<int>(const std::string& option, const std::string& text) { return parse_int(option, text); }
 template <>
+std::size_t parse_as<std::size_t>(const std::string& option, const std::string& text) {
+    const int n = parse_int(option, text);
+    if (n < 0) throw UsageError("bad value '" + text + "' for " + option + ": expected a count, 0 or more");
+    return std::size_t(n);
+}
+template <>
 std::string parse_as<std::string>(const std::string&, const std::string& text) { return text; }
 
 // Parses the value into `target` (plain or optional), whatever its type.
@@ -227,6 +233,11 @@ Command reconstruct_command(ReconstructOptions& o) {
         {"--keep-outliers", "", "",
          "use every point: by default points far sparser than the\nsurface, and clusters of under 10 points (and under 1%) that\nthe shell would leave apart as loose beads, are dropped",
          set_flag(o.keep_outliers)},
+        {"--min-piece-volume", "", "V",
+         "drop solid pieces (each with its cavities) of less volume,\nin the input's units cubed (default 0: keep all)",
+         store(o.pieces.min_volume)},
+        {"--keep-largest", "", "N", "keep only the N largest solid pieces (default 0: all)",
+         store(o.pieces.keep_largest)},
         {"--origin", "", "center|keep",
          "center: shift the points by their box centre, rounded\n(shown in the summary), so that far coordinates such as\nsurvey data keep their precision in float32 STL and PLY\n(default keep: coordinates as read)",
          origin},
@@ -403,6 +414,7 @@ std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::strin
     }
     // Out-of-range values are the command line's fault, so a usage error, not a failure.
     try {
+        o.pieces.validate();
         o.params.validate();
         o.fairing.validate();
     } catch (const snvr::ParameterError& e) {

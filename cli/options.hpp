@@ -26,6 +26,7 @@ int parse_int(const std::string& option, const std::string& text);
 struct ReconstructOptions {
     std::string input, output, volume, report, outliers;  // outliers: where the dropped points go
     bool keep_outliers = false;
+    snvr::PieceFilter pieces;  // --min-piece-volume (input units cubed until scaled), --keep-largest
     snvr::Parameters params;
     snvr::MeshFairing fairing;
     bool centre_origin = false;  // --origin center: points shifted by snvr::round_centre

@@ -101,7 +101,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
 
     say("mesh: extracting the zero level set");
     snvr::DepthGuardReport guard;
-    const snvr::Mesh mesh = snvr::shell_mesh(result, points, &guard, o.fairing);
+    snvr::Mesh mesh = snvr::shell_mesh(result, points, &guard, o.fairing);
     seconds.mesh = stage.lap();
     if (guard.moved_vertices) {
         const std::string except =
@@ -116,6 +116,12 @@ int run_reconstruct(const std::vector<std::string>& args) {
     if (guard.shallow_points)
         warning(fmt("%s points stay shallower than %.3g x offset after %d repair rounds",
                  grouped(guard.shallow_points).c_str(), 1 - result.tube_inner / result.offset, guard.repair_rounds));
+    snvr::PieceFilter pieces = o.pieces;
+    pieces.min_volume *= to_mm * to_mm * to_mm;
+    const snvr::PieceReport dropped_pieces = snvr::filter_pieces(mesh, pieces);
+    if (dropped_pieces.dropped)
+        say(fmt("mesh: %zu solid piece%s dropped (%.4g mm^3 in all), %zu kept", dropped_pieces.dropped,
+                dropped_pieces.dropped == 1 ? "" : "s", dropped_pieces.dropped_volume, dropped_pieces.kept));
     if (mesh.triangles.empty())
         throw snvr::Error(fmt("the reconstructed shell is empty (no triangles on the %d x %d x %d grid, offset "
                               "%.6g, voxel %.6g); try a larger --offset or a finer --resolution. Nothing written",
@@ -142,14 +148,14 @@ int run_reconstruct(const std::vector<std::string>& args) {
                                                 : snvr::measure_shell(written, points, result.offset, result.domain.h);
     const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
     seconds.check = stage.lap();
-    for (const std::string& w : snvr::shell_warnings(quality, points.size(), clusters)) warning(w);
+    for (const std::string& w : snvr::shell_warnings(quality, points.size(), clusters, dropped_pieces.dropped)) warning(w);
     const snvr::Vec3 size = mesh_size(written);
     if (std::max({size[0], size[1], size[2]}) < 2)
         warning(fmt("the shell is only %.3g mm across: if the points are not in millimetres, give --units (m, cm "
                     "or in)", std::max({size[0], size[1], size[2]})));
     RunSummary summary{result, quality, seconds, o.output, o.volume, shift, size, o.units, to_mm,
                        o.input, points.size(), mesh_bytes, volume_bytes, warnings, outliers.outliers.size(),
-                       outliers.link, o.outliers};
+                       outliers.link, o.outliers, dropped_pieces};
     summary.seconds.total = total.lap();
     if (!o.report.empty()) outputs.add_text(report_json(summary), o.report);
     outputs.commit();

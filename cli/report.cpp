@@ -137,7 +137,10 @@ void print_summary(std::ostream& out, const RunSummary& run) {
                                    : fmt(" (lengths in %s times %.6g)", run.units.c_str(), run.to_mm).c_str()));
     row("mesh", fmt("%s triangles, %s vertices, %zu component%s", grouped(m.triangles).c_str(),
                     grouped(m.vertices).c_str(), m.components, m.components == 1 ? "" : "s"));
-    row("", fmt("%zu solid piece%s (the other components bound cavities)", m.solids, m.solids == 1 ? "" : "s"));
+    row("", fmt("%zu solid piece%s (the other components bound cavities)%s", m.solids, m.solids == 1 ? "" : "s",
+                run.pieces.dropped ? fmt("; %zu dropped, %.4g mm^3 in all", run.pieces.dropped,
+                                         run.pieces.dropped_volume).c_str()
+                                   : ""));
     row("", fmt("closed %s, manifold %s, oriented %s%s", yes_no(m.closed()), yes_no(m.manifold()),
                 yes_no(m.oriented()),
                 m.zero_area_triangles ? fmt(", %zu zero-area triangles", m.zero_area_triangles).c_str() : ""));

@@ -56,6 +56,7 @@ struct RunSummary {
     std::size_t outliers = 0;       // points dropped as outliers,
     double outlier_link = 0;        // linked within this (0: not looked for),
     std::string outliers_file;      // and where they went
+    snvr::PieceReport pieces;       // --min-piece-volume, --keep-largest
 };
 
 // The extent of the mesh's vertices along x, y and z.

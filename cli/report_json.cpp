@@ -31,6 +31,7 @@ std::string report_json(const RunSummary& run) {
           {"to_millimetres", run.to_mm},
           {"origin_shift", {0.0 - run.shift[0], 0.0 - run.shift[1], 0.0 - run.shift[2]}}}},  // no -0
         {"outliers", {{"dropped", run.outliers}, {"link", run.outlier_link}, {"file", run.outliers_file}}},
+        {"pieces_dropped", {{"count", run.pieces.dropped}, {"volume", run.pieces.dropped_volume}}},
         {"outputs", outputs},
         {"grid",
          {{"nx", d.nx}, {"ny", d.ny}, {"nz", d.nz}, {"cells", d.cells()}, {"voxel", d.h}, {"levels", d.levels},

@@ -134,3 +134,35 @@ TEST_CASE("outliers: dropped by default, written where asked, kept on request") 
     expect_failure("reconstruct " + points + " -o " + t.out() + " --keep-outliers --outliers " + dropped, 2,
                    "exclude each other", t);
 }
+
+TEST_CASE("pieces: --keep-largest and --min-piece-volume drop floating debris, counted in the summary") {
+    TempDir t;
+    // A ball of radius 30 mm and two clusters of 20 and 30 points far from it.
+    std::string text = sphere_xyz(30);
+    char line[80];
+    for (int k = 0; k < 20; ++k) {
+        std::snprintf(line, sizeof line, "%g %g 0\n", 60 + 0.3 * (k % 5), 0.3 * (k / 5));
+        text += line;
+    }
+    for (int k = 0; k < 30; ++k) {
+        std::snprintf(line, sizeof line, "%g %g 5\n", -60 + 0.5 * (k % 6), 0.5 * (k / 6));
+        text += line;
+    }
+    const std::string input = t.file("debris.xyz", text);
+    Run r = run("reconstruct " + input + " -o " + t.out() + " --resolution 96");
+    CAPTURE(r.output);
+    CHECK(r.output.find("3 solid pieces") != std::string::npos);
+    fs::remove(t.out());
+    r = run("reconstruct " + input + " -o " + t.out() + " --resolution 96 --keep-largest 1");
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("1 solid piece (the other components bound cavities); 2 dropped") != std::string::npos);
+    CHECK(r.output.find("of " + std::to_string(24 * 48 + 50) + " points (2 pieces dropped on request)") !=
+          std::string::npos);
+    fs::remove(t.out());
+    // The clusters' beads are a few hundred mm^3; the ball tens of thousands.
+    r = run("reconstruct " + input + " -o " + t.out() + " --resolution 96 --min-piece-volume 5000");
+    CHECK(r.output.find("1 solid piece (the other components bound cavities); 2 dropped") != std::string::npos);
+    fs::remove(t.out());
+    expect_failure("reconstruct " + input + " -o " + t.out() + " --keep-largest -2", 2, "a count", t);
+}

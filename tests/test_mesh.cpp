@@ -450,3 +450,43 @@ TEST_CASE("shell_warnings: one sentence per defect, none for a good shell") {
     q.points_inside = 10;
     CHECK(snvr::shell_warnings(q, 10, 1).empty());
 }
+
+TEST_CASE("filter_pieces: a piece is a solid with its cavities; the smallest go first") {
+    // A unit cube holding a cavity (a cube of side 0.5, turned inward), a tetrahedron of
+    // volume 1/6 far off, and a tiny one (1/6000) farther still.
+    Mesh hollow = unit_cube();
+    for (Vec3& v : hollow.vertices)
+        for (double& x : v) x = 0.25 + 0.5 * x;
+    for (auto& t : hollow.triangles) std::swap(t[1], t[2]);
+    const Mesh all = merge(merge(merge(unit_cube(), hollow), tetrahedron({3, 3, 3}, 1)), tetrahedron({6, 0, 0}, 0.1));
+    REQUIRE(check_mesh(all).solids == 3);
+    SUBCASE("no filter: nothing changes") {
+        Mesh m = all;
+        const PieceReport r = filter_pieces(m, {});
+        CHECK(r.dropped == 0);
+        CHECK(m.triangles.size() == all.triangles.size());
+    }
+    SUBCASE("by volume: the tiny tetrahedron goes, the cube keeps its cavity") {
+        Mesh m = all;
+        const PieceReport r = filter_pieces(m, {0.01, 0});
+        CHECK(r.dropped == 1);
+        CHECK(r.kept == 2);
+        CHECK(r.dropped_volume == doctest::Approx(1.0 / 6000));
+        const MeshReport c = check_mesh(m);
+        CHECK(c.solids == 2);
+        CHECK(c.components == 3);
+        CHECK(c.closed());
+        CHECK(c.volume == doctest::Approx(1 - 0.125 + 1.0 / 6));
+        CHECK(m.vertices.size() == all.vertices.size() - 4);  // its vertices gone too
+    }
+    SUBCASE("the largest only: the hollow cube (0.875) over the tetrahedron (1/6)") {
+        Mesh m = all;
+        const PieceReport r = filter_pieces(m, {0, 1});
+        CHECK(r.dropped == 2);
+        const MeshReport c = check_mesh(m);
+        CHECK(c.solids == 1);
+        CHECK(c.components == 2);
+        CHECK(c.volume == doctest::Approx(0.875));
+    }
+    CHECK_THROWS_AS(PieceFilter({-1, 0}).validate(), ParameterError);
+}

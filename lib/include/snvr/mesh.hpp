@@ -88,6 +88,20 @@ struct DepthGuardReport {
 DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel,
                                   double lone = std::numeric_limits<double>::infinity());
 
+// Which solid pieces of a closed, outward mesh to keep: a piece is an outward component
+// with the cavities (inward components) inside it, its volume the material between.
+struct PieceFilter {
+    double min_volume = 0;         // drop pieces of less volume (world units cubed)
+    std::size_t keep_largest = 0;  // then keep at most this many, largest first (0: all)
+    void validate() const;         // throws ParameterError naming the bad value
+};
+struct PieceReport {
+    std::size_t kept = 0, dropped = 0;
+    double dropped_volume = 0;
+};
+// Removes the pieces the filter rejects, their triangles and the vertices left unused.
+PieceReport filter_pieces(Mesh& mesh, const PieceFilter& filter);
+
 // How many of the points lie strictly inside the closed mesh (odd crossing count of a ray).
 std::size_t count_points_inside(const Mesh& mesh, const PointSet& points);
 

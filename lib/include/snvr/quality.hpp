@@ -81,8 +81,10 @@ double thinnest_wall(const Mesh& mesh);
 // What keeps a shell from being the print the points ask for, one sentence each (none:
 // nothing): more solid pieces than the points have clusters at twice the offset (the
 // shell fell apart; components that bound cavities are fine), an open, non-manifold
-// or misoriented mesh, points left outside. `clusters`: count_point_clusters(points, 2 l).
-std::vector<std::string> shell_warnings(const MeshQuality& quality, std::size_t points, std::size_t clusters);
+// or misoriented mesh, points left outside (said to be expected when dropped_pieces,
+// filter_pieces's count, is not 0). `clusters`: count_point_clusters(points, 2 l).
+std::vector<std::string> shell_warnings(const MeshQuality& q, std::size_t points, std::size_t clusters,
+                                        std::size_t dropped_pieces = 0);
 
 // One readable block, several lines, ending with a newline.
 std::string format_quality(const MeshQuality& q);

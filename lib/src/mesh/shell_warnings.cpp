@@ -18,7 +18,8 @@ std::string sentence(const char* format, Args... args) {
 
 }  // namespace
 
-std::vector<std::string> shell_warnings(const MeshQuality& q, std::size_t points, std::size_t clusters) {
+std::vector<std::string> shell_warnings(const MeshQuality& q, std::size_t points, std::size_t clusters,
+                                        std::size_t dropped_pieces) {
     const MeshReport& m = q.report;
     std::vector<std::string> out;
     if (m.solids > clusters)
@@ -36,8 +37,11 @@ std::vector<std::string> shell_warnings(const MeshQuality& q, std::size_t points
         out.push_back(sentence("the mesh is not consistently oriented: %zu misoriented edges, volume %.6g",
                                m.misoriented_edges, m.volume));
     if (q.points_inside < points)
-        out.push_back(sentence("the shell encloses %zu of %zu points; a larger offset or a finer grid may help",
-                               q.points_inside, points));
+        out.push_back(dropped_pieces
+                          ? sentence("the shell encloses %zu of %zu points (%zu piece%s dropped on request)",
+                                     q.points_inside, points, dropped_pieces, dropped_pieces == 1 ? "" : "s")
+                          : sentence("the shell encloses %zu of %zu points; a larger offset or a finer grid may help",
+                                     q.points_inside, points));
     return out;
 }
 
