@@ -67,9 +67,14 @@ int run_reconstruct(const std::vector<std::string>& args) {
     };
 
     say("read: " + o.input);
-    snvr::PointSet points = snvr::read_points(o.input);
+    snvr::InputPoints input = snvr::read_input(o.input, o.params);
+    snvr::PointSet points = std::move(input.points);
     seconds.read = stage.lap();
-    say("read: " + grouped(points.size()) + " points");
+    if (input.triangles)
+        say(fmt("read: a mesh of %s triangles, sampled at %.3g into %s points", grouped(input.triangles).c_str(),
+                input.spacing, grouped(points.size()).c_str()));
+    else
+        say("read: " + grouped(points.size()) + " points");
     // From here on every length is in millimetres: the points, the options, the outputs.
     const double to_mm = o.to_millimetres();
     snvr::Parameters params = o.params;

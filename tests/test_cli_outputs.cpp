@@ -166,3 +166,18 @@ TEST_CASE("pieces: --keep-largest and --min-piece-volume drop floating debris, c
     fs::remove(t.out());
     expect_failure("reconstruct " + input + " -o " + t.out() + " --keep-largest -2", 2, "a count", t);
 }
+
+TEST_CASE("a mesh as input: its triangles thickened, not only its corners") {
+    TempDir t;
+    // A shell from points, then that shell's STL thickened in turn.
+    const std::string points = t.file("ball.xyz", sphere_xyz(30));
+    const std::string first = (t.path / "first.stl").string();
+    REQUIRE(run("reconstruct " + points + " -o " + first + " --resolution 48 --quiet").code == 0);
+    const Run r = run("reconstruct " + first + " -o " + t.out() + " --resolution 48");
+    CAPTURE(r.output);
+    CHECK(r.code == 0);
+    CHECK(r.output.find("read: a mesh of ") != std::string::npos);
+    CHECK(r.output.find(" triangles, sampled at ") != std::string::npos);
+    CHECK(r.output.find("closed yes, manifold yes, oriented yes") != std::string::npos);
+    CHECK(r.output.find("1 solid piece") != std::string::npos);
+}

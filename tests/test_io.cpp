@@ -726,3 +726,49 @@ TEST_CASE("read_points: gzip-compressed files and LAS point records") {
     write_bytes(dir.file("scan.laz"), laz);
     check_throws<snvr::InputError>([&] { snvr::read_points(dir.file("scan.laz")); }, dir.file("scan.laz"), {"laszip"});
 }
+
+TEST_CASE("read_input: meshes are thickened by their triangles, point files read as points") {
+    TempDir dir("io");
+    snvr::Mesh tet;  // the unit tetrahedron, outward
+    tet.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    tet.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    snvr::Parameters p;
+    p.resolution = 64;
+    // STL (binary), OBJ and PLY with faces, and OFF, each sampled on its faces.
+    snvr::write_mesh(tet, dir.file("tet.stl"));
+    snvr::write_mesh(tet, dir.file("tet.obj"));
+    snvr::write_mesh(tet, dir.file("tet.ply"));
+    write_bytes(dir.file("tet.off"), "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n4 1 2 3 1\n");
+    for (const char* name : {"tet.stl", "tet.obj", "tet.ply", "tet.off"}) {
+        CAPTURE(name);
+        const snvr::InputPoints in = snvr::read_input(dir.file(name), p);
+        CHECK(in.triangles >= 4);
+        CHECK(in.spacing > 0);
+        CHECK(in.spacing <= 1.0 / 64 / 2 * 1.01);  // half a voxel at most
+        CHECK(in.points.size() > 1000);
+        // Every point lies on a face of the unit tetrahedron (x, y, z >= 0, x + y + z <= 1).
+        bool on_faces = true;
+        for (const Vec3& q : in.points) {
+            const double lowest = std::min({q[0], q[1], q[2]}), sum = q[0] + q[1] + q[2];
+            on_faces = on_faces && lowest >= -1e-12 && sum <= 1 + 1e-12 && (lowest <= 1e-12 || sum >= 1 - 1e-12);
+        }
+        CHECK(on_faces);
+    }
+    // The faces are covered: no point of a face farther than the spacing from a sample.
+    const snvr::InputPoints in = snvr::read_input(dir.file("tet.stl"), p);
+    double worst = 0;
+    for (double u = 0.01; u < 1; u += 0.0731)
+        for (double v = 0.01; u + v < 1; v += 0.0617) {
+            const Vec3 q{u, v, 0};  // on the face z = 0
+            double best = 1e9;
+            for (const Vec3& s : in.points) best = std::min(best, std::hypot(s[0] - q[0], s[1] - q[1], s[2] - q[2]));
+            worst = std::max(worst, best);
+        }
+    CHECK(worst <= in.spacing);
+    // Vertices only (no faces): read as points.
+    write_bytes(dir.file("pts.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    CHECK(snvr::read_input(dir.file("pts.obj"), p).triangles == 0);
+    CHECK(snvr::read_input(dir.file("pts.obj"), p).points.size() == 3);
+    // A bound on the samples, checked before anything is allocated.
+    CHECK_THROWS_AS(snvr::sample_triangles(tet, 1e-6, 1000000), snvr::ResourceError);
+}

@@ -11,6 +11,7 @@
 #include "snvr/field.hpp"
 #include "snvr/geometry.hpp"
 #include "snvr/mesh.hpp"
+#include "snvr/parameters.hpp"
 
 namespace snvr {
 
@@ -23,10 +24,21 @@ class AtomicFile;
 // non-finite coordinates and empty sets are InputErrors.
 PointSet read_points(const std::string& path);
 
+// The points a reconstruction starts from: a point file as read_points reads it, or a
+// mesh (.stl; .ply, .obj or .off with faces; any of them gzipped) with its triangles
+// sampled at half the voxel the run will have (sample_triangles), so that its faces,
+// not only its corners, are thickened.
+struct InputPoints {
+    PointSet points;
+    std::size_t triangles = 0;  // the mesh's, when the input was one
+    double spacing = 0;         // the sampling's
+};
+InputPoints read_input(const std::string& path, const Parameters& params);
+
 // Reads a triangle mesh, choosing the parser from the extension: .stl (binary or
 // ASCII; corners with identical coordinates become one vertex), .ply (ASCII or
 // binary, a vertex element with x/y/z and a face element with a vertex_indices
-// list), .obj ("v" and "f" lines). Polygons become fans of triangles. Throws
+// list), .obj ("v" and "f" lines), .off, each also gzipped (.gz). Polygons become fans of triangles. Throws
 // IoError (cannot open or read) or InputError (malformed, names file and place).
 Mesh read_mesh(const std::string& path);
 

@@ -95,6 +95,11 @@ struct OutlierSplit {
     PointSet kept, outliers;  // each in input order
     double link = 0;          // 2 l, the clusters' link (0 when none was looked for)
 };
+// Points on a mesh's triangles at most `spacing` apart: every vertex, each edge once
+// (in equal parts), and each triangle's inside on the barycentric grid of its longest
+// edge's parts. Throws ResourceError, before allocating, beyond max_points.
+PointSet sample_triangles(const Mesh& mesh, double spacing, std::size_t max_points = 200000000);
+
 OutlierSplit split_outliers(const PointSet& points, const Parameters& params, const OutlierSettings& settings = {});
 
 // The grid reconstruct() would use, and the offset and gap it would choose.

@@ -9,6 +9,10 @@
 
 namespace snvr::detail {
 
+// The file's points (its bytes already read and inflated), by its extension, checked
+// (not empty, all finite): read_points without the reading.
+PointSet parse_points(std::string_view data, const std::string& path);
+
 PointSet parse_ply(std::string_view data, const std::string& path);
 PointSet parse_xyz(std::string_view data, const std::string& path);  // also .pts and .txt
 PointSet parse_obj(std::string_view data, const std::string& path);

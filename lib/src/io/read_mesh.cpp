@@ -1,7 +1,7 @@
-// read_mesh: triangle meshes written by other programs, for comparing them with
-// ours. STL (binary or ASCII; corners welded where their coordinates are equal),
-// PLY (ASCII or binary, any byte order, vertex x/y/z and a face index list) and
-// OBJ ("v" and "f" lines). Polygons are cut into fans of triangles.
+// read_mesh: triangle meshes written by other programs, to thicken them or to compare
+// them with ours. STL (binary or ASCII; corners welded where their coordinates are
+// equal), PLY (ASCII or binary, any byte order, vertex x/y/z and a face index list),
+// OBJ ("v" and "f" lines) and OFF. Polygons are cut into fans of triangles.
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -15,7 +15,9 @@
 #include <utility>
 #include <vector>
 
+#include "io/gunzip.hpp"
 #include "io/io_common.hpp"
+#include "io/mesh_readers.hpp"
 #include "io/read_whole_file.hpp"
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
@@ -386,18 +388,125 @@ Mesh read_obj(std::string_view data, const std::string& path) {
     return mesh;
 }
 
+// ---- OFF
+
+// "OFF" (or COFF, NOFF, ...), the counts, the vertices, then "k i1 .. ik" per face.
+Mesh read_off(std::string_view data, const std::string& path) {
+    detail::LineScanner lines(data);
+    std::string_view line;
+    const auto fail = [&](const std::string& what) {
+        return InputError(path + ": line " + std::to_string(lines.line_number()) + ": " + what);
+    };
+    const auto blank = [](std::string_view text) { return next_token(text).empty(); };
+    const auto next_line = [&](const char* what) {
+        do {
+            if (!lines.next(line)) throw fail(std::string("file ends before ") + what);
+            line = detail::strip_comment(line);
+        } while (blank(line));
+    };
+    next_line("the 'OFF' header");
+    std::string_view rest = line, word = next_token(rest);
+    if (word.size() < 3 || word.substr(word.size() - 3) != "OFF") throw fail("missing 'OFF' header");
+    if (blank(rest)) {
+        next_line("the counts");
+        rest = line;
+    }
+    std::uint64_t nv = 0, nf = 0;
+    if (!detail::parse_count(next_token(rest), nv) || !detail::parse_count(next_token(rest), nf))
+        throw fail("expected the vertex and face counts");
+    Mesh mesh;
+    mesh.vertices.reserve(std::size_t(std::min<std::uint64_t>(nv, data.size() / 6)));
+    for (std::uint64_t v = 0; v < nv; ++v) {
+        next_line("every vertex");
+        rest = line;
+        Vec3 p{};
+        for (double& x : p)
+            if (!parse_number(next_token(rest), x)) throw fail("expected x y z of vertex " + std::to_string(v));
+        mesh.vertices.push_back(p);
+    }
+    std::vector<std::uint32_t> polygon;
+    for (std::uint64_t f = 0; f < nf; ++f) {
+        next_line("every face");
+        rest = line;
+        std::uint64_t k = 0;
+        if (!detail::parse_count(next_token(rest), k) || k > rest.size()) throw fail("bad corner count");
+        polygon.clear();
+        for (std::uint64_t c = 0; c < k; ++c) {
+            std::uint64_t i = 0;
+            if (!detail::parse_count(next_token(rest), i) || i >= nv)
+                throw fail("face " + std::to_string(f) + ": expected vertex indices below " + std::to_string(nv));
+            polygon.push_back(std::uint32_t(i));
+        }
+        for (std::size_t j = 1; j + 1 < polygon.size(); ++j) mesh.triangles.push_back({polygon[0], polygon[j], polygon[j + 1]});
+    }
+    require_triangles(mesh, path);
+    return mesh;
+}
+
 }  // namespace
+
+// The name without ".gz", whose extension picks the format.
+std::string detail::format_name(const std::string& path) {
+    return detail::lower_extension(path) == ".gz" ? path.substr(0, path.size() - 3) : path;
+}
+
+Mesh detail::parse_mesh(std::string_view data, const std::string& path) {
+    const std::string ext = detail::lower_extension(detail::format_name(path));
+    if (ext == ".stl") return read_stl(data, path);
+    if (ext == ".ply") return read_ply(data, path);
+    if (ext == ".obj") return read_obj(data, path);
+    if (ext == ".off") return read_off(data, path);
+    throw InputError(path + ": unsupported mesh file extension '" + ext + "' (supported: .stl, .ply, .obj, .off)");
+}
+
+bool detail::has_faces(std::string_view data, const std::string& path) {
+    const std::string ext = detail::lower_extension(detail::format_name(path));
+    if (ext == ".stl") return true;
+    detail::LineScanner lines(data);
+    std::string_view line;
+    if (ext == ".ply") {  // an "element face N", N > 0, with a vertex index list, in the header
+        bool in_faces = false;
+        while (lines.next(line)) {
+            std::string_view rest = line;
+            const std::string_view key = next_token(rest);
+            if (key == "end_header") return false;
+            std::uint64_t n = 0;
+            if (key == "element")
+                in_faces = next_token(rest) == "face" && detail::parse_count(next_token(rest), n) && n > 0;
+            if (in_faces && key == "property" && next_token(rest) == "list") {
+                next_token(rest);
+                next_token(rest);
+                const std::string_view name = next_token(rest);
+                if (name == "vertex_indices" || name == "vertex_index") return true;
+            }
+        }
+        return false;
+    }
+    if (ext == ".obj") {  // any "f" line
+        while (lines.next(line)) {
+            std::string_view rest = line;
+            if (next_token(rest) == "f") return true;
+        }
+        return false;
+    }
+    if (ext == ".off") {  // a face count above 0 after the header
+        std::string_view tokens[4];
+        std::size_t n = 0;
+        while (n < 3 && lines.next(line)) {
+            std::string_view rest = detail::strip_comment(line);
+            for (std::string_view t = next_token(rest); !t.empty() && n < 4; t = next_token(rest)) tokens[n++] = t;
+        }
+        std::uint64_t faces = 0;
+        return n >= 3 && detail::parse_count(tokens[2], faces) && faces > 0;
+    }
+    return false;
+}
 
 Mesh read_mesh(const std::string& path) {
     detail::require_regular_file(path);  // before the extension: "'dir' is a directory"
-    const std::string ext = detail::lower_extension(path);
-    Mesh (*parse)(std::string_view, const std::string&) = nullptr;
-    if (ext == ".stl") parse = read_stl;
-    else if (ext == ".ply") parse = read_ply;
-    else if (ext == ".obj") parse = read_obj;
-    else throw InputError(path + ": unsupported mesh file extension '" + ext + "' (supported: .stl, .ply, .obj)");
-    const std::string data = detail::read_whole_file(path);
-    return parse(data, path);
+    std::string data = detail::read_whole_file(path);
+    if (detail::lower_extension(path) == ".gz") data = detail::gunzip(data, path);
+    return detail::parse_mesh(data, path);
 }
 
 }  // namespace snvr

@@ -58,14 +58,18 @@ void check_points(const PointSet& points, const std::string& path) {
 
 }  // namespace
 
-PointSet read_points(const std::string& path) {
-    detail::require_regular_file(path);  // before the extension: "'dir' is a directory"
-    const Parser parse = parser_for(path);
-    std::string data = detail::read_whole_file(path);
-    if (gzipped(path)) data = detail::gunzip(data, path);
-    PointSet points = parse(without_bom(data), path);
+PointSet detail::parse_points(std::string_view data, const std::string& path) {
+    PointSet points = parser_for(path)(without_bom(data), path);
     check_points(points, path);
     return points;
+}
+
+PointSet read_points(const std::string& path) {
+    detail::require_regular_file(path);  // before the extension: "'dir' is a directory"
+    parser_for(path);                    // an unknown extension fails before any read
+    std::string data = detail::read_whole_file(path);
+    if (gzipped(path)) data = detail::gunzip(data, path);
+    return detail::parse_points(data, path);
 }
 
 }  // namespace snvr

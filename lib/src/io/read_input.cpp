@@ -1,0 +1,59 @@
+// read_input (io.hpp): the points to reconstruct from, read from a point file or
+// sampled from a mesh's triangles at half a voxel.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "io/gunzip.hpp"
+#include "io/io_common.hpp"
+#include "io/mesh_readers.hpp"
+#include "io/point_readers.hpp"
+#include "io/read_whole_file.hpp"
+#include "snvr/error.hpp"
+#include "snvr/io.hpp"
+#include "snvr/reconstruct.hpp"
+
+namespace snvr {
+namespace {
+
+// Half the voxel the run will have at most: resolution cells span at least the box.
+double half_voxel(const Mesh& mesh, const Parameters& params) {
+    if (params.voxel) return *params.voxel / 2;
+    double longest = 0;
+    if (params.box) {
+        for (int a = 0; a < 3; ++a) longest = std::max(longest, (*params.box)[1][a] - (*params.box)[0][a]);
+    } else {
+        Vec3 lo = mesh.vertices[0], hi = lo;
+        for (const Vec3& v : mesh.vertices)
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], v[a]);
+                hi[a] = std::max(hi[a], v[a]);
+            }
+        longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    }
+    return longest / params.resolution / 2;
+}
+
+}  // namespace
+
+InputPoints read_input(const std::string& path, const Parameters& params) {
+    detail::require_regular_file(path);
+    const std::string ext = detail::lower_extension(detail::format_name(path));
+    if (ext != ".stl" && ext != ".ply" && ext != ".obj" && ext != ".off") return {read_points(path), 0, 0};
+    std::string data = detail::read_whole_file(path);
+    if (detail::lower_extension(path) == ".gz") data = detail::gunzip(data, path);
+    if (!detail::has_faces(data, path)) return {detail::parse_points(data, path), 0, 0};
+    const Mesh mesh = detail::parse_mesh(data, path);
+    for (const Vec3& v : mesh.vertices)
+        for (double x : v)
+            if (!std::isfinite(x)) throw InputError(path + ": a vertex has a non-finite coordinate");
+    InputPoints in;
+    in.triangles = mesh.triangles.size();
+    in.spacing = half_voxel(mesh, params);
+    if (!(in.spacing > 0)) return {mesh.vertices, in.triangles, 0};  // all at one place: the vertices will do
+    in.points = sample_triangles(mesh, in.spacing);
+    return in;
+}
+
+}  // namespace snvr
