@@ -223,6 +223,9 @@ Command reconstruct_command(ReconstructOptions& o) {
          store(o.output), "Output"},
         {"--volume", "", "FILE", "also write the final phase field phi: .vti or .nrrd", store(o.volume)},
         {"--report", "", "FILE", "also write the summary and the warnings as JSON (.json)", store(o.report)},
+        {"--preview", "", "FILE",
+         "also write a picture (.png): the shell shaded, and a cut\nthrough its middle across y (walls dark, voids white)",
+         store(o.preview)},
         {"--units", "", "mm|cm|m|in",
          "the input's length unit (default mm); every output is written\nin millimetres, the unit slicers assume (3MF says so)",
          units},
@@ -405,6 +408,7 @@ std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::strin
     require_extension("output", o.output, {".stl", ".ply", ".obj", ".3mf"});
     if (!o.volume.empty()) require_extension("--volume", o.volume, {".vti", ".nrrd"});
     if (!o.report.empty()) require_extension("--report", o.report, {".json"});
+    if (!o.preview.empty()) require_extension("--preview", o.preview, {".png"});
     if (!o.outliers.empty()) require_extension("--outliers", o.outliers, {".ply", ".xyz"});
     if (!o.outliers.empty() && o.keep_outliers) throw UsageError("--outliers and --keep-outliers exclude each other");
     if (!(o.scale > 0) || !std::isfinite(o.scale)) {

@@ -24,7 +24,7 @@ double parse_real(const std::string& option, const std::string& text);
 int parse_int(const std::string& option, const std::string& text);
 
 struct ReconstructOptions {
-    std::string input, output, volume, report, outliers;  // outliers: where the dropped points go
+    std::string input, output, volume, report, outliers, preview;  // outliers: where the dropped points go
     bool keep_outliers = false;
     snvr::PieceFilter pieces;  // --min-piece-volume (input units cubed until scaled), --keep-largest
     snvr::Parameters params;

@@ -15,6 +15,7 @@
 #include "snvr/io.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/reconstruct.hpp"
+#include "snvr/render.hpp"
 #include "snvr/stopwatch.hpp"
 
 namespace cli {
@@ -55,7 +56,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
     Stopwatch total, stage;
     Seconds seconds;
     for (const auto& [path, which] : {std::pair{o.output, "the mesh"}, {o.volume, "the volume"}, {o.report, "the report"},
-                                      {o.outliers, "the outliers"}}) {
+                                      {o.outliers, "the outliers"}, {o.preview, "the preview"}}) {
         if (path.empty()) continue;
         check_writable_location(path);
         refuse_overwriting_input(o.input, path, which);
@@ -162,7 +163,8 @@ int run_reconstruct(const std::vector<std::string>& args) {
                        o.input, points.size(), mesh_bytes, volume_bytes, warnings, outliers.outliers.size(),
                        outliers.link, o.outliers, dropped_pieces};
     summary.seconds.total = total.lap();
-    if (!o.report.empty()) outputs.add_text(report_json(summary), o.report);
+    if (!o.preview.empty()) outputs.add_bytes(snvr::render::preview_png(written, o.preview), o.preview);
+    if (!o.report.empty()) outputs.add_bytes(report_json(summary), o.report);
     outputs.commit();
     if (!o.quiet) print_summary(std::cerr, summary);
     return 0;

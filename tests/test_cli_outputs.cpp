@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <nlohmann/json.hpp>
+#include <png.h>
 
 #include <cmath>
 #include <string>
@@ -180,4 +181,34 @@ TEST_CASE("a mesh as input: its triangles thickened, not only its corners") {
     CHECK(r.output.find(" triangles, sampled at ") != std::string::npos);
     CHECK(r.output.find("closed yes, manifold yes, oriented yes") != std::string::npos);
     CHECK(r.output.find("1 solid piece") != std::string::npos);
+}
+
+TEST_CASE("--preview: the shell shaded beside a cut through it") {
+    TempDir t;
+    const std::string input = t.file("ball.xyz", sphere_xyz(30));
+    const std::string preview = (t.path / "ball.png").string();
+    const Run r = run("reconstruct " + input + " -o " + t.out() + " --resolution 64 --preview " + preview);
+    CAPTURE(r.output);
+    REQUIRE(r.code == 0);
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    REQUIRE(png_image_begin_read_from_file(&image, preview.c_str()));
+    image.format = PNG_FORMAT_RGB;
+    std::vector<unsigned char> rgb(PNG_IMAGE_SIZE(image));
+    REQUIRE(png_image_finish_read(&image, nullptr, rgb.data(), 0, nullptr));
+    CHECK(image.width == 1604);
+    CHECK(image.height == 800);
+    const auto red = [&](int x, int y) { return int(rgb[(std::size_t(y) * image.width + std::size_t(x)) * 3]); };
+    // Left: the ball shaded (grey) at the middle, white in the corner.
+    CHECK(red(400, 400) < 250);
+    CHECK(red(5, 5) == 255);
+    // Right: the cut is a ring: hollow (white) in the middle, dark where the wall is.
+    // The box is about 2 x 34 mm across 800 pixels: the wall (30 +- 2.5 mm) near 343-380 px out.
+    const int cx = 804 + 400;
+    CHECK(red(cx, 400) == 255);
+    bool wall = false;
+    for (int dx = 330; dx < 395; ++dx) wall = wall || red(cx + dx, 400) < 100;
+    CHECK(wall);
+    fs::remove(t.out());
+    expect_failure("reconstruct " + input + " -o " + t.out() + " --preview p.jpg", 2, ".png", t);
 }

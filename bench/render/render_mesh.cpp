@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "render_png.hpp"
+#include "snvr/render.hpp"
 #include "snvr/io.hpp"
 
 namespace {

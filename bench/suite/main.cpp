@@ -170,7 +170,7 @@ void run_quality(const Options& o, const std::string& device, std::ofstream& jso
                     run.reference = o.quick ? 64 : o.quality_reference;
                     run.tool = tool;
                     run.device = device;
-                    if (n == middle && quality_has_render()) run.png_dir = o.out;
+                    if (n == middle) run.png_dir = o.out;
                     run.png_size = o.quick ? 512 : 1024;
                     std::fprintf(stderr, "[quality %zu/%zu] %s at %d cells, %s\n", done, total, c.name.c_str(), n, tool);
                     rs = run_isolated([&] { return std::vector<Record>{measure_quality_run(run, o.data)}; });

@@ -10,9 +10,7 @@
 #ifdef SNVR_HAVE_OPENVDB
 #include "openvdb_shell.hpp"
 #endif
-#ifdef SNVR_HAVE_RENDER
-#include "render_png.hpp"
-#endif
+#include "snvr/render.hpp"
 
 namespace snvr::bench {
 
@@ -58,7 +56,6 @@ Input make_input(const QualityRun& run, const std::string& data_dir) {
     return in;
 }
 
-#ifdef SNVR_HAVE_RENDER
 // The zoom's centre, in the full view's normalised coordinates: the vertex farthest
 // towards the camera. It is always visible, and the surface curves away from it on
 // every side, so the crop shows a curved region of any shape. The framing repeats
@@ -97,7 +94,6 @@ void previews(const Mesh& mesh, const QualityRun& run, Record& rec) {
     render::render_png(mesh, run.png_dir + "/" + base + "_zoom.png", view);
     rec.set("png", base + ".png").set("png_zoom", base + "_zoom.png");
 }
-#endif
 
 void describe_quality(Record& r, const MeshQuality& q) {
     r.set("vertices", double(q.vertices)).set("triangles", double(q.triangles));
@@ -166,14 +162,6 @@ bool quality_has_openvdb() {
 #endif
 }
 
-bool quality_has_render() {
-#ifdef SNVR_HAVE_RENDER
-    return true;
-#else
-    return false;
-#endif
-}
-
 Record measure_quality_run(const QualityRun& run, const std::string& data_dir) {
     const Input in = make_input(run, data_dir);
     Record rec;
@@ -219,9 +207,7 @@ Record measure_quality_run(const QualityRun& run, const std::string& data_dir) {
         exact = [distance, l = in.offset](const Vec3& x) { return std::abs(distance(x) - l); };
     }
     describe_quality(rec, measure_quality(mesh, in.points, in.offset, in.voxel, exact));
-#ifdef SNVR_HAVE_RENDER
     if (!run.png_dir.empty()) previews(mesh, run, rec);
-#endif
     return rec;
 }
 

@@ -36,9 +36,8 @@ struct QualityRun {
 // .ply there) and the synthetic cases.
 std::vector<QualityCase> quality_cases(const std::string& data_dir, bool all_scans);
 
-// Whether this build has the OpenVDB peer and the PNG renderer.
+// Whether this build has the OpenVDB peer.
 bool quality_has_openvdb();
-bool quality_has_render();
 
 // Runs one tool on one case (inside a child process): reconstruction, meshing,
 // measure_quality and, with png_dir set, a full view and a 3x zoom.

@@ -80,7 +80,7 @@ public:
     // Each returns the size of the file it staged, in bytes.
     std::uint64_t add_mesh(const Mesh& mesh, const std::string& path);
     std::uint64_t add_field(const Field& field, const Domain& domain, const std::string& path);
-    std::uint64_t add_text(const std::string& text, const std::string& path);
+    std::uint64_t add_bytes(const std::string& bytes, const std::string& path);  // as given
     std::uint64_t add_points(const PointSet& points, const std::string& path, const std::string& comment = "");
     void commit();
 

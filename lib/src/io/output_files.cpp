@@ -27,9 +27,9 @@ std::uint64_t OutputFiles::add_points(const PointSet& points, const std::string&
     return files_.back()->bytes();
 }
 
-std::uint64_t OutputFiles::add_text(const std::string& text, const std::string& path) {
+std::uint64_t OutputFiles::add_bytes(const std::string& bytes, const std::string& path) {
     auto file = std::make_unique<AtomicFile>(path);
-    file->write(text);
+    file->write(bytes);
     file->finish();
     files_.push_back(std::move(file));
     return files_.back()->bytes();

@@ -2,7 +2,9 @@
 // default, so that faceting and grid-aligned terraces stay visible.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "snvr/geometry.hpp"
 
@@ -32,5 +34,18 @@ struct RenderView {
 // red. Writes an 8-bit RGB PNG through a temporary file renamed on success.
 // Throws snvr::ParameterError for a bad view and snvr::IoError when writing fails.
 void render_png(const Mesh& mesh, const std::string& path, const RenderView& view = {});
+
+// The same picture as 8-bit RGB rows, top first.
+std::vector<std::uint8_t> render_rgb(const Mesh& mesh, const RenderView& view = {});
+
+// RGB rows as a PNG file's bytes; `path` names the file in messages.
+std::string encode_png(const std::vector<std::uint8_t>& rgb, int width, int height, const std::string& path);
+
+// What --preview writes, as PNG bytes: on the left the shell shaded from the default
+// 3/4 view (flat, so terraces show; red where a face is seen from behind), on the
+// right a cut through the middle of its box across `up` (a slicer's layer for +y-up
+// data): material dark, voids white, so wall thickness and bubbles show. Each panel
+// `size` pixels square.
+std::string preview_png(const Mesh& mesh, const std::string& path, int size = 800);
 
 }  // namespace snvr::render

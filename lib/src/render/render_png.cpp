@@ -2,7 +2,7 @@
 // fixed-point sub-pixel grid and every pixel centre is tested against exact integer
 // edge functions with a tie rule, so triangles sharing an edge leave neither gaps
 // nor double hits, whatever the mesh size.
-#include "render_png.hpp"
+#include "snvr/render.hpp"
 
 #include <png.h>
 
@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "io/atomic_file.hpp"
@@ -196,7 +197,9 @@ private:
     std::vector<Shade> color_;
 };
 
-void write_png(const std::vector<std::uint8_t>& rgb, int width, int height, const std::string& path) {
+}  // namespace
+
+std::string encode_png(const std::vector<std::uint8_t>& rgb, int width, int height, const std::string& path) {
     png_image image{};
     image.version = PNG_IMAGE_VERSION;
     image.width = png_uint_32(width);
@@ -205,17 +208,14 @@ void write_png(const std::vector<std::uint8_t>& rgb, int width, int height, cons
     png_alloc_size_t size = 0;  // first call: how many bytes the encoded image needs
     if (!png_image_write_to_memory(&image, nullptr, &size, 0, rgb.data(), 0, nullptr))
         throw IoError("cannot encode PNG for '" + path + "': " + image.message);
-    std::vector<std::uint8_t> bytes(size);
+    std::string bytes(size, '\0');
     if (!png_image_write_to_memory(&image, bytes.data(), &size, 0, rgb.data(), 0, nullptr))
         throw IoError("cannot encode PNG for '" + path + "': " + image.message);
-    AtomicFile file(path);
-    file.write(bytes.data(), size);
-    file.commit();
+    bytes.resize(size);
+    return bytes;
 }
 
-}  // namespace
-
-void render_png(const Mesh& mesh, const std::string& path, const RenderView& view) {
+std::vector<std::uint8_t> render_rgb(const Mesh& mesh, const RenderView& view) {
     check_view(view);
     for (const auto& t : mesh.triangles)
         for (const auto i : t)
@@ -264,7 +264,14 @@ void render_png(const Mesh& mesh, const std::string& path, const RenderView& vie
         const ScreenVertex* v[3] = {&screen[t[0]], &screen[t[1]], &screen[t[2]]};
         raster.triangle(v, c);
     }
-    write_png(raster.rgb(), view.width, view.height, path);
+    return raster.rgb();
+}
+
+void render_png(const Mesh& mesh, const std::string& path, const RenderView& view) {
+    const std::string bytes = encode_png(render_rgb(mesh, view), view.width, view.height, path);
+    AtomicFile file(path);
+    file.write(bytes);
+    file.commit();
 }
 
 }  // namespace snvr::render
