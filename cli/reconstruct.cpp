@@ -43,6 +43,21 @@ void refuse_overwriting_input(const std::string& input, const std::string& outpu
                             input + "'; choose another output file");
 }
 
+// Errors about the points name the input too (a file's own errors name their file).
+[[noreturn]] void rethrow_naming_input(const std::string& input) {
+    try {
+        throw;
+    } catch (const snvr::IoError&) {
+        throw;
+    } catch (const snvr::InputError& e) {
+        throw snvr::InputError(input + ": " + e.what());
+    } catch (const snvr::ParameterError& e) {
+        throw snvr::ParameterError(input + ": " + e.what());
+    } catch (const snvr::ResourceError& e) {
+        throw snvr::ResourceError(input + ": " + e.what());
+    }
+}
+
 }  // namespace
 
 int run_reconstruct(const std::vector<std::string>& args) {
@@ -76,98 +91,103 @@ int run_reconstruct(const std::vector<std::string>& args) {
                 input.spacing, grouped(points.size()).c_str()));
     else
         say("read: " + grouped(points.size()) + " points");
-    // From here on every length is in millimetres: the points, the options, the outputs.
-    const double to_mm = o.to_millimetres();
-    snvr::Parameters params = o.params;
-    if (to_mm != 1) {
-        for (snvr::Vec3& p : points)
-            for (double& x : p) x *= to_mm;
-        snvr::scale_lengths(params, to_mm);
-    }
-    snvr::OutlierSplit outliers;
-    if (!o.keep_outliers) {
-        outliers = snvr::split_outliers(points, params);
-        if (!outliers.outliers.empty()) {
-            say(fmt("read: %s outliers dropped (sparse, or in clusters of under 10 points apart by over 2 x offset, "
-                    "%.3g mm); --keep-outliers keeps them", grouped(outliers.outliers.size()).c_str(), outliers.link));
-            points = std::move(outliers.kept);
+    try {
+        // From here on every length is in millimetres: the points, the options, the outputs.
+        const double to_mm = o.to_millimetres();
+        snvr::Parameters params = o.params;
+        if (to_mm != 1) {
+            for (snvr::Vec3& p : points)
+                for (double& x : p) x *= to_mm;
+            snvr::scale_lengths(params, to_mm);
         }
+        snvr::OutlierSplit outliers;
+        if (!o.keep_outliers) {
+            outliers = snvr::split_outliers(points, params);
+            if (!outliers.outliers.empty()) {
+                say(fmt("read: %s outliers dropped (sparse, or in clusters of under 10 points apart by over 2 x offset, "
+                        "%.3g mm); --keep-outliers keeps them", grouped(outliers.outliers.size()).c_str(), outliers.link));
+                points = std::move(outliers.kept);
+            }
+        }
+        seconds.outliers = stage.lap();
+        const snvr::Vec3 shift = o.centre_origin ? snvr::round_centre(points) : snvr::Vec3{0, 0, 0};
+        for (snvr::PointSet* set : {&points, &outliers.outliers})  // outliers written where they were
+            for (snvr::Vec3& p : *set)
+                for (int a = 0; a < 3; ++a) p[a] -= shift[a];
+
+        snvr::Result result = snvr::reconstruct(points, params, [&o](const snvr::Progress& p) {
+            if (!o.quiet) print_progress(std::cerr, p);
+        });
+        stage.lap();
+        for (const std::string& w : result.warnings) warning(w);
+
+        say("mesh: extracting the zero level set");
+        snvr::DepthGuardReport guard;
+        snvr::Mesh mesh = snvr::shell_mesh(result, points, &guard, o.fairing);
+        seconds.mesh = stage.lap();
+        if (guard.moved_vertices) {
+            const std::string except =
+                guard.lone_points ? " but " + grouped(guard.lone_points) +
+                                        " with no other point within the offset (it is below the sampling gap)"
+                                  : "";
+            say(fmt("mesh: %s vertices lifted along their normals, around %s that came nearer to a point than the "
+                    "tube's inner wall (%.3g x offset), so that every point stays that deep%s",
+                    grouped(guard.moved_vertices).c_str(), grouped(guard.near_vertices).c_str(),
+                    1 - result.tube_inner / result.offset, except.c_str()));
+        }
+        if (guard.shallow_points)
+            warning(fmt("%s points stay shallower than %.3g x offset after %d repair rounds",
+                     grouped(guard.shallow_points).c_str(), 1 - result.tube_inner / result.offset, guard.repair_rounds));
+        snvr::PieceFilter pieces = o.pieces;
+        pieces.min_volume *= to_mm * to_mm * to_mm;
+        const snvr::PieceReport dropped_pieces = snvr::filter_pieces(mesh, pieces);
+        if (dropped_pieces.dropped)
+            say(fmt("mesh: %zu solid piece%s dropped (%.4g mm^3 in all), %zu kept", dropped_pieces.dropped,
+                    dropped_pieces.dropped == 1 ? "" : "s", dropped_pieces.dropped_volume, dropped_pieces.kept));
+        if (mesh.triangles.empty())
+            throw snvr::Error(fmt("the reconstructed shell is empty (no triangles on the %d x %d x %d grid, offset "
+                                  "%.6g, voxel %.6g); try a larger --offset or a finer --resolution. Nothing written",
+                                  result.domain.nx, result.domain.ny, result.domain.nz, result.offset,
+                                  result.domain.h));
+        snvr::require_written_precision(mesh, o.output, result.domain.h);
+        // From here on the mesh is as its file holds it (float32 for STL and PLY), for
+        // the check too; rounding it again when it is written changes nothing.
+        mesh = snvr::as_written(std::move(mesh), o.output);
+
+        // Staged first (whole files, not yet visible), checked, then renamed into place
+        // together: a failure anywhere leaves every output as it was, and a written
+        // output always means exit 0 (the checks only warn).
+        say("write: " + o.output + (o.volume.empty() ? "" : ", " + o.volume));
+        snvr::OutputFiles outputs;
+        const std::uint64_t mesh_bytes = outputs.add_mesh(mesh, o.output);
+        const std::uint64_t volume_bytes = o.volume.empty() ? 0 : outputs.add_field(result.phi, result.domain, o.volume);
+        if (!o.outliers.empty()) outputs.add_points(outliers.outliers, o.outliers, "outliers dropped by snvr-cl");
+        result.phi = snvr::Field();  // meshed and staged: its memory goes to the check
+        seconds.write = stage.lap();
+
+        say("check: " + grouped(mesh.triangles.size()) + " triangles, " + grouped(points.size()) + " points");
+        // Closed / manifold / oriented, points inside and their depth, walls; roughness on request.
+        const snvr::MeshQuality quality = o.measure ? snvr::measure_quality(mesh, points, result.offset, result.domain.h)
+                                                    : snvr::measure_shell(mesh, points, result.offset, result.domain.h);
+        const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
+        seconds.check = stage.lap();
+        for (const std::string& w : snvr::shell_warnings(quality, points.size(), clusters, dropped_pieces.dropped)) warning(w);
+        const snvr::Vec3 size = mesh_size(mesh);
+        if (std::max({size[0], size[1], size[2]}) < 2)
+            warning(fmt("the shell is only %.3g mm across: if the points are not in millimetres, give --units (m, cm "
+                        "or in)", std::max({size[0], size[1], size[2]})));
+        RunSummary summary{result, quality, seconds, o.output, o.volume, shift, size, o.units, to_mm,
+                           o.input, points.size(), mesh_bytes, volume_bytes, warnings, outliers.outliers.size(),
+                           outliers.link, o.outliers, dropped_pieces};
+        summary.seconds.total = total.lap();
+        if (!o.preview.empty()) outputs.add_bytes(snvr::render::preview_png(mesh, o.preview), o.preview);
+        if (!o.report.empty()) outputs.add_bytes(report_json(summary), o.report);
+        outputs.commit();
+        if (!o.quiet) print_summary(std::cerr, summary);
+        return 0;
+    } catch (...) {
+        rethrow_naming_input(o.input);
     }
-    seconds.outliers = stage.lap();
-    const snvr::Vec3 shift = o.centre_origin ? snvr::round_centre(points) : snvr::Vec3{0, 0, 0};
-    for (snvr::PointSet* set : {&points, &outliers.outliers})  // outliers written where they were
-        for (snvr::Vec3& p : *set)
-            for (int a = 0; a < 3; ++a) p[a] -= shift[a];
-
-    snvr::Result result = snvr::reconstruct(points, params, [&o](const snvr::Progress& p) {
-        if (!o.quiet) print_progress(std::cerr, p);
-    });
-    stage.lap();
-    for (const std::string& w : result.warnings) warning(w);
-
-    say("mesh: extracting the zero level set");
-    snvr::DepthGuardReport guard;
-    snvr::Mesh mesh = snvr::shell_mesh(result, points, &guard, o.fairing);
-    seconds.mesh = stage.lap();
-    if (guard.moved_vertices) {
-        const std::string except =
-            guard.lone_points ? " but " + grouped(guard.lone_points) +
-                                    " with no other point within the offset (it is below the sampling gap)"
-                              : "";
-        say(fmt("mesh: %s vertices lifted along their normals, around %s that came nearer to a point than the "
-                "tube's inner wall (%.3g x offset), so that every point stays that deep%s",
-                grouped(guard.moved_vertices).c_str(), grouped(guard.near_vertices).c_str(),
-                1 - result.tube_inner / result.offset, except.c_str()));
-    }
-    if (guard.shallow_points)
-        warning(fmt("%s points stay shallower than %.3g x offset after %d repair rounds",
-                 grouped(guard.shallow_points).c_str(), 1 - result.tube_inner / result.offset, guard.repair_rounds));
-    snvr::PieceFilter pieces = o.pieces;
-    pieces.min_volume *= to_mm * to_mm * to_mm;
-    const snvr::PieceReport dropped_pieces = snvr::filter_pieces(mesh, pieces);
-    if (dropped_pieces.dropped)
-        say(fmt("mesh: %zu solid piece%s dropped (%.4g mm^3 in all), %zu kept", dropped_pieces.dropped,
-                dropped_pieces.dropped == 1 ? "" : "s", dropped_pieces.dropped_volume, dropped_pieces.kept));
-    if (mesh.triangles.empty())
-        throw snvr::Error(fmt("the reconstructed shell is empty (no triangles on the %d x %d x %d grid, offset "
-                              "%.6g, voxel %.6g); try a larger --offset or a finer --resolution. Nothing written",
-                              result.domain.nx, result.domain.ny, result.domain.nz, result.offset,
-                              result.domain.h));
-    snvr::require_written_precision(mesh, o.output, result.domain.h);
-
-    // Staged first (whole files, not yet visible), checked, then renamed into place
-    // together: a failure anywhere leaves every output as it was, and a written
-    // output always means exit 0 (the checks only warn).
-    say("write: " + o.output + (o.volume.empty() ? "" : ", " + o.volume));
-    snvr::OutputFiles outputs;
-    const std::uint64_t mesh_bytes = outputs.add_mesh(mesh, o.output);
-    const std::uint64_t volume_bytes = o.volume.empty() ? 0 : outputs.add_field(result.phi, result.domain, o.volume);
-    if (!o.outliers.empty()) outputs.add_points(outliers.outliers, o.outliers, "outliers dropped by snvr-cl");
-    result.phi = snvr::Field();  // meshed and staged: its memory goes to the check
-    seconds.write = stage.lap();
-
-    say("check: " + grouped(mesh.triangles.size()) + " triangles, " + grouped(points.size()) + " points");
-    // Closed / manifold / oriented, points inside and their depth, walls; roughness on request.
-    // On the mesh as its file holds it (float32 for STL and PLY).
-    const snvr::Mesh written = snvr::as_written(mesh, o.output);
-    const snvr::MeshQuality quality = o.measure ? snvr::measure_quality(written, points, result.offset, result.domain.h)
-                                                : snvr::measure_shell(written, points, result.offset, result.domain.h);
-    const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
-    seconds.check = stage.lap();
-    for (const std::string& w : snvr::shell_warnings(quality, points.size(), clusters, dropped_pieces.dropped)) warning(w);
-    const snvr::Vec3 size = mesh_size(written);
-    if (std::max({size[0], size[1], size[2]}) < 2)
-        warning(fmt("the shell is only %.3g mm across: if the points are not in millimetres, give --units (m, cm "
-                    "or in)", std::max({size[0], size[1], size[2]})));
-    RunSummary summary{result, quality, seconds, o.output, o.volume, shift, size, o.units, to_mm,
-                       o.input, points.size(), mesh_bytes, volume_bytes, warnings, outliers.outliers.size(),
-                       outliers.link, o.outliers, dropped_pieces};
-    summary.seconds.total = total.lap();
-    if (!o.preview.empty()) outputs.add_bytes(snvr::render::preview_png(written, o.preview), o.preview);
-    if (!o.report.empty()) outputs.add_bytes(report_json(summary), o.report);
-    outputs.commit();
-    if (!o.quiet) print_summary(std::cerr, summary);
-    return 0;
 }
 
 }  // namespace cli

@@ -547,7 +547,7 @@ TEST_CASE("as written: float32 formats round, OBJ keeps every digit; the precisi
     for (std::size_t i = 0; i < far.vertices.size(); ++i)
         for (int a = 0; a < 3; ++a) CHECK(stl.vertices[i][a] == double(float(far.vertices[i][a])));
     // y = 4e6 has a float32 step of 0.25: a 0.05 voxel cannot be held, a 100 one can.
-    check_throws<snvr::InputError>([&] { snvr::require_written_precision(far, "x.stl", 0.05); }, "x.stl",
+    check_throws<snvr::IoError>([&] { snvr::require_written_precision(far, "x.stl", 0.05); }, "x.stl",
                                    {"32-bit floats", "--origin center"});
     CHECK_NOTHROW(snvr::require_written_precision(far, "x.stl", 100.0));
     CHECK_NOTHROW(snvr::require_written_precision(far, "x.obj", 0.05));

@@ -59,9 +59,11 @@ void write_field(const Field& field, const Domain& domain, const std::string& pa
 // coordinates (.stl, .ply) every vertex rounded to float32, for .3mf also to the six
 // decimals lib3mf prints; for .obj (exact digits)
 // a copy. Checks of what is written run on this.
-Mesh as_written(const Mesh& mesh, const std::string& path);
+// Takes the mesh by value: move it in where the original is not needed (it is written
+// rounded the same way), and no copy is made.
+Mesh as_written(Mesh mesh, const std::string& path);
 
-// Throws InputError when the format of `path` cannot hold the mesh's coordinates to
+// Throws IoError when the format of `path` cannot hold the mesh's coordinates to
 // 1% of a voxel (float32 far from the origin: at x = 500000 its step is 0.03), giving
 // the distance and the remedies (an exact format, or coordinates shifted to the origin).
 void require_written_precision(const Mesh& mesh, const std::string& path, double voxel);

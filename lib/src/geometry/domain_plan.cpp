@@ -140,7 +140,11 @@ DomainPlan plan_domain(const PointSet& points, const Parameters& params, const P
     const double pad_world = params.box ? 0.0 : plan.offset + padding_cells(xi_cells) * h;
     for (int a = 0; a < 3; ++a) {
         const double cells = (box.extent(a) + 2 * pad_world) / h;
-        if (!(cells < 1e6)) throw ParameterError("the grid would need " + fmt(cells) + " cells on one axis");
+        if (!(cells < 1e6))
+            throw ParameterError("the points span " + fmt(box.extent(a)) + " along " + std::string(1, "xyz"[a]) +
+                                 ", which at voxel " + fmt(h) + " (and offset " + fmt(plan.offset) +
+                                 ") would take " + fmt(cells) +
+                                 " cells; give a larger --voxel, or remove the points that stray far");
         n[a] = std::max(1, int(std::ceil(cells - 1e-9)));
     }
     d.levels = choose_levels(std::max({n[0], n[1], n[2]}));

@@ -42,13 +42,12 @@ std::string short_number(double v) {
 
 }  // namespace
 
-Mesh as_written(const Mesh& mesh, const std::string& path) {
-    Mesh out = mesh;
+Mesh as_written(Mesh mesh, const std::string& path) {
     const Holds how = holds(path);
     if (how != Holds::Exactly)
-        for (Vec3& v : out.vertices)
+        for (Vec3& v : mesh.vertices)
             for (double& x : v) x = as_held(x, how);
-    return out;
+    return mesh;
 }
 
 void require_written_precision(const Mesh& mesh, const std::string& path, double voxel) {
@@ -61,7 +60,7 @@ void require_written_precision(const Mesh& mesh, const std::string& path, double
             farthest = std::max(farthest, std::fabs(x));
         }
     if (largest <= kLargestMove * voxel) return;
-    throw InputError(path + ": the format stores 32-bit floats" +
+    throw IoError("cannot write '" + path + "' faithfully: the format stores 32-bit floats" +
                      std::string(how == Holds::Float32SixDecimals ? " with six decimals" : "") +
                      ", which at coordinates up to " +
                      short_number(farthest) + " move vertices by up to " +

@@ -1,0 +1,333 @@
+// A corruption campaign: generated mutations of every input format (bytes flipped,
+// inserted, deleted, duplicated, cut short, numbers made absurd), each run through
+// snvr-cl with a small reconstruction. None may crash or hang; every failure is exit 1
+// with one error naming the file, and leaves no output and no temporary.
+#include <doctest/doctest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cctype>
+#include <fcntl.h>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "temp_dir.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kMutationsPerFormat = 200;
+constexpr double kTimeLimit = 30;  // seconds a run may take (a healthy one takes a tenth)
+
+std::vector<std::array<double, 3>> sphere(int rings) {
+    std::vector<std::array<double, 3>> p;
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < 2 * rings; ++j) {
+            const double th = M_PI * (i + 0.5) / rings, ph = M_PI * j / rings;
+            p.push_back({0.3 * std::sin(th) * std::cos(ph), 0.3 * std::sin(th) * std::sin(ph), 0.3 * std::cos(th)});
+        }
+    return p;
+}
+
+template <class T>
+void put(std::string& s, T v, bool big = false) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof v);
+    if (big) std::reverse(b, b + sizeof v);
+    s.append(b, sizeof v);
+}
+
+std::string text_points(const char* sep, bool comma_decimal, const std::string& head) {
+    std::string s = head;
+    char line[128];
+    for (const auto& p : sphere(10)) {
+        std::snprintf(line, sizeof line, "%.6f%s%.6f%s%.6f%s7\n", p[0], sep, p[1], sep, p[2], sep);
+        std::string l = line;
+        if (comma_decimal)
+            for (char& c : l)
+                if (c == '.') c = ',';
+        s += l;
+    }
+    return s;
+}
+
+std::string ply(const char* format) {
+    const auto pts = sphere(10);
+    const bool ascii = std::string(format) == "ascii", big = std::string(format) == "binary_big_endian";
+    std::string s = std::string("ply\nformat ") + format + " 1.0\ncomment corruption base\nelement camera 1\nproperty float f\n" +
+                    "element vertex " + std::to_string(pts.size()) +
+                    "\nproperty double x\nproperty double y\nproperty double z\nproperty uchar red\n"
+                    "property list uchar int extra\nend_header\n";
+    if (ascii) {
+        s += "1.5\n";
+        char line[160];
+        for (const auto& p : pts) {
+            std::snprintf(line, sizeof line, "%.9g %.9g %.9g 200 2 4 5\n", p[0], p[1], p[2]);
+            s += line;
+        }
+    } else {
+        put(s, 1.5f, big);
+        for (const auto& p : pts) {
+            for (double x : p) put(s, x, big);
+            put(s, std::uint8_t(200));
+            put(s, std::uint8_t(2));
+            put(s, std::int32_t(4), big);
+            put(s, std::int32_t(5), big);
+        }
+    }
+    return s;
+}
+
+std::string las() {
+    const auto pts = sphere(10);
+    std::string s(227, '\0');
+    s.replace(0, 4, "LASF");
+    s[24] = 1;
+    s[25] = 2;
+    std::string h;
+    put(h, std::uint16_t(227));
+    put(h, std::uint32_t(227));
+    s.replace(94, 6, h);
+    s[104] = 1;
+    h.clear();
+    put(h, std::uint16_t(28));
+    put(h, std::uint32_t(pts.size()));
+    s.replace(105, 6, h);
+    h.clear();
+    for (int a = 0; a < 3; ++a) put(h, 0.0001);
+    for (int a = 0; a < 3; ++a) put(h, 1000.0);
+    s.replace(131, 48, h);
+    for (const auto& p : pts) {
+        std::string r;
+        for (double x : p) put(r, std::int32_t(std::lround(x / 0.0001)));
+        r.resize(28, '\x11');
+        s += r;
+    }
+    return s;
+}
+
+// An octahedron, as binary STL and as OBJ with faces (a mesh to thicken).
+const double kOcta[6][3] = {{0.3, 0, 0}, {-0.3, 0, 0}, {0, 0.3, 0}, {0, -0.3, 0}, {0, 0, 0.3}, {0, 0, -0.3}};
+const int kOctaFaces[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+
+std::string stl() {
+    std::string s(80, ' ');
+    put(s, std::uint32_t(8));
+    for (const auto& f : kOctaFaces) {
+        for (int k = 0; k < 3; ++k) put(s, 0.0f);
+        for (int c : f)
+            for (double x : kOcta[c]) put(s, float(x));
+        put(s, std::uint16_t(0));
+    }
+    return s;
+}
+
+std::string obj_mesh() {
+    std::string s = "# octahedron\n";
+    for (const auto& v : kOcta) s += "v " + std::to_string(v[0]) + " " + std::to_string(v[1]) + " " + std::to_string(v[2]) + "\n";
+    for (const auto& f : kOctaFaces)
+        s += "f " + std::to_string(f[0] + 1) + " " + std::to_string(f[1] + 1) + " " + std::to_string(f[2] + 1) + "\n";
+    return s;
+}
+
+std::string gzip(const std::string& plain) {
+    uLongf size = compressBound(uLong(plain.size())) + 32;
+    std::string out(size, '\0');
+    z_stream z{};
+    deflateInit2(&z, 6, Z_DEFLATED, 16 + MAX_WBITS, 8, Z_DEFAULT_STRATEGY);
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(plain.data()));
+    z.avail_in = uInt(plain.size());
+    z.next_out = reinterpret_cast<Bytef*>(out.data());
+    z.avail_out = uInt(out.size());
+    deflate(&z, Z_FINISH);
+    out.resize(z.total_out);
+    deflateEnd(&z);
+    return out;
+}
+
+struct Format {
+    std::string name;  // file name, whose extension picks the reader
+    std::string bytes;
+    bool gzipped = false;  // mutate the plain text, then compress (half the time)
+};
+
+std::vector<Format> formats() {
+    std::string off = "OFF\n" + std::to_string(sphere(10).size()) + " 0 0\n";
+    for (const auto& p : sphere(10)) off += std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) + "\n";
+    std::string obj_points = "# points\n";
+    for (const auto& p : sphere(10))
+        obj_points += "v " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) + "\n";
+    return {{"ascii.ply", ply("ascii")},
+            {"little.ply", ply("binary_little_endian")},
+            {"big.ply", ply("binary_big_endian")},
+            {"points.xyz", text_points(" ", false, "")},
+            {"points.csv", text_points(",", false, "X,Y,Z,I\n")},
+            {"points.txt", text_points(";", true, "//X;Y;Z;I\r\n")},
+            {"points.obj", obj_points},
+            {"points.off", off},
+            {"points.las", las()},
+            {"points.xyz.gz", text_points(" ", false, ""), true},
+            {"mesh.stl", stl()},
+            {"mesh.obj", obj_mesh()}};
+}
+
+// One mutation of `s`, chosen and placed by the generator.
+std::string mutate(std::string s, std::mt19937_64& g) {
+    const auto pick = [&](std::size_t n) { return n ? std::size_t(g() % n) : 0; };
+    static const char* const kNumbers[] = {"99999999999999999999", "-1", "nan", "1e309", "0", "-0", "1e-400",
+                                           "18446744073709551615", "4294967296", "inf", "0x10", ""};
+    switch (g() % 8) {
+        case 0:  // bytes flipped
+            for (std::size_t k = 1 + pick(8); k-- && !s.empty();) s[pick(s.size())] = char(g());
+            break;
+        case 1:  // cut short
+            s.resize(pick(s.size() + 1));
+            break;
+        case 2: {  // bytes inserted
+            std::string junk(1 + pick(16), '\0');
+            for (char& c : junk) c = char(g());
+            s.insert(pick(s.size() + 1), junk);
+            break;
+        }
+        case 3: {  // a range deleted
+            const std::size_t at = pick(s.size() + 1);
+            s.erase(at, 1 + pick(64));
+            break;
+        }
+        case 4: {  // a range duplicated
+            const std::size_t at = pick(s.size() + 1), n = 1 + pick(256);
+            s.insert(at, s.substr(at, n));
+            break;
+        }
+        case 5: {  // a run of digits made absurd (counts, coordinates, indices)
+            std::size_t at = pick(s.size() + 1);
+            while (at < s.size() && !std::isdigit(static_cast<unsigned char>(s[at]))) ++at;
+            std::size_t end = at;
+            while (end < s.size() && std::isdigit(static_cast<unsigned char>(s[end]))) ++end;
+            s.replace(at, end - at, kNumbers[pick(std::size(kNumbers))]);
+            break;
+        }
+        case 6:  // a NUL, a CR or a byte-order mark in the middle
+            s.insert(pick(s.size() + 1), std::string(g() % 3 == 0 ? "\xEF\xBB\xBF" : g() % 2 ? "\r" : std::string(1, '\0')));
+            break;
+        default:  // a stretch overwritten with one byte
+            if (!s.empty()) {
+                const std::size_t at = pick(s.size()), n = std::min(s.size() - at, 1 + pick(32));
+                std::fill_n(s.begin() + std::ptrdiff_t(at), n, char(g()));
+            }
+    }
+    return s;
+}
+
+struct Outcome {
+    std::string file;
+    int code = -2;        // exit status; -1 for a signal, -3 for a timeout
+    std::string message;  // stderr
+    std::vector<std::string> left;  // the directory's entries afterwards
+};
+
+Outcome run_one(const fs::path& dir, const std::string& name, const std::string& bytes) {
+    Outcome o;
+    o.file = (dir / name).string();
+    std::ofstream(o.file, std::ios::binary) << bytes;
+    const std::string out = (dir / "shell.stl").string(), err = (dir / "stderr.txt").string();
+    const char* argv[] = {SNVR_CLI, "reconstruct", o.file.c_str(), "-o", out.c_str(), "--resolution", "24",
+                          "--device", "openmp", "--quiet", nullptr};
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    pid_t pid = -1;
+    const int failed = posix_spawn(&pid, SNVR_CLI, &actions, nullptr, const_cast<char**>(argv), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (failed) return o;
+    const auto start = std::chrono::steady_clock::now();
+    int status = 0;
+    for (;;) {
+        if (waitpid(pid, &status, WNOHANG) == pid) break;
+        if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > kTimeLimit) {
+            ::kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            o.code = -3;
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    if (o.code != -3) o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(err);
+    o.message.assign(std::istreambuf_iterator<char>(in), {});
+    fs::remove(err);
+    for (const auto& e : fs::directory_iterator(dir)) o.left.push_back(e.path().filename().string());
+    return o;
+}
+
+}  // namespace
+
+TEST_CASE("corruption campaign: no crash, no hang, exit 1 naming the file, nothing left behind") {
+    snvr::testing::TempDir root("corruption");
+    struct Job {
+        std::string name, bytes;
+    };
+    std::vector<Job> jobs;
+    std::uint64_t seed = 20261123;
+    for (const Format& f : formats()) {
+        std::mt19937_64 g(seed++);
+        for (int i = 0; i < kMutationsPerFormat; ++i) {
+            std::string bytes = mutate(f.bytes, g);
+            if (f.gzipped) bytes = i % 2 ? gzip(bytes) : mutate(gzip(f.bytes), g);
+            jobs.push_back({f.name, std::move(bytes)});
+        }
+    }
+    // Two at a time, each in a directory of its own.
+    std::vector<Outcome> outcomes(jobs.size());
+    std::atomic<std::size_t> next{0};
+    std::vector<std::thread> workers;
+    for (int w = 0; w < 2; ++w)
+        workers.emplace_back([&, w] {
+            const fs::path dir = root.path / ("w" + std::to_string(w));
+            for (std::size_t i; (i = next++) < jobs.size();) {
+                fs::create_directories(dir);
+                outcomes[i] = run_one(dir, jobs[i].name, jobs[i].bytes);
+                fs::remove_all(dir);
+            }
+        });
+    for (auto& t : workers) t.join();
+
+    std::map<std::string, std::array<int, 2>> tally;  // format: {ok, refused}
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        const Outcome& o = outcomes[i];
+        CAPTURE(jobs[i].name);
+        CAPTURE(i);
+        CAPTURE(o.message);
+        REQUIRE(o.code >= 0);  // no crash (signal), no hang (timeout), spawned
+        CHECK((o.code == 0 || o.code == 1));
+        if (o.code == 0) {
+            CHECK(o.left.size() == 2);  // the input and the shell
+            ++tally[jobs[i].name][0];
+        } else {
+            CHECK(o.left == std::vector<std::string>{jobs[i].name});  // no output, no temporary
+            CHECK(o.message.rfind("snvr-cl: error: ", 0) == 0);
+            // Names the input, or the output when that is what cannot be written.
+            CHECK((o.message.find(o.file) != std::string::npos || o.message.find("cannot write") != std::string::npos));
+            ++tally[jobs[i].name][1];
+        }
+    }
+    for (const auto& [name, counts] : tally)
+        MESSAGE(name << ": " << counts[0] << " read and reconstructed, " << counts[1] << " refused");
+}
