@@ -43,6 +43,48 @@ void refuse_overwriting_input(const std::string& input, const std::string& outpu
                             input + "'; choose another output file");
 }
 
+// Every output, before the long run: its folder there, and not the input.
+void check_outputs(const ReconstructOptions& o) {
+    for (const auto& [path, which] : {std::pair{o.output, "the mesh"}, {o.volume, "the volume"},
+                                      {o.report, "the report"}, {o.outliers, "the outliers"},
+                                      {o.preview, "the preview"}}) {
+        if (path.empty()) continue;
+        check_writable_location(path);
+        refuse_overwriting_input(o.input, path, which);
+    }
+}
+
+// The points as the run takes them: in millimetres, outliers apart, shifted to the
+// origin on request (the outliers with them, so that their file lines up).
+struct PreparedPoints {
+    snvr::PointSet points;
+    snvr::Parameters params;  // lengths in millimetres too
+    snvr::OutlierSplit outliers;
+    snvr::Vec3 shift{0, 0, 0};
+    double to_mm = 1;
+};
+
+PreparedPoints prepare_points(const ReconstructOptions& o, snvr::PointSet points) {
+    PreparedPoints in;
+    in.to_mm = o.to_millimetres();
+    in.params = o.params;
+    if (in.to_mm != 1) {
+        for (snvr::Vec3& p : points)
+            for (double& x : p) x *= in.to_mm;
+        snvr::scale_lengths(in.params, in.to_mm);
+    }
+    if (!o.keep_outliers) {
+        in.outliers = snvr::split_outliers(points, in.params);
+        if (!in.outliers.outliers.empty()) points = std::move(in.outliers.kept);
+    }
+    if (o.centre_origin) in.shift = snvr::round_centre(points);
+    for (snvr::PointSet* set : {&points, &in.outliers.outliers})
+        for (snvr::Vec3& p : *set)
+            for (int a = 0; a < 3; ++a) p[a] -= in.shift[a];
+    in.points = std::move(points);
+    return in;
+}
+
 // Errors about the points name the input too (a file's own errors name their file).
 [[noreturn]] void rethrow_naming_input(const std::string& input) {
     try {
@@ -70,12 +112,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
 
     Stopwatch total, stage;
     Seconds seconds;
-    for (const auto& [path, which] : {std::pair{o.output, "the mesh"}, {o.volume, "the volume"}, {o.report, "the report"},
-                                      {o.outliers, "the outliers"}, {o.preview, "the preview"}}) {
-        if (path.empty()) continue;
-        check_writable_location(path);
-        refuse_overwriting_input(o.input, path, which);
-    }
+    check_outputs(o);
     std::vector<std::string> warnings;  // shown as they come, and kept for --report
     const auto warning = [&warnings](const std::string& message) {
         warn(message);
@@ -84,36 +121,24 @@ int run_reconstruct(const std::vector<std::string>& args) {
 
     say("read: " + o.input);
     snvr::InputPoints input = snvr::read_input(o.input, o.params);
-    snvr::PointSet points = std::move(input.points);
     seconds.read = stage.lap();
     if (input.triangles)
         say(fmt("read: a mesh of %s triangles, sampled at %.3g into %s points", grouped(input.triangles).c_str(),
-                input.spacing, grouped(points.size()).c_str()));
+                input.spacing, grouped(input.points.size()).c_str()));
     else
-        say("read: " + grouped(points.size()) + " points");
+        say("read: " + grouped(input.points.size()) + " points");
     try {
         // From here on every length is in millimetres: the points, the options, the outputs.
-        const double to_mm = o.to_millimetres();
-        snvr::Parameters params = o.params;
-        if (to_mm != 1) {
-            for (snvr::Vec3& p : points)
-                for (double& x : p) x *= to_mm;
-            snvr::scale_lengths(params, to_mm);
-        }
-        snvr::OutlierSplit outliers;
-        if (!o.keep_outliers) {
-            outliers = snvr::split_outliers(points, params);
-            if (!outliers.outliers.empty()) {
-                say(fmt("read: %s outliers dropped (sparse, or in clusters of under 10 points apart by over 2 x offset, "
-                        "%.3g mm); --keep-outliers keeps them", grouped(outliers.outliers.size()).c_str(), outliers.link));
-                points = std::move(outliers.kept);
-            }
-        }
+        PreparedPoints prepared = prepare_points(o, std::move(input.points));
+        const snvr::PointSet& points = prepared.points;
+        const snvr::Parameters& params = prepared.params;
+        const snvr::OutlierSplit& outliers = prepared.outliers;
+        const snvr::Vec3& shift = prepared.shift;
+        const double to_mm = prepared.to_mm;
+        if (!outliers.outliers.empty())
+            say(fmt("read: %s outliers dropped (sparse, or in clusters of under 10 points apart by over 2 x offset, "
+                    "%.3g mm); --keep-outliers keeps them", grouped(outliers.outliers.size()).c_str(), outliers.link));
         seconds.outliers = stage.lap();
-        const snvr::Vec3 shift = o.centre_origin ? snvr::round_centre(points) : snvr::Vec3{0, 0, 0};
-        for (snvr::PointSet* set : {&points, &outliers.outliers})  // outliers written where they were
-            for (snvr::Vec3& p : *set)
-                for (int a = 0; a < 3; ++a) p[a] -= shift[a];
 
         snvr::Result result = snvr::reconstruct(points, params, [&o](const snvr::Progress& p) {
             if (!o.quiet) print_progress(std::cerr, p);

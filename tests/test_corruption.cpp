@@ -310,6 +310,7 @@ TEST_CASE("corruption campaign: no crash, no hang, exit 1 naming the file, nothi
     for (auto& t : workers) t.join();
 
     std::map<std::string, std::array<int, 2>> tally;  // format: {ok, refused}
+    std::map<std::string, int> placeless;             // refusals that name no place in the file
     for (std::size_t i = 0; i < jobs.size(); ++i) {
         const Outcome& o = outcomes[i];
         CAPTURE(jobs[i].name);
@@ -326,8 +327,19 @@ TEST_CASE("corruption campaign: no crash, no hang, exit 1 naming the file, nothi
             // Names the input, or the output when that is what cannot be written.
             CHECK((o.message.find(o.file) != std::string::npos || o.message.find("cannot write") != std::string::npos));
             ++tally[jobs[i].name][1];
+            bool place = false;
+            for (const char* word : {"line ", "byte", "offset", "point", "vertex", "vertices", "header", "face",
+                                     "triangle", "element", "record", "items", "signature", "gzip"})
+                place = place || o.message.find(word) != std::string::npos;
+            if (!place) {
+                std::string line = o.message.substr(0, o.message.find('\n'));
+                const std::size_t at = line.find(o.file);
+                if (at != std::string::npos) line.replace(at, o.file.size(), jobs[i].name);
+                ++placeless[line];
+            }
         }
     }
     for (const auto& [name, counts] : tally)
         MESSAGE(name << ": " << counts[0] << " read and reconstructed, " << counts[1] << " refused");
+    for (const auto& [message, count] : placeless) MESSAGE(count << " refused naming no place: " << message);
 }
