@@ -97,8 +97,10 @@ struct OutlierSplit {
 };
 // Points on a mesh's triangles at most `spacing` apart: every vertex, each edge once
 // (in equal parts), and each triangle's inside on the barycentric grid of its longest
-// edge's parts. Throws ResourceError, before allocating, beyond max_points.
-PointSet sample_triangles(const Mesh& mesh, double spacing, std::size_t max_points = 200000000);
+// edge's parts. Throws ResourceError, before allocating, beyond max_points (50 million:
+// 1.2 GB of points, and about as much again for their index and distances; the bunny's
+// shell as an STL, thickened again at 1024 cells, takes about 22 million).
+PointSet sample_triangles(const Mesh& mesh, double spacing, std::size_t max_points = 50000000);
 
 OutlierSplit split_outliers(const PointSet& points, const Parameters& params, const OutlierSettings& settings = {});
 
