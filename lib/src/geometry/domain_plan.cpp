@@ -7,6 +7,7 @@
 
 #include "geometry/domain_plan.hpp"
 #include "geometry/sampling_gap.hpp"
+#include "geometry/vec3_math.hpp"
 #include "snvr/error.hpp"
 #include "snvr/reconstruct.hpp"
 #include "solver/solver_memory.hpp"
@@ -15,21 +16,7 @@ namespace snvr {
 
 namespace {
 
-struct Box {
-    Vec3 lo, hi;
-    double extent(int a) const { return hi[a] - lo[a]; }
-    double longest() const { return std::max({extent(0), extent(1), extent(2)}); }
-};
-
-Box bounding_box(const PointSet& points) {
-    Box b{points[0], points[0]};
-    for (const Vec3& p : points)
-        for (int a = 0; a < 3; ++a) {
-            b.lo[a] = std::min(b.lo[a], p[a]);
-            b.hi[a] = std::max(b.hi[a], p[a]);
-        }
-    return b;
-}
+using Box = Bounds;
 
 std::string fmt(double v);
 
@@ -82,7 +69,7 @@ DomainPlan plan_domain(const PointSet& points, const Parameters& params) {
 DomainPlan plan_domain(const PointSet& points, const Parameters& params, const PointIndex& index) {
     params.validate();
     if (points.empty()) throw InputError("the point set is empty");
-    const Box box = params.box ? Box{(*params.box)[0], (*params.box)[1]} : bounding_box(points);
+    const Box box = params.box ? Box{(*params.box)[0], (*params.box)[1]} : bounds(points);
     if (!params.box) require_finite_extent(points, box);
 
     DomainPlan plan;

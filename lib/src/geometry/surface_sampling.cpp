@@ -6,13 +6,12 @@
 #include <string>
 #include <unordered_set>
 
+#include "geometry/vec3_math.hpp"
 #include "snvr/error.hpp"
 #include "snvr/reconstruct.hpp"
 
 namespace snvr {
 namespace {
-
-double distance(const Vec3& a, const Vec3& b) { return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
 
 // Parts of at most `spacing` along a segment of this length (at least 1).
 std::uint64_t parts(double length, double spacing) {
@@ -35,7 +34,7 @@ PointSet sample_triangles(const Mesh& mesh, double spacing, std::size_t max_poin
         std::uint64_t n = 1;
         for (int c = 0; c < 3; ++c) {
             const std::uint32_t a = t[c], b = t[(c + 1) % 3];
-            const std::uint64_t k = parts(distance(mesh.vertices[a], mesh.vertices[b]), spacing);
+            const std::uint64_t k = parts(norm(sub(mesh.vertices[a], mesh.vertices[b])), spacing);
             n = std::max(n, k);
             if (a != b && edges.insert(edge_key(a, b)).second) total += k - 1;
         }
@@ -54,7 +53,7 @@ PointSet sample_triangles(const Mesh& mesh, double spacing, std::size_t max_poin
         for (int e = 0; e < 3; ++e) {
             const std::uint32_t i = t[e], j = t[(e + 1) % 3];
             const Vec3 &p = mesh.vertices[i], &q = mesh.vertices[j];
-            const std::uint64_t k = parts(distance(p, q), spacing);
+            const std::uint64_t k = parts(norm(sub(p, q)), spacing);
             n = std::max(n, k);
             if (i == j || !edges.insert(edge_key(i, j)).second) continue;
             for (std::uint64_t m = 1; m < k; ++m) {

@@ -7,9 +7,6 @@
 
 namespace snvr::detail {
 
-// path without a trailing ".gz": the name whose extension picks the format.
-std::string format_name(const std::string& path);
-
 // Parses .stl, .ply, .obj or .off data (chosen by format_name(path)); throws InputError
 // naming the file and the place.
 Mesh parse_mesh(std::string_view data, const std::string& path);

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "io/gunzip.hpp"
+#include "geometry/vec3_math.hpp"
 #include "io/io_common.hpp"
 #include "io/mesh_readers.hpp"
 #include "io/point_readers.hpp"
@@ -20,19 +20,8 @@ namespace {
 // Half the voxel the run will have at most: resolution cells span at least the box.
 double half_voxel(const Mesh& mesh, const Parameters& params) {
     if (params.voxel) return *params.voxel / 2;
-    double longest = 0;
-    if (params.box) {
-        for (int a = 0; a < 3; ++a) longest = std::max(longest, (*params.box)[1][a] - (*params.box)[0][a]);
-    } else {
-        Vec3 lo = mesh.vertices[0], hi = lo;
-        for (const Vec3& v : mesh.vertices)
-            for (int a = 0; a < 3; ++a) {
-                lo[a] = std::min(lo[a], v[a]);
-                hi[a] = std::max(hi[a], v[a]);
-            }
-        longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-    }
-    return longest / params.resolution / 2;
+    const Bounds box = params.box ? Bounds{(*params.box)[0], (*params.box)[1]} : bounds(mesh.vertices);
+    return box.longest() / params.resolution / 2;
 }
 
 }  // namespace
@@ -41,8 +30,7 @@ InputPoints read_input(const std::string& path, const Parameters& params) {
     detail::require_regular_file(path);
     const std::string ext = detail::lower_extension(detail::format_name(path));
     if (ext != ".stl" && ext != ".ply" && ext != ".obj" && ext != ".off") return {read_points(path), 0, 0};
-    std::string data = detail::read_whole_file(path);
-    if (detail::lower_extension(path) == ".gz") data = detail::gunzip(data, path);
+    const std::string data = detail::read_input_bytes(path);
     if (!detail::has_faces(data, path)) return {detail::parse_points(data, path), 0, 0};
     const Mesh mesh = detail::parse_mesh(data, path);
     for (const Vec3& v : mesh.vertices)

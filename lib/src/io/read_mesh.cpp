@@ -15,7 +15,6 @@
 #include <utility>
 #include <vector>
 
-#include "io/gunzip.hpp"
 #include "io/io_common.hpp"
 #include "io/mesh_readers.hpp"
 #include "io/read_whole_file.hpp"
@@ -445,11 +444,6 @@ Mesh read_off(std::string_view data, const std::string& path) {
 
 }  // namespace
 
-// The name without ".gz", whose extension picks the format.
-std::string detail::format_name(const std::string& path) {
-    return detail::lower_extension(path) == ".gz" ? path.substr(0, path.size() - 3) : path;
-}
-
 Mesh detail::parse_mesh(std::string_view data, const std::string& path) {
     const std::string ext = detail::lower_extension(detail::format_name(path));
     if (ext == ".stl") return read_stl(data, path);
@@ -504,9 +498,7 @@ bool detail::has_faces(std::string_view data, const std::string& path) {
 
 Mesh read_mesh(const std::string& path) {
     detail::require_regular_file(path);  // before the extension: "'dir' is a directory"
-    std::string data = detail::read_whole_file(path);
-    if (detail::lower_extension(path) == ".gz") data = detail::gunzip(data, path);
-    return detail::parse_mesh(data, path);
+    return detail::parse_mesh(detail::read_input_bytes(path), path);
 }
 
 }  // namespace snvr

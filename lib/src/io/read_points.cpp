@@ -10,7 +10,6 @@
 #include <memory>
 #include <string>
 
-#include "io/gunzip.hpp"
 #include "io/io_common.hpp"
 #include "io/read_whole_file.hpp"
 #include "io/point_readers.hpp"
@@ -22,12 +21,8 @@ namespace {
 
 using Parser = PointSet (*)(std::string_view, const std::string&);
 
-// "scan.xyz.gz" is read as "scan.xyz" after inflating.
-bool gzipped(const std::string& path) { return detail::lower_extension(path) == ".gz"; }
-
 Parser parser_for(const std::string& path) {
-    const std::string name = gzipped(path) ? path.substr(0, path.size() - 3) : path;
-    const std::string ext = detail::lower_extension(name);
+    const std::string ext = detail::lower_extension(detail::format_name(path));  // "a.xyz.gz": ".xyz"
     if (ext == ".ply") return detail::parse_ply;
     if (ext == ".xyz" || ext == ".pts" || ext == ".txt" || ext == ".csv") return detail::parse_xyz;
     if (ext == ".obj") return detail::parse_obj;
@@ -67,9 +62,7 @@ PointSet detail::parse_points(std::string_view data, const std::string& path) {
 PointSet read_points(const std::string& path) {
     detail::require_regular_file(path);  // before the extension: "'dir' is a directory"
     parser_for(path);                    // an unknown extension fails before any read
-    std::string data = detail::read_whole_file(path);
-    if (gzipped(path)) data = detail::gunzip(data, path);
-    return detail::parse_points(data, path);
+    return detail::parse_points(detail::read_input_bytes(path), path);
 }
 
 }  // namespace snvr

@@ -10,6 +10,8 @@
 #include <exception>
 #include <string>
 
+#include "io/gunzip.hpp"
+#include "io/io_common.hpp"
 #include "snvr/error.hpp"
 
 namespace snvr::detail {
@@ -71,6 +73,15 @@ std::string read_whole_file(const std::string& path) {
     }
     data.resize(got);
     return data;
+}
+
+std::string format_name(const std::string& path) {
+    return lower_extension(path) == ".gz" ? path.substr(0, path.size() - 3) : path;
+}
+
+std::string read_input_bytes(const std::string& path) {
+    std::string data = read_whole_file(path);
+    return lower_extension(path) == ".gz" ? gunzip(data, path) : data;
 }
 
 }  // namespace snvr::detail

@@ -14,4 +14,10 @@ void require_regular_file(const std::string& path);
 // had when opened, so a file that grows meanwhile cannot keep it reading.
 std::string read_whole_file(const std::string& path);
 
+// read_whole_file, inflated when the name ends in ".gz" (see format_name).
+std::string read_input_bytes(const std::string& path);
+
+// path without a trailing ".gz": the name whose extension picks the format.
+std::string format_name(const std::string& path);
+
 }  // namespace snvr::detail

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geometry/disjoint_sets.hpp"
+#include "geometry/vec3_math.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 
@@ -15,11 +16,7 @@ namespace {
 
 // Six times the signed volume a triangle adds (origin at `o`, for precision far from 0).
 double volume6(const Mesh& m, const std::array<std::uint32_t, 3>& t, const Vec3& o) {
-    const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
-    const double ax = a[0] - o[0], ay = a[1] - o[1], az = a[2] - o[2];
-    const double bx = b[0] - o[0], by = b[1] - o[1], bz = b[2] - o[2];
-    const double cx = c[0] - o[0], cy = c[1] - o[1], cz = c[2] - o[2];
-    return ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+    return dot(sub(m.vertices[t[0]], o), cross(sub(m.vertices[t[1]], o), sub(m.vertices[t[2]], o)));
 }
 
 // The triangles of the components marked in `take`.

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/vec3_math.hpp"
 #include "snvr/render.hpp"
 
 namespace snvr::render {
@@ -19,9 +20,7 @@ namespace {
 std::vector<std::uint8_t> cross_section(const Mesh& mesh, int size) {
     std::vector<std::uint8_t> rgb(std::size_t(size) * size * 3, 255);
     if (mesh.vertices.empty()) return rgb;
-    Vec3 lo = mesh.vertices[0], hi = lo;
-    for (const Vec3& v : mesh.vertices)
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
+    const auto [lo, hi] = bounds(mesh.vertices);
     const double level = 0.5 * (lo[1] + hi[1]);
     // The panel shows the box's x and z at one scale, with the shaded view's 4% margin.
     const double extent = std::max({hi[0] - lo[0], hi[2] - lo[2], 1e-300}) * 1.04;
