@@ -30,7 +30,7 @@ struct PreparedSolver {
     double dt = 0;         // normalised
 
     PreparedSolver(const PointSet& points, const Parameters& params)
-        : session(points, params),
+        : session(PointCloud(points), params),
           domain(session.domain()),
           hierarchy(session.hierarchy()),
           backend(&session.backend()),

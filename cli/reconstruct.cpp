@@ -57,30 +57,26 @@ void check_outputs(const ReconstructOptions& o) {
 // The points as the run takes them: in millimetres, outliers apart, shifted to the
 // origin on request (the outliers with them, so that their file lines up).
 struct PreparedPoints {
-    snvr::PointSet points;
+    snvr::PointCloud points;
     snvr::Parameters params;  // lengths in millimetres too
-    snvr::OutlierSplit outliers;
+    snvr::DroppedOutliers outliers;
     snvr::Vec3 shift{0, 0, 0};
     double to_mm = 1;
 };
 
-PreparedPoints prepare_points(const ReconstructOptions& o, snvr::PointSet points) {
+PreparedPoints prepare_points(const ReconstructOptions& o, snvr::PointCloud points) {
     PreparedPoints in;
     in.to_mm = o.to_millimetres();
     in.params = o.params;
     if (in.to_mm != 1) {
-        for (snvr::Vec3& p : points)
-            for (double& x : p) x *= in.to_mm;
+        points.scale(in.to_mm);
         snvr::scale_lengths(in.params, in.to_mm);
     }
-    if (!o.keep_outliers) {
-        in.outliers = snvr::split_outliers(points, in.params);
-        if (!in.outliers.outliers.empty()) points = std::move(in.outliers.kept);
-    }
+    if (!o.keep_outliers) in.outliers = snvr::drop_outliers(points, in.params);
     if (o.centre_origin) in.shift = snvr::round_centre(points);
-    for (snvr::PointSet* set : {&points, &in.outliers.outliers})
-        for (snvr::Vec3& p : *set)
-            for (int a = 0; a < 3; ++a) p[a] -= in.shift[a];
+    points.translate({-in.shift[0], -in.shift[1], -in.shift[2]});
+    for (snvr::Vec3& p : in.outliers.points)
+        for (int a = 0; a < 3; ++a) p[a] -= in.shift[a];
     in.points = std::move(points);
     return in;
 }
@@ -129,15 +125,16 @@ int run_reconstruct(const std::vector<std::string>& args) {
         say("read: " + grouped(input.points.size()) + " points");
     try {
         // From here on every length is in millimetres: the points, the options, the outputs.
-        PreparedPoints prepared = prepare_points(o, std::move(input.points));
-        const snvr::PointSet& points = prepared.points;
+        PreparedPoints prepared = prepare_points(o, snvr::PointCloud(input.points));
+        input.points = snvr::PointSet();
+        const snvr::PointCloud& points = prepared.points;
         const snvr::Parameters& params = prepared.params;
-        const snvr::OutlierSplit& outliers = prepared.outliers;
+        const snvr::DroppedOutliers& outliers = prepared.outliers;
         const snvr::Vec3& shift = prepared.shift;
         const double to_mm = prepared.to_mm;
-        if (!outliers.outliers.empty())
+        if (!outliers.points.empty())
             say(fmt("read: %s outliers dropped (sparse, or in clusters of under 10 points apart by over 2 x offset, "
-                    "%.3g mm); --keep-outliers keeps them", grouped(outliers.outliers.size()).c_str(), outliers.link));
+                    "%.3g mm); --keep-outliers keeps them", grouped(outliers.points.size()).c_str(), outliers.link));
         seconds.outliers = stage.lap();
 
         snvr::Result result = snvr::reconstruct(points, params, [&o](const snvr::Progress& p) {
@@ -186,7 +183,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
         snvr::OutputFiles outputs;
         const std::uint64_t mesh_bytes = outputs.add_mesh(mesh, o.output);
         const std::uint64_t volume_bytes = o.volume.empty() ? 0 : outputs.add_field(result.phi, result.domain, o.volume);
-        if (!o.outliers.empty()) outputs.add_points(outliers.outliers, o.outliers, "outliers dropped by snvr-cl");
+        if (!o.outliers.empty()) outputs.add_points(outliers.points, o.outliers, "outliers dropped by snvr-cl");
         result.phi = snvr::Field();  // meshed and staged: its memory goes to the check
         seconds.write = stage.lap();
 
@@ -202,7 +199,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
             warning(fmt("the shell is only %.3g mm across: if the points are not in millimetres, give --units (m, cm "
                         "or in)", std::max({size[0], size[1], size[2]})));
         RunSummary summary{result, quality, seconds, o.output, o.volume, shift, size, o.units, to_mm,
-                           o.input, points.size(), mesh_bytes, volume_bytes, warnings, outliers.outliers.size(),
+                           o.input, points.size(), mesh_bytes, volume_bytes, warnings, outliers.points.size(),
                            outliers.link, o.outliers, dropped_pieces};
         summary.seconds.total = total.lap();
         if (!o.preview.empty()) outputs.add_bytes(snvr::render::preview_png(mesh, o.preview), o.preview);

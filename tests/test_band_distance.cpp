@@ -13,7 +13,7 @@
 #include "solver/multigrid.hpp"
 #include "solver/problem.hpp"
 #include "openmp/openmp_backend.hpp"
-#include "geometry/point_index.hpp"
+#include "snvr/point_cloud.hpp"
 
 using namespace snvr;
 
@@ -35,9 +35,10 @@ TEST_CASE("band distance equals brute force wherever it is inside the band") {
         PointSet points(static_cast<std::size_t>(count));
         for (Vec3& p : points) p = {u(rng), u(rng), u(rng) * 0.7};
         const Domain d = box_domain(24, 30, 20, 1);
-        const PointIndex index(points);
+        const PointCloud cloud(points);
+        points = cloud.to_point_set();  // as the cloud holds them (float)
         const Band band{0.05, 0.04};
-        BandDistance<double> bd = band_distance<double>(points, index, d, band);
+        BandDistance<double> bd = band_distance<double>(cloud.tree(), d, band);
         classify_band(bd, d, band);
         const std::vector<double> distance = bd.dense(d);
         // The layout from the per-brick distance is the one the dense distance gives.
@@ -68,16 +69,18 @@ TEST_CASE("band distance equals brute force wherever it is inside the band") {
 
 namespace {
 
-// Checks band_distance against the nearest point found by trying every point, with the
-// squared distance written as the kd-tree query evaluated it ((x^2 + y^2) + z^2,
-// x = q - p per axis; ISO C++ mode, so no fused multiply-add), so the values must match
-// bit for bit; only cells within a hair of the band radius may go either way.
+// Checks band_distance against the nearest point found by trying every point (as the
+// cloud holds them), with the squared distance written as the tree's queries evaluate it
+// ((x^2 + y^2) + z^2, x = q - p per axis; ISO C++ mode, so no fused multiply-add), so
+// the values must match bit for bit; only cells within a hair of the band radius may go
+// either way.
 template <class Real>
-void check_exact(const PointSet& points, const Domain& d, const Band& band, const char* what) {
+void check_exact(const PointSet& input, const Domain& d, const Band& band, const char* what) {
     const std::string label = what;
     CAPTURE(label);
-    const PointIndex index(points);
-    const BandDistance<Real> bd = band_distance<Real>(points, index, d, band);
+    const PointCloud cloud(input);
+    const PointSet points = cloud.to_point_set();
+    const BandDistance<Real> bd = band_distance<Real>(cloud.tree(), d, band);
     const std::vector<Real> distance = bd.dense(d);
     REQUIRE(distance.size() == d.cells());
     const Hierarchy shapes = make_levels(Domain{d.origin, d.h, d.nx, d.ny, d.nz, 1});

@@ -209,7 +209,7 @@ TEST_CASE("numbers beyond a double's range, and messages in printable text") {
     expect_failure("reconstruct " + t.file("over.xyz", "0 0 0\n1 0 0\n1e400 1 1\n") + o, 1,
                    "point 2 has a non-finite coordinate (inf 1 1)", t);
     expect_failure("reconstruct " + t.file("span.xyz", "0 0 0\n1 1 1\n1e308 0 0\n-1e308 0 0\n") + o, 1,
-                   "span more than a double can hold along x: point 3 at x = -1e+308 and point 2 at x = 1e+308", t);
+                   "span more than float coordinates can hold along x: point 3 at x = -1e+308 and point 2 at x = 1e+308", t);
     // Control bytes, an escape sequence and a NUL in a bad token are escaped, not printed raw.
     static const char control[] = "0 0 0\n1 \x01\x1b[31mab\0c 1\n";
     const Run bad = run("reconstruct " + t.file("ctl.xyz", std::string(control, sizeof control - 1)) + o);

@@ -17,7 +17,8 @@
 #include "snvr/mesh.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"
-#include "geometry/point_index.hpp"
+#include "reference_index.hpp"
+#include "snvr/point_cloud.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "mesh/vertex_lists.hpp"
 #include "geometry/vec3_math.hpp"
@@ -105,9 +106,9 @@ void untangle(Mesh& mesh, const std::vector<Vec3>& start, std::vector<Vec3>& shi
 }
 
 // Each vertex's nearest point, if nearer than `bound`.
-std::vector<PointIndex::Hit> nearest_points(const Mesh& mesh, const PointIndex& index, double bound) {
+std::vector<Index::Hit> nearest_points(const Mesh& mesh, const Index& index, double bound) {
     const std::ptrdiff_t nv = std::ptrdiff_t(mesh.vertices.size());
-    std::vector<PointIndex::Hit> hits(mesh.vertices.size());
+    std::vector<Index::Hit> hits(mesh.vertices.size());
     for (std::ptrdiff_t v = 0; v < nv; ++v) hits[v] = index.nearest(mesh.vertices[v], bound * bound);
     return hits;
 }
@@ -132,7 +133,7 @@ std::vector<Watched> watch_list(const Mesh& mesh, const PointSet& points, double
         for (int e = 0; e < 3; ++e)
             longest = std::max(longest, norm(sub(mesh.vertices[t[e]], mesh.vertices[t[(e + 1) % 3]])));
     const double reach = within + longest / std::sqrt(3.0);
-    const PointIndex corners(mesh.vertices);
+    const Index corners(mesh.vertices);
     const VertexLists fan = fans(mesh);
     std::vector<Watched> watched;
     const std::ptrdiff_t np = std::ptrdiff_t(points.size());
@@ -162,7 +163,11 @@ std::vector<Watched> watch_list(const Mesh& mesh, const PointSet& points, double
     return watched;
 }
 
-DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel, double lone) {  // NOLINT
+DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& input, double depth, double voxel, double lone) {  // NOLINT
+    // The points as the library's guard takes them: as its cloud holds them, in its order.
+    const PointCloud cloud(input);
+    PointSet points(cloud.size());
+    for (std::size_t k = 0; k < points.size(); ++k) points[k] = cloud[k];
     if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
         throw ParameterError("keep_points_deep: depth and voxel must be positive and finite");
     if (!(lone > 0)) throw ParameterError("keep_points_deep: lone must be positive");
@@ -176,7 +181,7 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double dep
     for (std::size_t t = 0; t < faces.size(); ++t) faces[t] = face_vector(mesh, mesh.triangles[t]);
     const std::vector<Vec3> normals = vertex_normals(mesh, faces);
     const std::vector<Vec3> start = mesh.vertices;
-    const PointIndex index(points);
+    const Index index(points);
     // The points the promise covers: those with another point within `lone`.
     std::vector<std::uint8_t> kept(points.size(), 1);
     if (std::isfinite(lone)) {
@@ -187,11 +192,11 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double dep
 
     // Lift every vertex nearer than the aim to a kept point on its inner side.
     const double aim = depth + kMarginVoxels * voxel;
-    const std::vector<PointIndex::Hit> near = nearest_points(mesh, index, aim);
+    const std::vector<Index::Hit> near = nearest_points(mesh, index, aim);
     std::vector<double> lift(mesh.vertices.size(), 0.0);
     for (std::size_t v = 0; v < lift.size(); ++v) {
         const std::size_t p = near[v].index;
-        if (p != PointIndex::npos && kept[p] && dot(sub(mesh.vertices[v], index.point(p)), normals[v]) > 0)
+        if (p != Index::npos && kept[p] && dot(sub(mesh.vertices[v], index.point(p)), normals[v]) > 0)
             lift[v] = aim - std::sqrt(near[v].dist_sq);
     }
     for (double x : lift) report.near_vertices += x > 0;

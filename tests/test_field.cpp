@@ -136,7 +136,7 @@ TEST_CASE("a reconstruction's band field holds the solver's phi cell for cell") 
     p.device = "openmp";
     p.resolution = 48;
     const PointSet points = shapes::sphere({0.5, 0.5, 0.5}, 0.3, 1.0 / 64);
-    SolverSession<float> session(points, p);
+    SolverSession<float> session(PointCloud(points), p);
     while (session.steps_done() < session.problem().steps) session.step();
     const Domain d = session.domain();
     std::vector<float> dense(d.cells());

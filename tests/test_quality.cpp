@@ -445,7 +445,12 @@ TEST_CASE("count_point_clusters: the pieces of linking every pair closer than th
     points.push_back(points[17]);  // a duplicate
     points.push_back({std::numeric_limits<double>::quiet_NaN(), 0.5, 0.5});  // never linked
     points.push_back({kInf, 0.5, 0.5});
+    // The library holds points as float (about the origin here: they lie near it).
+    PointSet held = points;
+    for (Vec3& p : held)
+        for (double& x : p) x = double(float(x));
     const auto brute = [&](double link) {
+        const PointSet& points = held;
         std::vector<std::size_t> parent(points.size());
         for (std::size_t n = 0; n < parent.size(); ++n) parent[n] = n;
         const auto root = [&](std::size_t n) {

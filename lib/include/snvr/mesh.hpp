@@ -6,6 +6,7 @@
 #include "snvr/domain.hpp"
 #include "snvr/field.hpp"
 #include "snvr/geometry.hpp"
+#include "snvr/point_cloud.hpp"
 
 namespace snvr {
 
@@ -85,8 +86,10 @@ struct DepthGuardReport {
 // margin and the smoothness scale); no triangle is turned over. Points outside the
 // mesh, and points with no other point within `lone` (the beads of an undersampled
 // scan, which lifting only makes grainier), are left alone.
-DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel,
+DepthGuardReport keep_points_deep(Mesh& mesh, const PointCloud& points, double depth, double voxel,
                                   double lone = std::numeric_limits<double>::infinity());
+DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel,
+                                  double lone = std::numeric_limits<double>::infinity());  // makes a PointCloud
 
 // Which solid pieces of a closed, outward mesh to keep: a piece is an outward component
 // with the cavities (inward components) inside it, its volume the material between.

@@ -9,6 +9,7 @@
 
 #include "snvr/geometry.hpp"
 #include "snvr/mesh.hpp"
+#include "snvr/point_cloud.hpp"
 
 namespace snvr {
 
@@ -64,14 +65,17 @@ struct MeshQuality {
 // `exact`, if given, is the distance from a point to the exact offset surface (0 on
 // it); it is called from several threads at once. Throws InputError for triangles
 // with out-of-range indices, ParameterError for offset or voxel <= 0.
-MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double offset, double voxel,
+MeshQuality measure_quality(const Mesh& mesh, const PointCloud& points, double offset, double voxel,
                             const std::function<double(const Vec3&)>& exact = {});
+MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double offset, double voxel,
+                            const std::function<double(const Vec3&)>& exact = {});  // makes a PointCloud
 
 // The figures a print needs, at about 0.7x measure_quality's cost: the verdicts,
 // pieces and genus, the points inside and their depth, the walls. The surface
 // figures (offset error, smoothness) and the second inside test are left out:
 // has_surface is false, those figures NaN or 0.
-MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offset, double voxel);
+MeshQuality measure_shell(const Mesh& mesh, const PointCloud& points, double offset, double voxel);
+MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offset, double voxel);  // makes a PointCloud
 
 // Smallest wall thickness of the mesh in world units: from each vertex along its
 // inward normal to the first surface met (infinity if no ray meets anything).

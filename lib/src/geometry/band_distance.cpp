@@ -12,45 +12,66 @@ namespace snvr {
 
 namespace {
 
-// Level-0 bricks whose cell centres come within `radius` (world) of some point.
-std::vector<std::uint8_t> bricks_near_points(const PointSet& points, const Domain& d, const Level& lv,
+// Level-0 bricks whose cell centres come within `radius` (world) of some point: each
+// leaf's box rules out the bricks beyond it, and its points are looked at one by one only
+// for a brick no point has marked yet.
+std::vector<std::uint8_t> bricks_near_points(const detail::PointTree& tree, const Domain& d, const Level& lv,
                                              double radius) {
     std::vector<std::uint8_t> near(lv.brick_count(), 0);
     const int nb[3] = {lv.bx, lv.by, lv.bz};
     const int n[3] = {d.nx, d.ny, d.nz};
     const double span = kBrick * d.h;
     const double rr = radius * radius;
-#pragma omp parallel
-    {
-        std::vector<double> gap_sq[3];  // per axis and brick in reach of the point
-#pragma omp for schedule(dynamic, 256)
-        for (std::size_t m = 0; m < points.size(); ++m) {
-            const Vec3& p = points[m];
-            int lo[3], hi[3];
-            for (int a = 0; a < 3; ++a) {
-                lo[a] = std::max(0, int(std::floor((p[a] - radius - d.origin[a]) / span)));
-                hi[a] = std::min(nb[a] - 1, int(std::floor((p[a] + radius - d.origin[a]) / span)));
-                gap_sq[a].clear();
-                for (int b = lo[a]; b <= hi[a]; ++b) {  // distance to the box of the brick's cell centres
-                    const double c0 = d.origin[a] + (b * kBrick + 0.5) * d.h;
-                    const double c1 = d.origin[a] + (std::min(n[a], (b + 1) * kBrick) - 0.5) * d.h;
-                    const double gap = std::max({c0 - p[a], 0.0, p[a] - c1});
-                    gap_sq[a].push_back(gap * gap);
-                }
-            }
-            for (int bk = lo[2]; bk <= hi[2]; ++bk)
-                for (int bj = lo[1]; bj <= hi[1]; ++bj) {
-                    const double gy = gap_sq[1][std::size_t(bj - lo[1])], gz = gap_sq[2][std::size_t(bk - lo[2])];
-                    if (gy + gz > rr) continue;  // every sum below is at least this
-                    for (int bi = lo[0]; bi <= hi[0]; ++bi)
-                        if ((gap_sq[0][std::size_t(bi - lo[0])] + gy) + gz <= rr) {
-                            std::uint8_t& flag =
-                                near[std::size_t(bi) + std::size_t(lv.bx) * (std::size_t(bj) + std::size_t(lv.by) * std::size_t(bk))];
+    std::vector<const detail::PointTree::Node*> leaves;
+    tree.for_each_leaf([](const detail::PointTree::Node&) { return true; },
+                       [&](const detail::PointTree::Node& leaf) { leaves.push_back(&leaf); });
+    // The box of brick b's cell centres along axis a.
+    const auto centres = [&](int a, int b, double& c0, double& c1) {
+        c0 = d.origin[a] + (b * kBrick + 0.5) * d.h;
+        c1 = d.origin[a] + (std::min(n[a], (b + 1) * kBrick) - 0.5) * d.h;
+    };
+    const std::ptrdiff_t nl = std::ptrdiff_t(leaves.size());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t l = 0; l < nl; ++l) {
+        const detail::PointTree::Node& leaf = *leaves[l];
+        const Vec3 lo = tree.lo(leaf), hi = tree.hi(leaf);
+        int b0[3], b1[3];
+        for (int a = 0; a < 3; ++a) {
+            b0[a] = std::max(0, int(std::floor((lo[a] - radius - d.origin[a]) / span)));
+            b1[a] = std::min(nb[a] - 1, int(std::floor((hi[a] + radius - d.origin[a]) / span)));
+        }
+        for (int bk = b0[2]; bk <= b1[2]; ++bk)
+            for (int bj = b0[1]; bj <= b1[1]; ++bj)
+                for (int bi = b0[0]; bi <= b1[0]; ++bi) {
+                    std::uint8_t& flag =
+                        near[std::size_t(bi) + std::size_t(lv.bx) * (std::size_t(bj) + std::size_t(lv.by) * std::size_t(bk))];
+                    std::uint8_t marked;
+#pragma omp atomic read
+                    marked = flag;
+                    if (marked) continue;
+                    const int b[3] = {bi, bj, bk};
+                    // The gap of the leaf's box (below each point's: rounding is monotone).
+                    double c0[3], c1[3], box_gap = 0;
+                    for (int a = 0; a < 3; ++a) {
+                        centres(a, b[a], c0[a], c1[a]);
+                        const double g = std::max({c0[a] - hi[a], 0.0, lo[a] - c1[a]});
+                        box_gap = a == 0 ? g * g : box_gap + g * g;
+                    }
+                    if (box_gap > rr) continue;
+                    for (std::uint32_t k = leaf.begin; k < leaf.end; ++k) {
+                        const Vec3 p = tree.point(k);
+                        double g2[3];
+                        for (int a = 0; a < 3; ++a) {
+                            const double g = std::max({c0[a] - p[a], 0.0, p[a] - c1[a]});
+                            g2[a] = g * g;
+                        }
+                        if ((g2[0] + g2[1]) + g2[2] <= rr) {
 #pragma omp atomic write
                             flag = 1;
+                            break;
                         }
+                    }
                 }
-        }
     }
     return near;
 }
@@ -94,43 +115,6 @@ struct Candidates {
     }
 };
 
-constexpr int kBucket = 4;  // cells per axis of a bucket; a brick is 2^3 of them
-
-// The points sorted into buckets of kBucket^3 cells (points beyond the grid go to the
-// edge buckets): the points near a brick are then a few contiguous runs.
-struct PointBuckets {
-    int nb[3];
-    double span;                       // world size of a bucket
-    std::vector<std::uint32_t> start;  // per bucket (x fastest), and one past the last
-    Candidates pts;
-
-    PointBuckets(const PointSet& points, const Domain& d)
-        : nb{(d.nx + kBucket - 1) / kBucket, (d.ny + kBucket - 1) / kBucket, (d.nz + kBucket - 1) / kBucket},
-          span(kBucket * d.h) {
-        std::vector<std::uint32_t> key(points.size());
-        start.assign(std::size_t(nb[0]) * std::size_t(nb[1]) * std::size_t(nb[2]) + 1, 0);
-        for (std::size_t m = 0; m < points.size(); ++m) {
-            std::size_t b[3];
-            for (int a = 0; a < 3; ++a) {
-                const double f = std::floor((points[m][a] - d.origin[a]) / span);
-                b[a] = f >= 0 ? (f < nb[a] ? std::size_t(f) : std::size_t(nb[a] - 1)) : 0;
-            }
-            key[m] = std::uint32_t(b[0] + std::size_t(nb[0]) * (b[1] + std::size_t(nb[1]) * b[2]));
-            ++start[key[m] + 1];
-        }
-        for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
-        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-        pts.clear_for(points.size());
-        for (std::size_t m = 0; m < points.size(); ++m) {
-            const std::uint32_t at = fill[key[m]]++;
-            pts.x[at] = points[m][0];
-            pts.y[at] = points[m][1];
-            pts.z[at] = points[m][2];
-        }
-        pts.n = points.size();
-    }
-};
-
 // Half-open cell ranges per axis.
 struct Cells {
     int lo[3], hi[3];
@@ -141,62 +125,56 @@ struct Box {
     double lo[3], hi[3];
 };
 
-// The runs of bucketed points that can lie within sqrt(lim_sq) of `cells` (edge buckets
-// only reach farther out, so their side towards the grid still bounds them); returns
-// how many points they hold.
-std::size_t runs_near(const PointBuckets& bk, const Cells& cells, double lim_sq,
-                      std::vector<std::pair<std::size_t, std::size_t>>& runs) {
-    const int reach = int(std::sqrt(lim_sq) / bk.span) + 1;
-    int f0[3], f1[3], lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-        f0[a] = cells.lo[a] / kBucket;
-        f1[a] = (cells.hi[a] - 1) / kBucket;
-        lo[a] = std::max(0, f0[a] - reach);
-        hi[a] = std::min(bk.nb[a] - 1, f1[a] + reach);
-    }
-    // Squared gap between the cells and bucket q along axis a, a lower bound.
-    const auto gap_sq = [&](int a, int q) {
-        const double g = std::max({0, f0[a] - q - 1, q - f1[a] - 1}) * bk.span;
-        return g * g;
-    };
-    runs.clear();
+// The leaves whose boxes come within sqrt(lim_sq) of `box`; returns how many points they hold.
+std::size_t leaves_near(const detail::PointTree& tree, const Box& box, double lim_sq,
+                        std::vector<const detail::PointTree::Node*>& leaves) {
+    const Vec3 lo{box.lo[0], box.lo[1], box.lo[2]}, hi{box.hi[0], box.hi[1], box.hi[2]};
+    leaves.clear();
     std::size_t total = 0;
-    for (int k = lo[2]; k <= hi[2]; ++k) {
-        const double left_k = lim_sq - gap_sq(2, k);
-        if (left_k < 0) continue;
-        for (int j = lo[1]; j <= hi[1]; ++j) {
-            const double left = left_k - gap_sq(1, j);
-            if (left < 0) continue;
-            int i0 = lo[0], i1 = hi[0];
-            while (i0 < f0[0] && gap_sq(0, i0) > left) ++i0;
-            while (i1 > f1[0] && gap_sq(0, i1) > left) --i1;
-            const std::size_t row = std::size_t(bk.nb[0]) * (std::size_t(j) + std::size_t(bk.nb[1]) * std::size_t(k));
-            const std::size_t m0 = bk.start[row + std::size_t(i0)], m1 = bk.start[row + std::size_t(i1) + 1];
-            if (m1 > m0) runs.emplace_back(m0, m1);
-            total += m1 - m0;
+    const auto gap_sq = [&](const detail::PointTree::Node& n) {
+        const Vec3 a = tree.lo(n), b = tree.hi(n);
+        double s = 0;
+        for (int d = 0; d < 3; ++d) {
+            const double g = std::max({a[d] - hi[d], 0.0, lo[d] - b[d]});
+            s += g * g;
         }
-    }
+        return s;
+    };
+    tree.for_each_leaf([&](const detail::PointTree::Node& n) { return gap_sq(n) <= lim_sq; },
+                       [&](const detail::PointTree::Node& n) {
+                           leaves.push_back(&n);
+                           total += n.count();
+                       });
     return total;
 }
 
-// The points of the runs within sqrt(lim_sq) of `box`.
-void gather(const PointBuckets& bk, const std::vector<std::pair<std::size_t, std::size_t>>& runs, const Box& box,
+// The points of the leaves within sqrt(lim_sq) of `box`.
+void gather(const detail::PointTree& tree, const std::vector<const detail::PointTree::Node*>& leaves, const Box& box,
             double lim_sq, Candidates& out) {
-    out.clear_for(0);
-    for (const auto& run : runs) out.append(bk.pts, run.first, run.second);
-    // Keep those near enough, in place and branch-free (the outcome is a coin toss).
+    std::size_t total = 0;
+    for (const auto* leaf : leaves) total += leaf->count();
+    out.clear_for(total);
     double* x = out.x.data();
     double* y = out.y.data();
     double* z = out.z.data();
     double* w = out.w.data();
-    for (std::size_t m = 0; m < out.n; ++m) {
+    std::size_t m = 0;
+    for (const auto* leaf : leaves)
+        for (std::uint32_t k = leaf->begin; k < leaf->end; ++k, ++m) {
+            const Vec3 p = tree.point(k);
+            x[m] = p[0];
+            y[m] = p[1];
+            z[m] = p[2];
+        }
+    // Keep those near enough, in place and branch-free (the outcome is a coin toss).
+    for (m = 0; m < total; ++m) {
         const double gx = std::max(std::max(box.lo[0] - x[m], 0.0), x[m] - box.hi[0]);
         const double gy = std::max(std::max(box.lo[1] - y[m], 0.0), y[m] - box.hi[1]);
         const double gz = std::max(std::max(box.lo[2] - z[m], 0.0), z[m] - box.hi[2]);
         w[m] = gx * gx + gy * gy + gz * gz;
     }
     std::size_t kept = 0;
-    for (std::size_t m = 0; m < out.n; ++m) {
+    for (m = 0; m < total; ++m) {
         x[kept] = x[m];
         y[kept] = y[m];
         z[kept] = z[m];
@@ -355,7 +333,7 @@ void brick_by_blocks(Candidates& in_brick, const std::vector<double> (&centre)[3
 // many per cell (about 25 per cell of surface at the usual band). On the test clouds at
 // 64 to 131 cells 16 to 128 did alike, but for two dense sheets at 64 cells (kd-tree
 // better) and igea at 64 cells (lists better).
-constexpr std::size_t kDenseRatio = 32;
+constexpr std::size_t kDenseRatio = 1 << 20;
 
 // One bounded kd-tree query per cell of the brick: the minimum of the same expression,
 // so the same distances. A neighbour's nearest point is nearly always this cell's nearest
@@ -363,30 +341,30 @@ constexpr std::size_t kDenseRatio = 32;
 // everything (slightly above it, to find it again; at zero the query would find nothing,
 // but then the distance is known: 0).
 template <class Real>
-void brick_by_tree(const PointIndex& index, const Domain& d, const CellRange& r, double rr, Real far, Real* values) {
+void brick_by_tree(const detail::PointTree& tree, const Domain& d, const CellRange& r, double rr, Real far, Real* values) {
     const double L = d.length_scale();
-    std::size_t known[kBrick][kBrick][kBrick];
+    constexpr std::uint32_t npos = detail::PointTree::npos;
+    std::uint32_t known[kBrick][kBrick][kBrick];
     for (int k = r.k0; k < r.k1; ++k)
         for (int j = r.j0; j < r.j1; ++j)
             for (int i = r.i0; i < r.i1; ++i) {
                 const int a = i - r.i0, b = j - r.j0, c = k - r.k0;
                 const Vec3 q = d.cell_center(i, j, k);
                 double bound_sq = rr;
-                std::size_t at = PointIndex::npos;
-                auto tighten = [&](std::size_t p) {
-                    if (p == PointIndex::npos || at != PointIndex::npos) return;
-                    const double dd = dist_sq(q, index.point(p));
+                std::uint32_t at = npos;
+                auto tighten = [&](std::uint32_t p) {
+                    if (p == npos || at != npos) return;
+                    const double dd = dist_sq(q, tree.point(p));
                     if (dd == 0) at = p;
                     bound_sq = std::min(bound_sq, dd * (1 + 1e-12));
                 };
                 if (a > 0) tighten(known[c][b][a - 1]);
                 if (b > 0) tighten(known[c][b - 1][a]);
                 if (c > 0) tighten(known[c - 1][b][a]);
-                const PointIndex::Hit hit =
-                    at != PointIndex::npos ? PointIndex::Hit{0.0, at} : index.nearest(q, bound_sq);
+                const detail::PointTree::Hit hit =
+                    at != npos ? detail::PointTree::Hit{0.0, at} : tree.nearest(q, bound_sq);
                 known[c][b][a] = hit.index;
-                values[a + kBrick * (b + kBrick * c)] =
-                    hit.index != PointIndex::npos ? Real(std::sqrt(hit.dist_sq) / L) : far;
+                values[a + kBrick * (b + kBrick * c)] = hit.index != npos ? Real(std::sqrt(hit.dist_sq) / L) : far;
             }
 }
 
@@ -398,7 +376,7 @@ void brick_by_tree(const PointIndex& index, const Domain& d, const CellRange& r,
 // short list (on the bunny at 256 cells, a tenth of the CPU time of one kd-tree query
 // per cell).
 template <class Real>
-BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index, const Domain& d,
+BandDistance<Real> band_distance(const detail::PointTree& tree, const Domain& d,
                                  const Band& band, const std::function<void(std::size_t)>& before_values) {
     const double L = d.length_scale();
     const double radius = (band.offset + band.cut) * L * (1 + 1e-9);  // world units
@@ -407,7 +385,7 @@ BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index
 
     const Hierarchy shapes = make_levels(Domain{d.origin, d.h, d.nx, d.ny, d.nz, 1});
     const Level& lv = shapes.levels[0];
-    std::vector<std::uint8_t> near = bricks_near_points(points, d, lv, radius);
+    std::vector<std::uint8_t> near = bricks_near_points(tree, d, lv, radius);
     std::vector<std::uint32_t> todo;
     for (std::uint32_t b = 0; b < near.size(); ++b)
         if (near[b]) todo.push_back(b);
@@ -430,7 +408,6 @@ BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index
                     centre[2][std::size_t(c.hi[2] - 1)]}};
     };
 
-    const PointBuckets buckets(points, d);
     const std::size_t dense = kDenseRatio * std::size_t(kBrick * kBrick * kBrick);
     // The gathering radius, with slack for rounding far below any spacing that matters.
     double scale = 0;
@@ -442,7 +419,7 @@ BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index
     {
         Candidates gathered, in_brick;
         std::vector<std::uint32_t> in_block;
-        std::vector<std::pair<std::size_t, std::size_t>> runs;
+        std::vector<const detail::PointTree::Node*> leaves;
         Real values[kBrick * kBrick * kBrick];  // the brick's, x fastest, kBrick per axis
 #pragma omp for schedule(dynamic, 4) reduction(+ : queried)
         for (std::size_t t = 0; t < todo.size(); ++t) {
@@ -450,10 +427,10 @@ BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index
             const Cells brick{{r.i0, r.j0, r.k0}, {r.i1, r.j1, r.k1}};
             queried += std::size_t(r.i1 - r.i0) * std::size_t(r.j1 - r.j0) * std::size_t(r.k1 - r.k0);
             const Box bb = box_of(brick);
-            if (runs_near(buckets, brick, lim * lim, runs) > dense) {
-                brick_by_tree(index, d, r, rr, far, values);
+            if (leaves_near(tree, bb, lim * lim, leaves) > dense) {
+                brick_by_tree(tree, d, r, rr, far, values);
             } else {
-                gather(buckets, runs, bb, lim * lim, gathered);
+                gather(tree, leaves, bb, lim * lim, gathered);
                 if (gathered.n == 0) {  // nothing within the radius: all far
                     std::fill(values, values + kBrick * kBrick * kBrick, far);
                 } else {
@@ -517,9 +494,9 @@ std::vector<Real> BandDistance<Real>::dense(const Domain& d) const {
 
 template struct BandDistance<double>;
 template struct BandDistance<float>;
-template BandDistance<double> band_distance<double>(const PointSet&, const PointIndex&, const Domain&, const Band&,
+template BandDistance<double> band_distance<double>(const detail::PointTree&, const Domain&, const Band&,
                                                    const std::function<void(std::size_t)>&);
-template BandDistance<float> band_distance<float>(const PointSet&, const PointIndex&, const Domain&, const Band&,
+template BandDistance<float> band_distance<float>(const detail::PointTree&, const Domain&, const Band&,
                                                  const std::function<void(std::size_t)>&);
 template void classify_band<double>(BandDistance<double>&, const Domain&, const Band&);
 template void classify_band<float>(BandDistance<float>&, const Domain&, const Band&);

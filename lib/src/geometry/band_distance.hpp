@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "solver/hierarchy.hpp"
-#include "geometry/point_index.hpp"
+#include "geometry/point_tree.hpp"
 #include "snvr/domain.hpp"
 #include "snvr/reconstruct.hpp"
 
@@ -42,7 +42,7 @@ struct BandDistance {
 // many bricks are near the points before their values are allocated (a memory check
 // may throw there).
 template <class Real>
-BandDistance<Real> band_distance(const PointSet& points, const PointIndex& index, const Domain& domain,
+BandDistance<Real> band_distance(const detail::PointTree& tree, const Domain& domain,
                                  const Band& band,
                                  const std::function<void(std::size_t near_bricks)>& before_values = {});
 

@@ -5,8 +5,8 @@
 #include <sstream>
 #include <string>
 
-#include "geometry/domain_plan.hpp"
 #include "geometry/sampling_gap.hpp"
+#include "snvr/point_cloud.hpp"
 #include "geometry/vec3_math.hpp"
 #include "snvr/error.hpp"
 #include "snvr/reconstruct.hpp"
@@ -19,24 +19,6 @@ namespace {
 using Box = Bounds;
 
 std::string fmt(double v);
-
-// Points 1e308 and -1e308 apart span more than a double holds, and every figure
-// computed from the span would be NaN: the two points are named instead.
-void require_finite_extent(const PointSet& points, const Box& box) {
-    for (int a = 0; a < 3; ++a) {
-        if (std::isfinite(box.extent(a))) continue;
-        std::size_t lo = 0, hi = 0;
-        for (std::size_t i = 0; i < points.size(); ++i) {
-            if (points[i][a] == box.lo[a]) lo = i;
-            if (points[i][a] == box.hi[a]) hi = i;
-        }
-        const std::string axis(1, "xyz"[a]);
-        throw InputError("the points span more than a double can hold along " + axis + ": point " +
-                         std::to_string(lo) + " at " + axis + " = " + fmt(box.lo[a]) + " and point " +
-                         std::to_string(hi) + " at " + axis + " = " + fmt(box.hi[a]) +
-                         " (points are counted from 0); remove the stray points");
-    }
-}
 
 std::string fmt(double v) {
     std::ostringstream s;
@@ -63,17 +45,17 @@ int round_up(int n, int m) { return (n + m - 1) / m * m; }
 
 DomainPlan plan_domain(const PointSet& points, const Parameters& params) {
     if (points.empty()) throw InputError("the point set is empty");
-    return plan_domain(points, params, PointIndex(points));
+    return plan_domain(PointCloud(points), params);
 }
 
-DomainPlan plan_domain(const PointSet& points, const Parameters& params, const PointIndex& index) {
+DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
     params.validate();
     if (points.empty()) throw InputError("the point set is empty");
-    const Box box = params.box ? Box{(*params.box)[0], (*params.box)[1]} : bounds(points);
-    if (!params.box) require_finite_extent(points, box);
+    const std::array<Vec3, 2> cloud_box = points.box();
+    const Box box = params.box ? Box{(*params.box)[0], (*params.box)[1]} : Box{cloud_box[0], cloud_box[1]};
 
     DomainPlan plan;
-    plan.gap = sampling_gap(points, index);
+    plan.gap = sampling_gap(points.tree());
     std::optional<double> offset = params.offset;
     if (params.thickness) offset = *params.thickness / 2;
 

@@ -1,19 +1,25 @@
-// split_outliers (reconstruct.hpp): uniform random outliers sit far from the surface
-// and from each other, so they fall out of the surface's clusters as singletons or
-// small groups; a sparse but real part of a scan is still linked at a few spacings.
+// split_outliers and drop_outliers (reconstruct.hpp): uniform random outliers sit far
+// from the surface and from each other, so they fall out of the surface's clusters as
+// singletons or small groups; a sparse but real part of a scan is still linked at a few
+// spacings. Both rules look at the cloud's leaves first: a leaf whose points have their
+// neighbours among themselves clears them all, and only the rest ask the tree.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geometry/point_clusters.hpp"
-#include "geometry/point_index.hpp"
+#include "geometry/point_samples.hpp"
+#include "geometry/point_tree.hpp"
 #include "snvr/error.hpp"
 #include "snvr/reconstruct.hpp"
 
 namespace snvr {
 namespace {
 
+using detail::PointTree;
 
 // The median of v (reordered).
 double median(std::vector<double>& v) {
@@ -21,63 +27,116 @@ double median(std::vector<double>& v) {
     return v[v.size() / 2];
 }
 
-}  // namespace
-
-void OutlierSettings::validate() const {
-    if (!(reach_factor > 0) || !std::isfinite(reach_factor) || neighbours < 1)
-        throw ParameterError("the outliers' reach factor must be a positive number and neighbours at least 1");
+// The largest squared distance whose root is at most r: sqrt(d) <= r exactly when d is
+// at most this (the rule compares roots; the tree compares squares).
+double root_bound_sq(double r) {
+    double r2 = r * r;
+    while (r2 > 0 && std::sqrt(r2) > r) r2 = std::nextafter(r2, 0.0);
+    while (std::sqrt(std::nextafter(r2, std::numeric_limits<double>::infinity())) <= r)
+        r2 = std::nextafter(r2, std::numeric_limits<double>::infinity());
+    return r2;
 }
 
-OutlierSplit split_outliers(const PointSet& points, const Parameters& params, const OutlierSettings& s) {
+// Rule 1, by tree order: 1 for a point whose `neighbours`-th nearest other point is
+// farther than reach_factor times the median of that distance. Empty when the median is
+// 0 (most points at one place: nothing stands out).
+std::vector<std::uint8_t> sparse_points(const PointTree& t, const OutlierSettings& s) {
+    const std::vector<std::uint32_t> sample = detail::strided_sample(t, s.median_sample);
+    std::vector<double> reach(sample.size());
+    const std::ptrdiff_t ns = std::ptrdiff_t(sample.size());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t i = 0; i < ns; ++i) reach[i] = t.kth_nearest(sample[i], s.neighbours);
+    const double typical = median(reach);
+    if (!(typical > 0)) return {};
+    // Within reach: at least `need` points (itself and duplicates included) at squared
+    // distance r2 or less; with fewer points in all, every one of them.
+    const double r2 = root_bound_sq(s.reach_factor * typical);
+    const std::size_t need = std::min(s.neighbours + 1, t.size());
+    std::vector<const PointTree::Node*> leaves;
+    t.for_each_leaf([](const PointTree::Node&) { return true; }, [&](const PointTree::Node& n) { leaves.push_back(&n); });
+    std::vector<std::uint8_t> sparse(t.size(), 0);
+    const std::ptrdiff_t nl = std::ptrdiff_t(leaves.size());
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::ptrdiff_t l = 0; l < nl; ++l) {
+        const PointTree::Node& leaf = *leaves[l];
+        if (leaf.count() >= need && PointTree::dist_sq(t.lo(leaf), t.hi(leaf)) <= r2) continue;
+        for (std::uint32_t k = leaf.begin; k < leaf.end; ++k) {
+            const Vec3 p = t.point(k);
+            std::size_t near = 0;
+            for (std::uint32_t j = leaf.begin; j < leaf.end; ++j) near += PointTree::dist_sq(p, t.point(j)) <= r2;
+            if (near < need) sparse[k] = t.count_within(p, r2, need) < need;
+        }
+    }
+    return sparse;
+}
+
+// Moves the flagged points (by cloud order) into `out` (input index, world point) and
+// out of the cloud; returns whether there were any.
+bool take(PointCloud& cloud, const std::vector<std::uint8_t>& flagged, std::vector<std::pair<std::size_t, Vec3>>& out) {
+    std::vector<std::uint8_t> keep(flagged.size());
+    bool any = false;
+    for (std::size_t k = 0; k < flagged.size(); ++k) {
+        keep[k] = !flagged[k];
+        if (flagged[k]) {
+            out.emplace_back(cloud.input_index(k), cloud[k]);
+            any = true;
+        }
+    }
+    if (any) cloud.keep(keep);
+    return any;
+}
+
+// Both rules on the cloud, in place; the outliers by input index.
+std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, const Parameters& params,
+                                                          const OutlierSettings& s, double& link) {
     s.validate();
-    OutlierSplit split;
-    if (points.size() < 2) {
-        split.kept = points;
-        return split;
-    }
-    // Each point's distance to its k-th neighbour; the surface's is the median.
-    std::vector<double> reach(points.size());
-    {
-        const PointIndex index(points);
-        const std::ptrdiff_t n = std::ptrdiff_t(points.size());
-#pragma omp parallel for schedule(dynamic, 1024)
-        for (std::ptrdiff_t i = 0; i < n; ++i) reach[std::size_t(i)] = index.kth_nearest(std::size_t(i), s.neighbours);
-    }
-    std::vector<double> sorted = reach;
-    const double typical = median(sorted);
-    if (!(typical > 0)) {  // most points at one place: nothing stands out
-        split.kept = points;
-        return split;
-    }
-    // Sparse where the surface is dense: too few neighbours near by.
-    PointSet dense;
-    std::vector<char> out(points.size(), 0);
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        out[i] = reach[i] > s.reach_factor * typical;
-        if (!out[i]) dense.push_back(points[i]);
-    }
+    std::vector<std::pair<std::size_t, Vec3>> out;
+    link = 0;
+    const std::size_t total = cloud.size();
+    if (total < 2) return out;
+    const std::vector<std::uint8_t> sparse = sparse_points(cloud.tree(), s);
+    if (sparse.empty()) return out;
+    take(cloud, sparse, out);
     // Among the rest, what the shell would carry as loose beads: clusters that the
     // offset the run will use (planned on the points kept) leaves apart, if small.
     // Dropping them can lower the offset (they may set the sampling gap), which can
     // part more: again until nothing changes (two rounds in the cases tried).
     for (int round = 0; round < 8; ++round) {
-        split.link = 2 * plan_domain(dense, params).offset;
-        const std::vector<std::size_t> label = point_cluster_labels(dense, split.link);
-        std::vector<std::size_t> size(dense.size(), 0);
-        for (std::size_t l : label) ++size[l];
-        PointSet kept;
-        bool dropped = false;
-        for (std::size_t i = 0, d = 0; i < points.size(); ++i) {
-            if (out[i]) continue;
-            const std::size_t members = size[label[d]];
-            out[i] = members < s.min_cluster && double(members) < 0.01 * double(points.size());
-            if (out[i]) dropped = true;
-            else kept.push_back(dense[d]);
-            ++d;
+        link = 2 * plan_domain(cloud, params).offset;
+        const std::vector<std::uint32_t> root = detail::cluster_roots(cloud.tree(), link);
+        std::vector<std::uint32_t> members(root.size(), 0);
+        for (std::uint32_t r : root) ++members[r];
+        std::vector<std::uint8_t> small(root.size());
+        for (std::size_t k = 0; k < root.size(); ++k) {
+            const std::uint32_t m = members[root[k]];
+            small[k] = m < s.min_cluster && double(m) < 0.01 * double(total);
         }
-        dense = std::move(kept);
-        if (!dropped) break;
+        if (!take(cloud, small, out)) break;
     }
+    std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    return out;
+}
+
+}  // namespace
+
+void OutlierSettings::validate() const {
+    if (!(reach_factor > 0) || !std::isfinite(reach_factor) || neighbours < 1 || median_sample < 1)
+        throw ParameterError("the outliers' reach factor must be a positive number, neighbours and the median's sample at least 1");
+}
+
+DroppedOutliers drop_outliers(PointCloud& points, const Parameters& params, const OutlierSettings& s) {
+    DroppedOutliers d;
+    for (const auto& o : remove_outliers(points, params, s, d.link)) d.points.push_back(o.second);
+    return d;
+}
+
+OutlierSplit split_outliers(const PointSet& points, const Parameters& params, const OutlierSettings& s) {
+    s.validate();
+    OutlierSplit split;
+    PointCloud cloud(points);
+    std::vector<std::uint8_t> out(points.size(), 0);
+    for (const auto& o : remove_outliers(cloud, params, s, split.link)) out[o.first] = 1;
+    // The caller's own coordinates, not the cloud's floats.
     for (std::size_t i = 0; i < points.size(); ++i) (out[i] ? split.outliers : split.kept).push_back(points[i]);
     return split;
 }

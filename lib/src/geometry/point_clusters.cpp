@@ -1,186 +1,198 @@
 // How many pieces the points themselves suggest: a shell of offset l joins points
 // closer than 2l, so clusters linked at that distance bound the pieces a correct
 // result can have (two sheets per closed piece, one per open piece).
+#include "geometry/point_clusters.hpp"
+
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <numeric>
-#include <vector>
 
-#include "geometry/point_clusters.hpp"
 #include "snvr/reconstruct.hpp"
 
-namespace snvr {
-
+namespace snvr::detail {
 namespace {
 
-std::size_t find_root(std::vector<std::size_t>& parent, std::size_t n) {
+using Node = PointTree::Node;
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t n) {
     while (parent[n] != n) n = parent[n] = parent[parent[n]];
     return n;
 }
 
-bool finite(const Vec3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+// The squared gap between two boxes (world units); below every pair's squared distance
+// (rounding is monotone).
+double gap_sq(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+    const double x = std::max({0.0, alo[0] - bhi[0], blo[0] - ahi[0]});
+    const double y = std::max({0.0, alo[1] - bhi[1], blo[1] - ahi[1]});
+    const double z = std::max({0.0, alo[2] - bhi[2], blo[2] - ahi[2]});
+    return (x * x + y * y) + z * z;
+}
+
+// Union-find over the points. Nodes whose box's diagonal is below the link hold one
+// cluster each ("whole": every pair in them is linked) and join as a block; a pair of
+// units is looked at only while they are apart, and two whole nodes only until one link
+// between them is found, by a dual descent of the tree that drops the pairs of boxes a
+// link apart. Dense scans have thousands of points within a link: this looks at a
+// handful of pairs for each pair of neighbouring whole nodes.
+class Linker {
+public:
+    Linker(const PointTree& tree, double link) : t_(tree), link_sq_(link * link), parent_(tree.size()) {
+        std::iota(parent_.begin(), parent_.end(), 0u);
+    }
+
+    std::vector<std::uint32_t> roots() {
+        if (t_.nodes.empty() || !(link_sq_ > 0)) return parent_;
+        collect(0);
+        for (const Unit& u : units_)
+            if (u.whole)
+                for (std::uint32_t k = t_.nodes[u.node].begin + 1; k < t_.nodes[u.node].end; ++k)
+                    parent_[k] = t_.nodes[u.node].begin;
+        for (const Unit& u : units_) link_unit(u);
+        for (std::uint32_t k = 0; k < parent_.size(); ++k) parent_[k] = find_root(parent_, k);
+        return std::move(parent_);
+    }
+
+private:
+    struct Unit {
+        std::uint32_t node;
+        bool whole;  // else a leaf of points apart
+    };
+
+    bool is_whole(const Node& n) const { return PointTree::dist_sq(t_.lo(n), t_.hi(n)) < link_sq_; }
+    double gap(const Node& a, const Node& b) const { return gap_sq(t_.lo(a), t_.hi(a), t_.lo(b), t_.hi(b)); }
+
+    void collect(std::uint32_t i) {
+        const Node& n = t_.nodes[i];
+        if (is_whole(n)) {
+            units_.push_back({i, true});
+            return;
+        }
+        if (n.leaf()) {
+            units_.push_back({i, false});
+            return;
+        }
+        for (std::uint32_t c = 0; c < n.children; ++c) collect(n.child + c);
+    }
+
+    void unite(std::uint32_t a, std::uint32_t b) {
+        a = find_root(parent_, a);
+        b = find_root(parent_, b);
+        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+    }
+    bool linked(std::uint32_t a, std::uint32_t b) const {
+        return PointTree::dist_sq(t_.point(a), t_.point(b)) < link_sq_;
+    }
+
+    // Links the points of a leaf unit among themselves, then unit u with every unit after it.
+    void link_unit(const Unit& u) {
+        const Node& a = t_.nodes[u.node];
+        if (!u.whole)
+            for (std::uint32_t i = a.begin; i < a.end; ++i)
+                for (std::uint32_t j = i + 1; j < a.end; ++j)
+                    if (linked(i, j)) unite(i, j);
+        neighbours(u, 0);
+    }
+
+    // Walks the tree from node i to the units after u within the link of it (a unit is the
+    // first whole node or leaf on a path from the root).
+    void neighbours(const Unit& u, std::uint32_t i) {
+        const Node& a = t_.nodes[u.node];
+        const Node& n = t_.nodes[i];
+        if (n.end <= a.end || gap(a, n) >= link_sq_) return;  // nothing after u, or too far
+        if (is_whole(n) || n.leaf()) {
+            join(u, {i, is_whole(n)});
+            return;
+        }
+        for (std::uint32_t c = 0; c < n.children; ++c) neighbours(u, n.child + c);
+    }
+
+    // Links unit u with unit v.
+    void join(const Unit& u, const Unit& v) {
+        const Node& a = t_.nodes[u.node];
+        const Node& b = t_.nodes[v.node];
+        if (u.whole && v.whole) {
+            if (find_root(parent_, a.begin) != find_root(parent_, b.begin) && any_link(u.node, v.node))
+                unite(a.begin, b.begin);
+        } else if (u.whole || v.whole) {
+            // Each point of the leaf with the whole unit, while they are apart.
+            const Node& leaf = u.whole ? b : a;
+            const std::uint32_t whole = u.whole ? u.node : v.node;
+            for (std::uint32_t k = leaf.begin; k < leaf.end; ++k)
+                if (find_root(parent_, k) != find_root(parent_, t_.nodes[whole].begin) && reaches(k, whole))
+                    unite(k, t_.nodes[whole].begin);
+        } else {
+            for (std::uint32_t i = a.begin; i < a.end; ++i)
+                for (std::uint32_t j = b.begin; j < b.end; ++j)
+                    if (find_root(parent_, i) != find_root(parent_, j) && linked(i, j)) unite(i, j);
+        }
+    }
+
+    // Whether point k is linked with some point of node x.
+    bool reaches(std::uint32_t k, std::uint32_t x) const {
+        const Node& n = t_.nodes[x];
+        const Vec3 p = t_.point(k);
+        if (PointTree::box_dist_sq(p, t_.lo(n), t_.hi(n)) >= link_sq_) return false;
+        if (n.leaf()) {
+            for (std::uint32_t j = n.begin; j < n.end; ++j)
+                if (linked(k, j)) return true;
+            return false;
+        }
+        for (std::uint32_t c = 0; c < n.children; ++c)
+            if (reaches(k, n.child + c)) return true;
+        return false;
+    }
+
+    // Whether some point of node x and some point of node y are linked.
+    bool any_link(std::uint32_t x, std::uint32_t y) const {
+        const Node& a = t_.nodes[x];
+        const Node& b = t_.nodes[y];
+        if (gap(a, b) >= link_sq_) return false;
+        if (a.leaf() && b.leaf()) {
+            for (std::uint32_t i = a.begin; i < a.end; ++i)
+                for (std::uint32_t j = b.begin; j < b.end; ++j)
+                    if (linked(i, j)) return true;
+            return false;
+        }
+        // Split the node with more points (a leaf cannot be split).
+        if (!a.leaf() && (b.leaf() || a.count() >= b.count())) {
+            for (std::uint32_t c = 0; c < a.children; ++c)
+                if (any_link(a.child + c, y)) return true;
+            return false;
+        }
+        for (std::uint32_t c = 0; c < b.children; ++c)
+            if (any_link(x, b.child + c)) return true;
+        return false;
+    }
+
+    const PointTree& t_;
+    double link_sq_;
+    std::vector<std::uint32_t> parent_;
+    std::vector<Unit> units_;
+};
 
 }  // namespace
 
-// Points are linked when (dx^2 + dy^2) + dz^2 < link_distance^2, the test and the
-// sum PointIndex::for_each_within make. A uniform grid of cells about
-// link_distance / sqrt(3) wide, so that the points of a cell are usually all
-// linked to each other (checked on the box they span) and join as one set without
-// a look at their pairs; two cells then need a look only while they are in
-// different sets, and only until one linked pair is found. Dense scans have
-// hundreds of points within a link: looking at every pair cost more than the
-// reconstruction.
-std::vector<std::size_t> point_cluster_labels(const PointSet& points, double link_distance) {
-    if (points.empty()) return {};
-    const double link_sq = link_distance * link_distance;
-    std::vector<std::size_t> parent(points.size());
-    std::iota(parent.begin(), parent.end(), std::size_t(0));
-    const auto unite = [&](std::size_t a, std::size_t b) {
-        a = find_root(parent, a);
-        b = find_root(parent, b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    };
-    // Points with a coordinate that is not finite are never linked (their squared
-    // distances are not finite); nor is anything when link_sq is not above 0.
-    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-    std::size_t n = 0;
-    for (const Vec3& p : points)
-        if (finite(p)) {
-            ++n;
-            for (int d = 0; d < 3; ++d) {
-                lo[d] = std::min(lo[d], p[d]);
-                hi[d] = std::max(hi[d], p[d]);
-            }
-        }
-    if (n > 1 && link_sq > 0) {
-        // Not many more cells than points: a sparse cloud gets wider cells, whose
-        // points are then not all linked, and links reach more than two cells less often.
-        double size = std::max(std::sqrt(link_sq / 3), 1e-9 * std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
-        std::array<int, 3> cells{1, 1, 1};
-        for (;;) {
-            double total = 1;
-            for (int d = 0; d < 3; ++d) {
-                cells[d] = std::max(1, int(std::min(1e9, std::ceil((hi[d] - lo[d]) / size))));
-                total *= cells[d];
-            }
-            if (!(size < INFINITY) || total <= 8.0 * double(n) + 4096) break;
-            size *= 1.25;
-        }
-        // Linked points lie at most `reach` cells apart along each axis, 2 or 1 as
-        // size >= link / sqrt(3) (the 1e-9: the rounding of a cell index).
-        const int reach = int(std::ceil(std::sqrt(link_sq) * (1 + 1e-9) / size));
-        const auto cell = [&](int d, double v) {
-            const double x = (v - lo[d]) / size;
-            return !(x > 0) ? 0 : x >= cells[d] - 1 ? cells[d] - 1 : int(x);
-        };
-        const std::size_t n_cells = std::size_t(cells[0]) * std::size_t(cells[1]) * std::size_t(cells[2]);
-        const auto index = [&](int x, int y, int z) {
-            return std::size_t(x) + std::size_t(cells[0]) * (std::size_t(y) + std::size_t(cells[1]) * std::size_t(z));
-        };
-        // The points by cell (coordinates beside their indices, for locality).
-        constexpr std::size_t none = std::size_t(-1);
-        std::vector<std::size_t> start(n_cells + 1, 0), cell_of(points.size(), none);
-        for (std::size_t k = 0; k < points.size(); ++k)
-            if (finite(points[k])) {
-                cell_of[k] = index(cell(0, points[k][0]), cell(1, points[k][1]), cell(2, points[k][2]));
-                ++start[cell_of[k] + 1];
-            }
-        for (std::size_t c = 0; c < n_cells; ++c) start[c + 1] += start[c];
-        struct Item {
-            Vec3 p;
-            std::size_t index;
-        };
-        std::vector<Item> items(n);
-        {
-            std::vector<std::size_t> next(start.begin(), start.end() - 1);
-            for (std::size_t k = 0; k < points.size(); ++k)
-                if (cell_of[k] != none) items[next[cell_of[k]]++] = {points[k], k};
-        }
-        const auto dist_sq = [](const Vec3& a, const Vec3& b) {
-            const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-            return dx * dx + dy * dy + dz * dz;
-        };
-        // Each cell's box (of its points) and whether its points are all one set, at
-        // the cell's first item: a slot per point, not per cell (a sparse cloud has
-        // up to 8 cells a point).
-        struct Box {
-            Vec3 lo, hi;
-        };
-        std::vector<Box> box(n);
-        std::vector<char> one_set(n, 0);
-        for (std::size_t c = 0; c < n_cells; ++c) {
-            if (start[c] == start[c + 1]) continue;
-            Box b{items[start[c]].p, items[start[c]].p};
-            for (std::size_t i = start[c]; i < start[c + 1]; ++i)
-                for (int d = 0; d < 3; ++d) {
-                    b.lo[d] = std::min(b.lo[d], items[i].p[d]);
-                    b.hi[d] = std::max(b.hi[d], items[i].p[d]);
-                }
-            box[start[c]] = b;
-            // Far below the link by more than any rounding of a pair's distance:
-            // every pair in the box is linked.
-            if (dist_sq(b.lo, b.hi) < link_sq * (1 - 1e-9)) {
-                one_set[start[c]] = 1;
-                for (std::size_t i = start[c] + 1; i < start[c + 1]; ++i) unite(items[start[c]].index, items[i].index);
-            } else {
-                for (std::size_t i = start[c]; i < start[c + 1]; ++i)
-                    for (std::size_t j = i + 1; j < start[c + 1]; ++j)
-                        if (dist_sq(items[i].p, items[j].p) < link_sq) unite(items[i].index, items[j].index);
-            }
-        }
-        // The squared gap between two boxes, shrunk far beyond rounding: no pair
-        // across them is linked when it is at least link_sq.
-        const auto gap_sq = [](const Box& a, const Box& b) {
-            double g = 0;
-            for (int d = 0; d < 3; ++d) {
-                const double e = std::max({0.0, a.lo[d] - b.hi[d], b.lo[d] - a.hi[d]});
-                g += e * e;
-            }
-            return g * (1 - 1e-9);
-        };
-        for (int z = 0; z < cells[2]; ++z)
-            for (int y = 0; y < cells[1]; ++y)
-                for (int x = 0; x < cells[0]; ++x) {
-                    const std::size_t c = index(x, y, z);
-                    if (start[c] == start[c + 1]) continue;
-                    // With the neighbours that come after it in (z, y, x) order.
-                    for (int dz = 0; dz <= reach; ++dz)
-                        for (int dy = -reach; dy <= reach; ++dy)
-                            for (int dx = -reach; dx <= reach; ++dx) {
-                                if (dz == 0 && (dy < 0 || (dy == 0 && dx <= 0))) continue;
-                                const int nx = x + dx, ny = y + dy, nz = z + dz;
-                                if (nx < 0 || ny < 0 || nx >= cells[0] || ny >= cells[1] || nz >= cells[2]) continue;
-                                const std::size_t o = index(nx, ny, nz);
-                                if (start[o] == start[o + 1] || gap_sq(box[start[c]], box[start[o]]) >= link_sq) continue;
-                                // Two cells of one set each: one link joins them, and
-                                // once joined nothing between them can change.
-                                const bool whole = one_set[start[c]] && one_set[start[o]];
-                                if (whole && find_root(parent, items[start[c]].index) ==
-                                                 find_root(parent, items[start[o]].index))
-                                    continue;
-                                bool joined = false;
-                                for (std::size_t i = start[c]; i < start[c + 1] && !joined; ++i)
-                                    for (std::size_t j = start[o]; j < start[o + 1]; ++j)
-                                        if (dist_sq(items[i].p, items[j].p) < link_sq) {
-                                            unite(items[i].index, items[j].index);
-                                            if (whole) {
-                                                joined = true;
-                                                break;
-                                            }
-                                        }
-                            }
-                }
-    }
-    for (std::size_t k = 0; k < points.size(); ++k) parent[k] = find_root(parent, k);
-    return parent;
+std::vector<std::uint32_t> cluster_roots(const PointTree& tree, double link_distance) {
+    return Linker(tree, link_distance).roots();
+}
+
+}  // namespace snvr::detail
+
+namespace snvr {
+
+std::size_t count_point_clusters(const PointCloud& points, double link_distance) {
+    const std::vector<std::uint32_t> root = detail::cluster_roots(points.tree(), link_distance);
+    std::size_t roots = 0;
+    for (std::uint32_t k = 0; k < root.size(); ++k) roots += root[k] == k;
+    return roots;
 }
 
 std::size_t count_point_clusters(const PointSet& points, double link_distance) {
-    const std::vector<std::size_t> label = point_cluster_labels(points, link_distance);
-    std::size_t roots = 0;
-    for (std::size_t k = 0; k < label.size(); ++k) roots += label[k] == k;
-    return roots;
+    // A point with a coordinate that is not finite is linked to nothing: a cluster of its own.
+    PointSet finite;
+    for (const Vec3& p : points)
+        if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) finite.push_back(p);
+    return points.size() - finite.size() + count_point_clusters(PointCloud(finite), link_distance);
 }
 
 }  // namespace snvr

@@ -1,15 +1,15 @@
 // Clusters of points linked by distances below a link (point_clusters.cpp).
 #pragma once
-#include <cstddef>
+#include <cstdint>
 #include <vector>
 
-#include "snvr/geometry.hpp"
+#include "geometry/point_tree.hpp"
 
-namespace snvr {
+namespace snvr::detail {
 
-// For each point, the smallest index in its cluster (the same for every member, so
-// label[k] == k marks one point of each cluster). Points with a coordinate that is not
-// finite are clusters of their own.
-std::vector<std::size_t> point_cluster_labels(const PointSet& points, double link_distance);
+// For each point of the tree (by tree order), the tree position of one member of its
+// cluster, the same for every member: points are linked when their squared distance
+// ((dx^2 + dy^2) + dz^2) is below link_distance^2.
+std::vector<std::uint32_t> cluster_roots(const PointTree& tree, double link_distance);
 
-}  // namespace snvr
+}  // namespace snvr::detail

@@ -3,16 +3,18 @@
 #include <algorithm>
 #include <vector>
 
+#include "geometry/point_samples.hpp"
+
 namespace snvr {
 
-double sampling_gap(const PointSet& points, const PointIndex& index) {
-    const std::size_t n = points.size();
-    if (n < 2) return 0;
-    const std::size_t samples = std::min<std::size_t>(n, 20000);
-    std::vector<double> nn(samples);
+double sampling_gap(const detail::PointTree& tree) {
+    if (tree.size() < 2) return 0;
+    const std::vector<std::uint32_t> sample = detail::strided_sample(tree, 20000);
+    std::vector<double> nn(sample.size());
+    const std::ptrdiff_t n = std::ptrdiff_t(sample.size());
 #pragma omp parallel for schedule(dynamic, 256)
-    for (std::size_t s = 0; s < samples; ++s) nn[s] = index.nearest_other(s * n / samples);
-    const std::size_t at = std::min(samples - 1, std::size_t(0.99 * double(samples)));
+    for (std::ptrdiff_t s = 0; s < n; ++s) nn[s] = tree.nearest_other(sample[s]);
+    const std::size_t at = std::min(nn.size() - 1, std::size_t(0.99 * double(nn.size())));
     std::nth_element(nn.begin(), nn.begin() + std::ptrdiff_t(at), nn.end());
     return nn[at];
 }

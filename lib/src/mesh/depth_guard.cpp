@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -31,7 +32,7 @@
 #include <omp.h>
 #endif
 
-#include "geometry/point_index.hpp"
+#include "geometry/point_tree.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 #include "mesh/triangle_grid.hpp"  // point_triangle_dist_sq
@@ -220,9 +221,9 @@ double slab_radius(double r, double size, const Vec3& q) {
     return r + 1e-9 * (r + size) + 64 * DBL_EPSILON * largest_coordinate(q);
 }
 
-int omp_threads() {
+int max_threads() {
 #ifdef _OPENMP
-    return omp_get_num_threads();
+    return omp_get_max_threads();
 #else
     return 1;
 #endif
@@ -513,6 +514,57 @@ public:
                          });
     }
 
+    // The same pairs as near(x, q, r, f) for every point q of `tree`, found from the cells:
+    // calls f(k, t, box) for each point k and triangle t that near(x, point k, r) would
+    // hand over, from the team's threads. Whole nodes of the tree are passed by when their
+    // box is beyond a cell's bound: the cost follows the points near the mesh.
+    template <class X, class F>
+    void near_points(const X& x, const detail::PointTree& tree, double r, F f) const {
+        using Node = detail::PointTree::Node;
+        const double slab_extent = std::sqrt(longest_sq_);
+        grid_->for_each_cell([&](std::uint32_t c, std::uint32_t b, std::uint32_t e) {
+            const Bound& cb = cell_[c];
+            const bool slab = !(cb.n[0] == 0 && cb.n[1] == 0 && cb.n[2] == 0);
+            tree.for_each_leaf(
+                [&](const Node& n) {
+                    // The loosest slacks any point of the node gets, and the least it can
+                    // come to the cell's box and slab.
+                    const Vec3 lo = tree.lo(n), hi = tree.hi(n);
+                    const Vec3 big{std::max(std::fabs(lo[0]), std::fabs(hi[0])), std::max(std::fabs(lo[1]), std::fabs(hi[1])),
+                                   std::max(std::fabs(lo[2]), std::fabs(hi[2]))};
+                    const double r_box = slack(r * (1 + 1e-9), big);
+                    double gap = 0;
+                    for (int d = 0; d < 3; ++d) {
+                        const double g = std::max({0.0, cb.lo[d] - hi[d], lo[d] - cb.hi[d]});
+                        gap += g * g;
+                    }
+                    if (!(gap < r_box * r_box)) return false;
+                    if (!slab) return true;
+                    double s_lo = 0, s_hi = 0;
+                    for (int d = 0; d < 3; ++d) {
+                        s_lo += std::min(cb.n[d] * lo[d], cb.n[d] * hi[d]);
+                        s_hi += std::max(cb.n[d] * lo[d], cb.n[d] * hi[d]);
+                    }
+                    const double slab_r = slab_radius(r, slab_extent, big) + 64 * DBL_EPSILON * largest_coordinate(big);
+                    return !(s_hi < cb.n_lo - slab_r || s_lo > cb.n_hi + slab_r);
+                },
+                [&](const Node& n) {
+                    for (std::uint32_t k = n.begin; k < n.end; ++k) {
+                        const Vec3 q = tree.point(k);
+                        const double r_box = slack(r * (1 + 1e-9), q), r_box_sq = r_box * r_box;
+                        if (!cb.may_reach(q, r_box_sq, slab_radius(r, slab_extent, q))) continue;
+                        for (std::uint32_t s = b; s < e; ++s) {
+                            const std::uint32_t t = id(grid_->order[s]);
+                            Bound tb;
+                            for (std::uint32_t v : mesh_.triangles[t]) tb.add_to_box(x[v]);
+                            const double box = box_dist_sq(q, tb.lo, tb.hi);
+                            if (box < r_box_sq) f(k, t, box);
+                        }
+                    }
+                });
+        });
+    }
+
     // The largest squared edge length as the cells were made.
     double longest_sq() const { return longest_sq_; }
     // Of the whole mesh's triangles but those in `skip` (also flagged in `skipped`), with x
@@ -578,6 +630,10 @@ private:
 }  // namespace
 
 DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel, double lone) {
+    return keep_points_deep(mesh, PointCloud(points), depth, voxel, lone);
+}
+
+DepthGuardReport keep_points_deep(Mesh& mesh, const PointCloud& points, double depth, double voxel, double lone) {
     if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
         throw ParameterError("keep_points_deep: depth and voxel must be positive and finite");
     if (!(lone > 0)) throw ParameterError("keep_points_deep: lone must be positive");
@@ -589,19 +645,19 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double dep
     VertexLists fans;
     fans.start = rings.start;
     fans.fill(mesh, detail::fan_item());
-    return detail::keep_points_deep(mesh, points, depth, voxel, lone, std::move(rings), fans);
+    return detail::keep_points_deep(mesh, points.tree(), depth, voxel, lone, std::move(rings), fans);
 }
 
-DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel,
+DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, double depth, double voxel,
                                           double lone, VertexLists rings, const VertexLists& fans) {
     if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
         throw ParameterError("keep_points_deep: depth and voxel must be positive and finite");
     if (!(lone > 0)) throw ParameterError("keep_points_deep: lone must be positive");
     DepthGuardReport report;
-    if (mesh.triangles.empty() || points.empty()) return report;
+    if (mesh.triangles.empty() || points.size() == 0) return report;
 
     const std::ptrdiff_t nv = std::ptrdiff_t(mesh.vertices.size()), np = std::ptrdiff_t(points.size());
-    const PointIndex index(points);
+    const PointTree& index = points;
     // The points the promise covers: those with another point within `lone`.
     std::vector<std::uint8_t> kept(points.size(), 1);
     if (std::isfinite(lone)) {
@@ -615,7 +671,8 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, do
     // The mesh as it starts, in cells: each point finds the vertices within the aim of it
     // (the index's distance test, so exactly those the index would find), and, for the
     // first repair round, the triangles within the depth of it (those that the lift
-    // leaves where they are stay that near).
+    // leaves where they are stay that near). The cells look for their points, so that
+    // the points far from the mesh (most of a dense scan) cost nothing.
     const TriangleCells start_cells(mesh, nullptr, aim);
     struct Pair {
         std::uint32_t point, triangle;
@@ -625,31 +682,20 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, do
     std::vector<Pair> close;  // (kept point, triangle) nearer than the depth, by point
     {
         const double aim_sq = aim * aim;
-        std::vector<std::vector<std::uint32_t>> near_of;
-        std::vector<std::vector<Pair>> close_of;
-#pragma omp parallel if (np > 256)
-        {
-#pragma omp single
-            {
-                near_of.resize(std::size_t(omp_threads()));
-                close_of.resize(std::size_t(omp_threads()));
-            }
+        const std::size_t team = std::size_t(max_threads());
+        std::vector<std::vector<std::uint32_t>> near_of(team);
+        std::vector<std::vector<Pair>> close_of(team);
+        start_cells.near_points(mesh.vertices, points, aim, [&](std::uint32_t p, std::uint32_t t, double box) {
             std::vector<std::uint32_t>& mine = near_of[std::size_t(omp_thread())];
-            std::vector<Pair>& my_close = close_of[std::size_t(omp_thread())];
-#pragma omp for schedule(dynamic, 256)
-            for (std::ptrdiff_t p = 0; p < np; ++p) {
-                const Vec3& q = points[std::size_t(p)];
-                // The box bound keeps a margin far above the exact distance's rounding.
-                const double depth_box = slack(depth * (1 + 1e-9), q), depth_box_sq = depth_box * depth_box;
-                start_cells.near(mesh.vertices, q, aim, [&](std::uint32_t t, double box) {
-                    for (std::uint32_t c : mesh.triangles[t])
-                        if (index_dist_sq(mesh.vertices[c], q) < aim_sq) mine.push_back(c);
-                    if (!kept[p] || !(box < depth_box_sq)) return;
-                    const double d = triangle_distance(mesh.vertices, mesh, q, t);
-                    if (d < depth) my_close.push_back({std::uint32_t(p), t, d});
-                });
-            }
-        }
+            const Vec3 q = points.point(p);
+            for (std::uint32_t c : mesh.triangles[t])
+                if (index_dist_sq(mesh.vertices[c], q) < aim_sq) mine.push_back(c);
+            // The box bound keeps a margin far above the exact distance's rounding.
+            const double depth_box = slack(depth * (1 + 1e-9), q), depth_box_sq = depth_box * depth_box;
+            if (!kept[p] || !(box < depth_box_sq)) return;
+            const double d = triangle_distance(mesh.vertices, mesh, q, t);
+            if (d < depth) close_of[std::size_t(omp_thread())].push_back({p, t, d});
+        });
         for (const auto& mine : near_of)
             for (std::uint32_t v : mine) near_point[v] = 1;
         for (const auto& mine : close_of) close.insert(close.end(), mine.begin(), mine.end());
@@ -677,9 +723,9 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, do
 #pragma omp parallel for schedule(dynamic, 64) if (na > kParallelVertices)
     for (std::ptrdiff_t i = 0; i < na; ++i) {
         const std::uint32_t v = asking[i];
-        const PointIndex::Hit hit = index.nearest(mesh.vertices[v], aim * aim);
-        const std::size_t p = hit.index;
-        if (p != PointIndex::npos && kept[p] &&
+        const PointTree::Hit hit = index.nearest(mesh.vertices[v], aim * aim);
+        const std::uint32_t p = hit.index;
+        if (p != PointTree::npos && kept[p] &&
             dot(sub(mesh.vertices[v], index.point(p)), vertex_normal(fans, v, start_face)) > 0)
             lift[v] = aim - std::sqrt(hit.dist_sq);
     }
@@ -720,48 +766,48 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, do
     const double reach = within + longest / std::sqrt(3.0);
     ListTime list_time(mesh);
     // Each point's nearest triangle of its row, as far as it matters: exact where below
-    // the depth; dist = inf stands for "not below the depth".
-    std::vector<Nearest> nearest(points.size());
+    // the depth; a point without an entry is not below the depth. Kept for the few points
+    // near a lift only (a dense scan has millions).
+    std::unordered_map<std::uint32_t, Nearest> nearest;
     {
         std::size_t c = 0;
         while (c < close.size()) {
             const std::uint32_t p = close[c].point;
-            Nearest& n = nearest[p];
+            Nearest n;
             for (; c < close.size() && close[c].point == p; ++c)
-                if (!moved_tri[close[c].triangle] && index_takes(mesh.vertices, mesh, points[p], close[c].triangle, reach))
+                if (!moved_tri[close[c].triangle] &&
+                    index_takes(mesh.vertices, mesh, points.point(p), close[c].triangle, reach))
                     n.add(close[c].dist, close[c].triangle);
+            if (n.dist < kInf) nearest[p] = n;
         }
-    }
-#pragma omp parallel for schedule(dynamic, 256) if (np > kParallelVertices)
-    for (std::ptrdiff_t p = 0; p < np; ++p) {
-        if (!kept[p]) continue;  // the repairs pass it by
-        const Vec3& at = points[std::size_t(p)];
-        moved_cells.near(mesh.vertices, at, depth, [&](std::uint32_t t, double) {
+        const std::size_t team = std::size_t(max_threads());
+        std::vector<std::vector<Pair>> near_moved(team);
+        moved_cells.near_points(mesh.vertices, points, depth, [&](std::uint32_t p, std::uint32_t t, double) {
+            if (!kept[p]) return;  // the repairs pass it by
+            const Vec3 at = points.point(p);
             const double d = triangle_distance(mesh.vertices, mesh, at, t);
-            if (d < depth && index_takes(mesh.vertices, mesh, at, t, reach)) nearest[p].add(d, t);
+            if (d < depth && index_takes(mesh.vertices, mesh, at, t, reach))
+                near_moved[std::size_t(omp_thread())].push_back({p, t, d});
         });
+        for (const auto& mine : near_moved)
+            for (const Pair& m : mine) nearest[m.point].add(m.dist, m.triangle);
     }
-    // Rows, gathered when first needed (from both cells, as the list saw the mesh), and a
-    // grid of the points to find whose rows hold a triangle that moved.
-    std::vector<std::vector<std::uint32_t>> rows(points.size());
-    std::vector<std::uint8_t> has_row(points.size(), 0);
-    const auto row = [&](std::uint32_t p) -> const std::vector<std::uint32_t>& {
-        if (has_row[p]) return rows[p];
-        const Vec3& at = points[p];
+    // Rows, gathered when first needed (from both cells, as the list saw the mesh).
+    std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> rows;
+    const auto gather_row = [&](std::uint32_t p) {
+        std::vector<std::uint32_t> row;
+        const Vec3 at = points.point(p);
         const auto take = [&](std::uint32_t t) {
             if (triangle_distance(list_time, mesh, at, t) < within && index_takes(list_time, mesh, at, t, reach))
-                rows[p].push_back(t);
+                row.push_back(t);
         };
         start_cells.near(list_time, at, within, [&](std::uint32_t t, double) {
             if (!moved_tri[t]) take(t);
         });
         moved_cells.near(list_time, at, within, [&](std::uint32_t t, double) { take(t); });
-        std::sort(rows[p].begin(), rows[p].end());
-        has_row[p] = 1;
-        return rows[p];
+        std::sort(row.begin(), row.end());
+        return row;
     };
-    std::unique_ptr<CellGrid> point_cells;
-    std::vector<Bound> point_bound;
 
     std::vector<std::uint8_t> touched(mesh.vertices.size(), 0);  // moved in the last round
     std::vector<std::uint32_t> pushed;
@@ -771,18 +817,6 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, do
             // around the moved vertices, and the kept points within `within` of them as
             // the list saw them, that the index would have taken them for.
             const ListTime& as_was = list_time;
-            if (!point_cells) {
-                Bound frame;
-                for (const Vec3& q : points) frame.add_to_box(q);
-                point_cells = std::make_unique<CellGrid>(frame.lo, frame.hi, within, 4 * points.size() + 4096);
-                std::vector<std::uint32_t> cells(points.size());
-                for (std::size_t q = 0; q < points.size(); ++q) cells[q] = point_cells->cell_of(points[q]);
-                point_cells->file(cells);
-                point_bound.resize(point_cells->used_cells());
-                point_cells->for_each_cell([&](std::uint32_t c, std::uint32_t b, std::uint32_t e) {
-                    for (std::uint32_t s = b; s < e; ++s) point_bound[c].add_to_box(points[point_cells->order[s]]);
-                });
-            }
             std::vector<std::uint32_t> changed;
             for (std::size_t v = 0; v < touched.size(); ++v)
                 if (touched[v])
@@ -802,17 +836,22 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, do
                     // Where a point within `within` of the triangle lies, rounding included.
                     const double r = slack(slack(within, tb.lo), tb.hi);
                     const Vec3 a{tb.lo[0] - r, tb.lo[1] - r, tb.lo[2] - r}, b{tb.hi[0] + r, tb.hi[1] + r, tb.hi[2] + r};
-                    point_cells->for_cells(a, b, [&](std::uint32_t c, std::uint32_t sb, std::uint32_t se) {
-                        if (!overlap(point_bound[c], a, b)) return;
-                        for (std::uint32_t s = sb; s < se; ++s) {
-                            const std::uint32_t p = point_cells->order[s];
-                            const Vec3& at = points[p];
-                            if (!kept[p] || !inside(at, a, b)) continue;
-                            if (triangle_distance(as_was, mesh, at, t) < within &&
-                                index_takes(as_was, mesh, at, t, reach))
-                                mine.push_back(p);
-                        }
-                    });
+                    points.for_each_leaf(
+                        [&](const PointTree::Node& n) {
+                            Bound nb;
+                            nb.lo = points.lo(n);
+                            nb.hi = points.hi(n);
+                            return overlap(nb, a, b);
+                        },
+                        [&](const PointTree::Node& n) {
+                            for (std::uint32_t p = n.begin; p < n.end; ++p) {
+                                const Vec3 at = points.point(p);
+                                if (!kept[p] || !inside(at, a, b)) continue;
+                                if (triangle_distance(as_was, mesh, at, t) < within &&
+                                    index_takes(as_was, mesh, at, t, reach))
+                                    mine.push_back(p);
+                            }
+                        });
                 }
 #pragma omp critical
                 stale.insert(stale.end(), mine.begin(), mine.end());
@@ -820,23 +859,37 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointSet& points, do
             std::sort(stale.begin(), stale.end());
             stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
             std::fill(touched.begin(), touched.end(), 0);
+            // The rows not gathered yet, then each stale point's nearest of its row.
+            std::vector<std::uint32_t> rowless;
+            for (std::uint32_t p : stale)
+                if (!rows.count(p)) rowless.push_back(p);
+            std::vector<std::vector<std::uint32_t>> gathered(rowless.size());
+            const std::ptrdiff_t nr = std::ptrdiff_t(rowless.size());
+#pragma omp parallel for schedule(dynamic, 16) if (nr > 256)
+            for (std::ptrdiff_t i = 0; i < nr; ++i) gathered[i] = gather_row(rowless[i]);
+            for (std::size_t i = 0; i < rowless.size(); ++i) rows[rowless[i]] = std::move(gathered[i]);
+            std::vector<Nearest> renewed(stale.size());
             const std::ptrdiff_t ns = std::ptrdiff_t(stale.size());
 #pragma omp parallel for schedule(dynamic, 16) if (ns > 256)
             for (std::ptrdiff_t i = 0; i < ns; ++i) {
                 const std::uint32_t p = stale[i];
-                Nearest n;
-                for (std::uint32_t t : row(p)) n.add(triangle_distance(mesh.vertices, mesh, points[p], t), t);
-                nearest[p] = n;
+                const Vec3 at = points.point(p);
+                for (std::uint32_t t : rows.at(p)) renewed[i].add(triangle_distance(mesh.vertices, mesh, at, t), t);
             }
+            for (std::size_t i = 0; i < stale.size(); ++i) nearest[stale[i]] = renewed[i];
         }
         for (std::uint32_t v : pushed) moving.push_ref(v) = {0, 0, 0};
         pushed.clear();
         report.shallow_points = 0;
-        for (std::ptrdiff_t i = 0; i < np; ++i) {
-            const double dist = nearest[i].dist;
-            if (!(dist < depth)) continue;
-            const Vec3& p = points[std::size_t(i)];
-            const auto& t = mesh.triangles[nearest[i].triangle];
+        // In point order: of equal pushes on a vertex, the first point's stays.
+        std::vector<std::uint32_t> shallow;
+        for (const auto& [i, n] : nearest)
+            if (n.dist < depth) shallow.push_back(i);
+        std::sort(shallow.begin(), shallow.end());
+        for (std::uint32_t i : shallow) {
+            const double dist = nearest.at(i).dist;
+            const Vec3 p = points.point(i);
+            const auto& t = mesh.triangles[nearest.at(i).triangle];
             const Vec3 n = face_vector(mesh, t);
             if (dot(sub(mesh.vertices[t[0]], p), n) <= 0) continue;  // the point is not under it
             ++report.shallow_points;

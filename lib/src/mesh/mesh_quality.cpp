@@ -21,13 +21,16 @@
 #include "mesh/cell_rings.hpp"
 #include "mesh/mesh_adjacency.hpp"
 #include "mesh/threads_here.hpp"
+#include "mesh/point_depths.hpp"
 #include "mesh/triangle_grid.hpp"
+#include "geometry/point_tree.hpp"
 #include "geometry/vec3_math.hpp"
 
 namespace snvr {
 
 namespace {
 
+using detail::PointTree;
 using detail::threads_here;
 
 using Tri = std::array<std::uint32_t, 3>;
@@ -276,149 +279,16 @@ void measure_normal_noise(const std::vector<Vec3>& normals, const EdgeBuckets& e
     q.normal_noise = count ? std::sqrt(sum / double(count)) : kNaN;
 }
 
-// The points bucketed by a uniform grid, for the nearest point to each vertex.
-// With a good bound (a neighbouring vertex's nearest point) a query looks at a
-// few cells. It finds what a search of all points would, with the squared
-// distance summed as PointIndex sums it: (dx^2 + dy^2) + dz^2.
-class PointGrid {
-public:
-    static constexpr std::uint32_t none = std::uint32_t(-1);
-    struct Hit {
-        double dist_sq;       // infinity when nothing was found
-        std::uint32_t index;  // none when nothing was found
-    };
-
-    // cell_size: the edge length to aim for (about the distances queries span).
-    PointGrid(const PointSet& points, double cell_size) {
-        lo_ = {kInf, kInf, kInf};
-        Vec3 hi{-kInf, -kInf, -kInf};
-        std::size_t n = 0;
-        for (const Vec3& p : points)
-            if (finite(p)) {  // a point with a coordinate not finite is never the nearer one
-                ++n;
-                for (int d = 0; d < 3; ++d) {
-                    lo_[d] = std::min(lo_[d], p[d]);
-                    hi[d] = std::max(hi[d], p[d]);
-                }
-            }
-        if (n == 0) return;
-        const Vec3 span = sub(hi, lo_);
-        size_ = std::max({cell_size, 1e-9 * norm(span), std::numeric_limits<double>::min()});
-        for (;;) {  // at most a few cells per point
-            double cells = 1;
-            for (int d = 0; d < 3; ++d) {
-                n_[d] = std::max(1, int(std::min(1e9, std::ceil(span[d] / size_))));
-                cells *= n_[d];
-            }
-            if (cells <= 8.0 * double(n) + 4096) break;
-            size_ *= 1.25;
-        }
-        const std::size_t n_cells = std::size_t(n_[0]) * std::size_t(n_[1]) * std::size_t(n_[2]);
-        start_.assign(n_cells + 1, 0);
-        std::vector<std::uint32_t> cell_of(points.size(), none);
-        for (std::size_t k = 0; k < points.size(); ++k)
-            if (finite(points[k])) {
-                const Vec3& p = points[k];
-                cell_of[k] = std::uint32_t(index(cell(0, p[0]), cell(1, p[1]), cell(2, p[2])));
-                ++start_[cell_of[k] + 1];
-            }
-        for (std::size_t c = 0; c < n_cells; ++c) start_[c + 1] += start_[c];
-        items_.resize(n);
-        std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
-        for (std::size_t k = 0; k < points.size(); ++k)
-            if (cell_of[k] != none) items_[next[cell_of[k]]++] = {points[k], std::uint32_t(k)};
-    }
-
-    // The nearest point to q if its squared distance is below bound_sq.
-    Hit nearest(const Vec3& q, double bound_sq) const {
-        Hit best{bound_sq, none};
-        if (items_.empty()) return {kInf, none};
-        if (bound_sq <= size_ * size_) {
-            // A small ball: only the cells that meet its box (three a side at most,
-            // as r <= size_, a fourth allowed for rounding), each with its squared
-            // gap to q summed from the gaps along each axis.
-            const double r = std::sqrt(bound_sq);
-            std::array<int, 3> c0, c1;
-            std::array<std::array<double, 4>, 3> gap;
-            for (int d = 0; d < 3; ++d) {
-                c0[d] = cell(d, q[d] - r);
-                c1[d] = std::min(cell(d, q[d] + r), c0[d] + 3);
-                for (int k = 0; k <= c1[d] - c0[d]; ++k) {
-                    const double lo = lo_[d] + (c0[d] + k) * size_;
-                    const double g = std::max(0.0, std::max(lo - q[d], q[d] - (lo + size_)));
-                    gap[d][k] = g * g;
-                }
-            }
-            for (int z = c0[2]; z <= c1[2]; ++z)
-                for (int y = c0[1]; y <= c1[1]; ++y)
-                    for (int x = c0[0]; x <= c1[0]; ++x) {
-                        const double gap_sq = gap[0][x - c0[0]] + gap[1][y - c0[1]] + gap[2][z - c0[2]];
-                        if (!beyond(gap_sq, best.dist_sq)) scan_points(q, index(x, y, z), best);
-                    }
-        } else {
-            // Growing rings of cells around q's, nearest first, until the rest lie
-            // beyond the best (or the bound).
-            const std::array<int, 3> c{cell(0, q[0]), cell(1, q[1]), cell(2, q[2])};
-            for (int r = 0;; ++r) {
-                detail::for_ring(c, r, n_, [&](int x, int y, int z) { scan(q, x, y, z, best); });
-                const double bound = detail::beyond_ring(lo_, size_, n_, c, r, q);  // to the cells not visited yet
-                if (bound == kInf || beyond(bound * bound, best.dist_sq)) break;
-            }
-        }
-        return best.index == none ? Hit{kInf, none} : best;
-    }
-
-private:
-    struct Item {
-        Vec3 p;
-        std::uint32_t index;
-    };
-    static bool finite(const Vec3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
-    // True when points at squared distance lower_sq (rounded) cannot come out nearer than best_sq.
-    static bool beyond(double lower_sq, double best_sq) { return lower_sq > best_sq * (1 + 1e-9); }
-    int cell(int d, double v) const {
-        const double x = (v - lo_[d]) / size_;
-        if (!(x > 0)) return 0;
-        if (x >= n_[d] - 1) return n_[d] - 1;
-        return int(x);
-    }
-    std::size_t index(int x, int y, int z) const {
-        return std::size_t(x) + std::size_t(n_[0]) * (std::size_t(y) + std::size_t(n_[1]) * std::size_t(z));
-    }
-    void scan(const Vec3& q, int x, int y, int z, Hit& best) const {
-        const double gap_sq = detail::cell_gap_sq(lo_, size_, {x, y, z}, q);
-        if (!beyond(gap_sq, best.dist_sq)) scan_points(q, index(x, y, z), best);
-    }
-    void scan_points(const Vec3& q, std::size_t i, Hit& best) const {
-        for (std::uint32_t k = start_[i]; k < start_[i + 1]; ++k) {
-            const Vec3 e = sub(q, items_[k].p);
-            const double d = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
-            if (d < best.dist_sq) best = {d, items_[k].index};
-        }
-    }
-
-    Vec3 lo_{0, 0, 0};
-    double size_ = 1;
-    std::array<int, 3> n_{1, 1, 1};
-    std::vector<std::uint32_t> start_;
-    std::vector<Item> items_;  // in cell order, ascending index within a cell
-};
-
-// e = (distance from a vertex to the nearest point) - l, in h. Also returns, for
-// each point, the smallest squared distance to a vertex whose nearest point it is
-// (infinity for none): an upper bound on the point's distance to the surface.
+// e = (distance from a vertex to the nearest point) - l, in h.
 // fan_start, fan_tri: the triangles around each vertex (detail::vertex_fans).
-std::vector<double> measure_offset(const Mesh& m, const PointSet& points, const std::vector<std::size_t>& fan_start,
-                                   const std::vector<std::uint32_t>& fan_tri, MeshQuality& q) {
-    std::vector<double> near_vertex(points.size(), kInf);
-    if (points.empty() || m.vertices.empty()) {
+void measure_offset(const Mesh& m, const PointTree& points, const std::vector<std::size_t>& fan_start,
+                    const std::vector<std::uint32_t>& fan_tri, MeshQuality& q) {
+    if (points.size() == 0 || m.vertices.empty()) {
         q.offset_rms = q.offset_mean = q.offset_max = kNaN;
-        return near_vertex;
+        return;
     }
-    // Cells of about l: the vertices lie about l from their nearest points.
-    const PointGrid grid(points, q.offset);
     const std::size_t nv = m.vertices.size();
-    std::vector<std::uint32_t> nearest(nv, PointGrid::none);  // each vertex's nearest point
+    std::vector<std::uint32_t> nearest(nv, PointTree::npos);  // each vertex's nearest point
     // Neighbouring vertices have nearby nearest points: the nearest points found
     // for the vertex's neighbours earlier in its run bound its search (any point
     // no farther than the bound is found, so the result is the same).
@@ -435,15 +305,14 @@ std::vector<double> measure_offset(const Mesh& m, const PointSet& points, const 
             double bound = kInf;
             for (std::size_t k = fan_start[v]; k < fan_start[v + 1] && bound == kInf; ++k)
                 for (std::uint32_t u : T[fan_tri[k]])
-                    if (u >= first && u < v && nearest[u] != PointGrid::none) {
-                        const Vec3 d = sub(x, points[nearest[u]]);
-                        bound = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                    if (u >= first && u < v && nearest[u] != PointTree::npos) {
+                        bound = PointTree::dist_sq(x, points.point(nearest[u]));
                         break;
                     }
             // A little above the bound, so that the point that gave it is found again.
             bound += std::max(bound * 0x1p-50, std::numeric_limits<double>::denorm_min());
-            PointGrid::Hit hit = grid.nearest(x, bound);
-            if (hit.index == PointGrid::none && bound < kInf) hit = grid.nearest(x, kInf);
+            PointTree::Hit hit = points.nearest(x, bound);
+            if (hit.index == PointTree::npos && bound < kInf) hit = points.nearest(x, kInf);
             nearest[v] = hit.index;
         }
     }
@@ -451,12 +320,9 @@ std::vector<double> measure_offset(const Mesh& m, const PointSet& points, const 
     double sum = 0, sum_sq = 0, max_abs = 0;
     for (std::size_t v = 0; v < nv; ++v) {
         double dist_sq = kInf;  // none only when no point or vertex is finite
-        if (nearest[v] != PointGrid::none) {
+        if (nearest[v] != PointTree::npos) {
             // The same sum as the search made.
-            const Vec3 e = sub(m.vertices[v], points[nearest[v]]);
-            dist_sq = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
-            double& bound = near_vertex[nearest[v]];
-            bound = std::min(bound, dist_sq);
+            dist_sq = PointTree::dist_sq(m.vertices[v], points.point(nearest[v]));
         }
         const double e = (std::sqrt(dist_sq) - q.offset) / q.voxel;
         sum += e;
@@ -466,113 +332,18 @@ std::vector<double> measure_offset(const Mesh& m, const PointSet& points, const 
     q.offset_mean = sum / double(nv);
     q.offset_rms = std::sqrt(sum_sq / double(nv));
     q.offset_max = max_abs;
-    return near_vertex;
 }
 
-// The points' indices in Morton order of their position, so that queries in a row
-// touch the same part of a spatial structure (far fewer cache misses).
-std::vector<std::uint32_t> spatial_order(const PointSet& points) {
-    Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
-    for (const Vec3& p : points)
-        for (int d = 0; d < 3; ++d) {
-            lo[d] = std::min(lo[d], p[d]);
-            hi[d] = std::max(hi[d], p[d]);
-        }
-    std::vector<std::uint64_t> keyed(points.size());
-    const std::ptrdiff_t np = std::ptrdiff_t(points.size());
-#pragma omp parallel for schedule(static) if (np > kParallel)
-    for (std::ptrdiff_t n = 0; n < np; ++n) {
-        std::uint32_t code = 0;
-        for (int d = 0; d < 3; ++d) {
-            const double x = hi[d] > lo[d] ? (points[n][d] - lo[d]) / (hi[d] - lo[d]) * 1024 : 0;
-            const auto c = std::uint32_t(std::clamp(x, 0.0, 1023.0));  // NaN: 0 or 1023, still valid
-            for (int b = 0; b < 10; ++b) code |= ((c >> b) & 1u) << (3 * b + d);
-        }
-        keyed[n] = std::uint64_t(code) << 32 | std::uint64_t(n);
-    }
-    std::sort(keyed.begin(), keyed.end());
-    std::vector<std::uint32_t> order(points.size());
-    for (std::size_t k = 0; k < keyed.size(); ++k) order[k] = std::uint32_t(keyed[k]);
-    return order;
-}
-
-// The signed depth of the points below the surface, by the parity of a ray's
-// crossings, in pieces of kPointChunk points (in the order of spatial_order, so
-// that a piece's queries touch the same part of the grid).
-class PointDepths {
-public:
-    static constexpr std::size_t kPointChunk = 256;
-    struct Piece {
-        double depth_min = kInf;        // the least depth among the points inside
-        std::size_t parity_inside = 0;  // points inside by the parity of crossings
-    };
-
-    PointDepths(const Mesh& m, const PointSet& points) : mesh_(m), points_(points), order_(spatial_order(points)) {
-        for (const Vec3& v : m.vertices)
-            for (int d = 0; d < 3; ++d) {
-                lo_[d] = std::min(lo_[d], v[d]);
-                hi_[d] = std::max(hi_[d], v[d]);
-            }
-    }
-    std::size_t pieces() const { return (points_.size() + kPointChunk - 1) / kPointChunk; }
-
-    // depth[n] for the points of piece c. near_vertex[n] bounds point n's squared
-    // distance to the surface (see measure_offset) or guesses it. Inside or not
-    // by the side of its nearest triangle when `by_nearest_face` and the nearest point
-    // lies inside that triangle's face (see face_side), else by a ray of its own.
-    Piece measure(std::size_t c, const TriangleGrid& grid, const std::vector<double>& near_vertex,
-                  bool by_nearest_face, std::vector<double>& depth) const {
-        // Inside or not by the parity of crossings along a ray in a direction that no
-        // grid-aligned edge of a marching-cubes mesh is parallel to.
-        // Each ray heads for the nearer face of the mesh's box on every axis, to cut the walk short.
-        const Vec3 dir = [] {
-            const Vec3 d{0.5377, 0.3019, 0.7877};
-            const double n = norm(d);
-            return Vec3{d[0] / n, d[1] / n, d[2] / n};
-        }();
-        Piece piece;
-        for (std::size_t k = c * kPointChunk; k < std::min(points_.size(), (c + 1) * kPointChunk); ++k) {
-            const std::uint32_t n = order_[k];
-            const Vec3& p = points_[n];
-            // The vertex bound, widened far beyond the rounding of either distance.
-            TriangleGrid::Closest near = grid.closest(p, near_vertex[n] * (1 + 1e-6));
-            if (near.triangle == TriangleGrid::none) near = grid.closest(p);
-            const double d = std::sqrt(near.dist_sq);
-            Vec3 toward = dir;
-            for (int a = 0; a < 3; ++a)
-                if (p[a] - lo_[a] < hi_[a] - p[a]) toward[a] = -toward[a];
-            const int side = by_nearest_face && near.triangle != TriangleGrid::none
-                                 ? face_side(p, mesh_.vertices[mesh_.triangles[near.triangle][0]],
-                                             mesh_.vertices[mesh_.triangles[near.triangle][1]],
-                                             mesh_.vertices[mesh_.triangles[near.triangle][2]])
-                                 : 0;
-            const bool inside = side != 0 ? side < 0 : grid.count_crossings(p, toward) % 2 == 1;
-            depth[n] = inside ? d : -d;
-            if (inside) {
-                piece.depth_min = std::min(piece.depth_min, d);
-                ++piece.parity_inside;
-            }
-        }
-        return piece;
-    }
-
-private:
-    const Mesh& mesh_;
-    const PointSet& points_;
-    std::vector<std::uint32_t> order_;
-    Vec3 lo_{kInf, kInf, kInf}, hi_{-kInf, -kInf, -kInf};  // the mesh's box
-};
-
-// The point figures from the pieces of PointDepths and, when given, count_points_inside
-// (the pieces' own count is then the second opinion).
-void measure_points(const std::vector<PointDepths::Piece>& pieces, std::vector<double>& depth,
-                    std::optional<std::size_t> counted_inside, MeshQuality& q) {
+// The point figures from the signed depths (PointDepths) and, when given,
+// count_points_inside (the depths' own count is then the second opinion).
+void measure_points(std::vector<double>& depth, std::optional<std::size_t> counted_inside, MeshQuality& q) {
     double depth_min = kInf;  // a minimum and a count: the same in any order
     std::size_t parity_inside = 0;
-    for (const PointDepths::Piece& p : pieces) {
-        depth_min = std::min(depth_min, p.depth_min);
-        parity_inside += p.parity_inside;
-    }
+    for (double d : depth)
+        if (!std::signbit(d)) {
+            depth_min = std::min(depth_min, d);
+            ++parity_inside;
+        }
     const std::size_t points_inside = counted_inside.value_or(parity_inside);
     q.points_inside = points_inside;
     q.points_outside = q.points - q.points_inside;
@@ -612,7 +383,7 @@ void measure_exact(const Mesh& m, const std::function<double(const Vec3&)>& exac
 
 // The figures of measure_quality; the surface's (offset error, smoothness, the
 // second inside test) only when `surface` is set.
-MeshQuality measure(const char* who, const Mesh& mesh, const PointSet& points, double offset, double voxel,
+MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, double offset, double voxel,
                     bool surface, const std::function<double(const Vec3&)>& exact) {
     const auto started = std::chrono::steady_clock::now();
     if (!(offset > 0) || !(voxel > 0) || !std::isfinite(offset) || !std::isfinite(voxel))
@@ -644,11 +415,10 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointSet& points, d
     // inside by its nearest triangle's side (a ray only where that is unclear):
     // one inside test, not two.
     const std::size_t nv = mesh.vertices.size();
-    std::vector<double> near_vertex, wall(nv, kInf), depth(points.size());
+    std::vector<double> wall(nv, kInf), depth(points.size());
     EdgeBuckets edges;
     std::optional<TriangleGrid> grid;
-    std::optional<PointDepths> depths;
-    std::vector<PointDepths::Piece> pieces;
+    std::optional<detail::PointDepths> depths;
     std::vector<Vec3> normals;
     std::size_t points_inside = 0;
     std::exception_ptr failed[3];  // A, B and the pieces: an exception may not leave a task
@@ -663,7 +433,7 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointSet& points, d
 #pragma omp parallel if (mesh.triangles.size() > 20000)
 #pragma omp single
     {
-#pragma omp task depend(out : near_vertex)
+#pragma omp task
         guarded(failed[0], [&] {
             std::vector<std::uint32_t> piece;
             {
@@ -672,10 +442,7 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointSet& points, d
                 detail::vertex_fans(mesh, fan_start, fan_tri);
                 detail::lower_edges(mesh, edges.start, edges.items);
                 q.report = detail::check_mesh_unchecked(mesh, fan_start, fan_tri, edges.start, edges.items, &piece);
-                if (surface)
-                    near_vertex = measure_offset(mesh, points, fan_start, fan_tri, q);
-                else
-                    near_vertex.assign(points.size(), 4 * offset * offset);
+                if (surface) measure_offset(mesh, points, fan_start, fan_tri, q);
             }
             measure_topology(mesh, edges, piece, q);
             if (surface) measure_dihedral(mesh, edges, q);
@@ -683,9 +450,13 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointSet& points, d
         guarded(failed[1], [&] {
             grid.emplace(mesh);
             normals = unit_normals(mesh);
-            if (surface && !points.empty()) points_inside = count_points_inside(mesh, points);
-            depths.emplace(mesh, points);
-            pieces.resize(depths->pieces());
+            if (surface && points.size()) {
+                // The second opinion (rays along z from every point) takes the points as a set.
+                PointSet all(points.size());
+                for (std::size_t k = 0; k < all.size(); ++k) all[k] = points.point(k);
+                points_inside = count_points_inside(mesh, all);
+            }
+            depths.emplace(mesh, *grid, points, voxel);
         });
         if (!failed[1]) {
             const double eps = wall_epsilon(mesh);
@@ -694,12 +465,11 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointSet& points, d
                 guarded(failed[2], [&] {
                     wall_thickness(mesh, *grid, normals, eps, first, std::min(nv, first + kWallChunk), wall);
                 });
-            for (std::size_t c = 0; c < pieces.size(); ++c)
-#pragma omp task firstprivate(c) depend(in : near_vertex)
-                guarded(failed[2], [&] {
-                    if (!failed[0])
-                        pieces[c] = depths->measure(c, *grid, near_vertex, !surface, depth);
-                });
+            // Chunks of neighbouring groups (they share bounds and working space), a few per thread.
+            const std::size_t chunk = std::max<std::size_t>(16, depths->groups() / 64);
+            for (std::size_t g = 0; g < depths->groups(); g += chunk)
+#pragma omp task firstprivate(g)
+                guarded(failed[2], [&] { depths->measure(g, std::min(depths->groups(), g + chunk), surface, depth); });
         }
 #pragma omp taskwait
     }
@@ -714,7 +484,7 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointSet& points, d
     q.oriented = report.oriented();
     if (surface) measure_normal_noise(normals, edges, q);
     EdgeBuckets().swap(edges);
-    measure_points(pieces, depth, surface ? std::optional<std::size_t>(points_inside) : std::nullopt, q);
+    measure_points(depth, surface ? std::optional<std::size_t>(points_inside) : std::nullopt, q);
     measure_walls(wall, q);
     if (exact) measure_exact(mesh, exact, q);
     q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -723,13 +493,20 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointSet& points, d
 
 }  // namespace
 
+MeshQuality measure_quality(const Mesh& mesh, const PointCloud& points, double offset, double voxel,
+                            const std::function<double(const Vec3&)>& exact) {
+    return measure("measure_quality", mesh, points.tree(), offset, voxel, true, exact);
+}
 MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double offset, double voxel,
                             const std::function<double(const Vec3&)>& exact) {
-    return measure("measure_quality", mesh, points, offset, voxel, true, exact);
+    return measure_quality(mesh, PointCloud(points), offset, voxel, exact);
 }
 
+MeshQuality measure_shell(const Mesh& mesh, const PointCloud& points, double offset, double voxel) {
+    return measure("measure_shell", mesh, points.tree(), offset, voxel, false, {});
+}
 MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offset, double voxel) {
-    return measure("measure_shell", mesh, points, offset, voxel, false, {});
+    return measure_shell(mesh, PointCloud(points), offset, voxel);
 }
 
 double thinnest_wall(const Mesh& mesh) {

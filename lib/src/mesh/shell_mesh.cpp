@@ -15,6 +15,7 @@
 
 #include "snvr/mesh.hpp"
 #include "snvr/reconstruct.hpp"
+#include "geometry/point_tree.hpp"
 #include "mesh/vertex_lists.hpp"
 
 namespace snvr {
@@ -65,6 +66,10 @@ void rings_and_fans(const Mesh& m, detail::VertexLists& ring, detail::VertexList
 }  // namespace
 
 Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* guard, const MeshFairing& fairing) {
+    return shell_mesh(result, PointCloud(points), guard, fairing);
+}
+
+Mesh shell_mesh(const Result& result, const PointCloud& points, DepthGuardReport* guard, const MeshFairing& fairing) {
     Mesh mesh = extract_dual_isosurface(result.phi, result.domain, 0.0, Interpolation::PhaseField);
     fairing.validate();
     const bool fair = fairing.passes > 0 && !mesh.triangles.empty();
@@ -80,8 +85,8 @@ Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* 
     // sampling gap (then the promise covers every point).
     if (result.tube_inner > 0) {
         const double lone = result.offset >= result.gap ? std::numeric_limits<double>::infinity() : result.offset;
-        report = deep ? detail::keep_points_deep(mesh, points, result.offset - result.tube_inner, result.domain.h, lone,
-                                                 std::move(ring), fan)
+        report = deep ? detail::keep_points_deep(mesh, points.tree(), result.offset - result.tube_inner, result.domain.h,
+                                                 lone, std::move(ring), fan)
                       : keep_points_deep(mesh, points, result.offset - result.tube_inner, result.domain.h, lone);
     }
     if (guard) *guard = report;

@@ -545,6 +545,33 @@ TriangleGrid::Closest TriangleGrid::closest(const Vec3& p, double bound_sq) cons
     }
 }
 
+void TriangleGrid::near(const Vec3& p, double r, std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& seen,
+                        std::uint32_t mark) const {
+    out.clear();
+    if (start_.empty() || !(r >= 0)) return;
+    PointBoxes boxes(*this, p);
+    const F4 limit = boxes.limit(r * r);
+    const double reach = r * (1 + 1e-9) + margin_ * size_;
+    int c0[3], c1[3];
+    for (int d = 0; d < 3; ++d) {
+        c0[d] = cell(d, p[d] - reach);
+        c1[d] = cell(d, p[d] + reach);
+    }
+    for (int z = c0[2]; z <= c1[2]; ++z)
+        for (int y = c0[1]; y <= c1[1]; ++y)
+            for (int x = c0[0]; x <= c1[0]; ++x) {
+                const std::size_t i = index(x, y, z);
+                const std::uint32_t last = start_[i + 1];
+                if (start_[i] == last || beyond(cell_gap_sq(p, x, y, z), r * r)) continue;
+                boxes.move_to(x, y, z);
+                for (std::uint32_t k = start_[i]; k < last; k += 4)
+                    for (unsigned m = boxes.near(k, limit) & valid_lanes(last - k); m; m &= m - 1) {
+                        const std::uint32_t t = items_[k + std::uint32_t(lowest_lane(m))];
+                        if (seen[t] != mark) seen[t] = mark, out.push_back(t);
+                    }
+            }
+}
+
 template <class Visit>
 void TriangleGrid::walk(const Vec3& origin, const Vec3& dir, const std::array<double, 3>& inv, const Visit& visit) const {
     if (start_.empty()) return;

@@ -32,6 +32,12 @@ public:
     // the distance to a vertex known to be near) spares most of the search.
     Closest closest(const Vec3& p, double bound_sq = std::numeric_limits<double>::infinity()) const;
 
+    // The triangles whose box may come within r of p (every triangle within r, and a
+    // few more), each once, into `out`. seen: one slot per triangle, none of them `mark`
+    // yet (those listed get it).
+    void near(const Vec3& p, double r, std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& seen,
+              std::uint32_t mark) const;
+
     struct Hit {
         double t;                // ray parameter of the hit (distance for a unit dir)
         std::uint32_t triangle;  // none when the ray meets nothing

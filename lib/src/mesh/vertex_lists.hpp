@@ -9,6 +9,10 @@
 #include "snvr/mesh.hpp"
 
 namespace snvr::detail {
+class PointTree;
+}
+
+namespace snvr::detail {
 
 // Per-vertex loops of the mesh passes run threaded above this many items: below it,
 // waking threads costs more than it saves.
@@ -59,7 +63,7 @@ inline VertexLists fans(const Mesh& m) { return VertexLists(m, fan_item()); }
 // and keep_points_deep; the mesh must be valid (every index a vertex). The guard takes
 // the rings over and frees them once the lift is spread, before its repair rounds.
 void fair_mesh(Mesh& mesh, const MeshFairing& fairing, const VertexLists& rings);
-DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel, double lone,
+DepthGuardReport keep_points_deep(Mesh& mesh, const PointTree& points, double depth, double voxel, double lone,
                                   VertexLists rings, const VertexLists& fans);
 
 }  // namespace snvr::detail

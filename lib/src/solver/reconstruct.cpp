@@ -14,15 +14,8 @@ namespace snvr {
 namespace {
 
 
-void check_points(const PointSet& points) {
-    if (points.empty()) throw InputError("the point set is empty");
-    for (std::size_t n = 0; n < points.size(); ++n)
-        for (double v : points[n])
-            if (!std::isfinite(v)) throw InputError("point " + std::to_string(n) + " has a non-finite coordinate");
-}
-
 template <class Real>
-void run(const PointSet& points, const Parameters& params, const ProgressCallback& progress, Result& res) {
+void run(const PointCloud& points, const Parameters& params, const ProgressCallback& progress, Result& res) {
     SolverSession<Real> session(points, params, progress);
     const Problem& problem = session.problem();
     const DomainPlan& plan = problem.plan;
@@ -72,7 +65,11 @@ void run(const PointSet& points, const Parameters& params, const ProgressCallbac
 }  // namespace
 
 Result reconstruct(const PointSet& points, const Parameters& params, const ProgressCallback& progress) {
-    check_points(points);
+    return reconstruct(PointCloud(points), params, progress);
+}
+
+Result reconstruct(const PointCloud& points, const Parameters& params, const ProgressCallback& progress) {
+    if (points.empty()) throw InputError("the point set is empty");
     Stopwatch total;
     Result res;
     if (params.precision == Precision::Double) run<double>(points, params, progress, res);

@@ -7,8 +7,6 @@
 #include <type_traits>
 
 #include "geometry/band_distance.hpp"
-#include "geometry/domain_plan.hpp"
-#include "geometry/point_index.hpp"
 #include "solver/operations.hpp"
 #include "solver/solver_memory.hpp"
 #include "snvr/stopwatch.hpp"
@@ -48,7 +46,7 @@ void report(const ProgressCallback& cb, const std::string& stage, const std::str
 }  // namespace
 
 template <class Real>
-SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& params, const ProgressCallback& progress) {
+SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& params, const ProgressCallback& progress) {
     Stopwatch clock;
     // Under `auto` the backend starts beside the planning and the distance (on PoCL,
     // loading the driver and the program takes 0.1 s), as any failure there only falls
@@ -60,8 +58,7 @@ SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& par
         starting = std::async(std::launch::async, [&] { return make_backend<Real>(params.device, start_notes); });
     else
         backend_ = make_backend<Real>(params.device, facts_.notes);
-    const PointIndex index(points);
-    problem_ = make_problem(plan_domain(points, params, index), params);
+    problem_ = make_problem(plan_domain(points, params), params);
     const Domain& dom = domain();
     facts_.seconds_domain = clock.lap();
     report(progress, "domain",
@@ -69,7 +66,7 @@ SolverSession<Real>::SolverSession(const PointSet& points, const Parameters& par
                std::to_string(dom.levels) + " multigrid levels");
 
     const Band& band = problem_.band;
-    BandDistance<Real> dist = band_distance<Real>(points, index, dom, band, [&](std::size_t near_bricks) {
+    BandDistance<Real> dist = band_distance<Real>(points.tree(), dom, band, [&](std::size_t near_bricks) {
         require_memory(band_distance_bytes(near_bricks, params.precision) + problem_.plan.estimated_bytes, dom);
     });
     classify_band(dist, dom, band);

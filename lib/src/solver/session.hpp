@@ -33,7 +33,7 @@ public:
     // Plans the grid, computes the band distance, builds the brick layout, sets a backend
     // up on it (backend.hpp's rule), initialises phi and g and the coarse levels.
     // `progress` hears "domain", "distance" and "init" as each is done.
-    SolverSession(const PointSet& points, const Parameters& params, const ProgressCallback& progress = {});
+    SolverSession(const PointCloud& points, const Parameters& params, const ProgressCallback& progress = {});
 
     // One operator-split time step: the linear half by multigrid, then the exact
     // nonlinear half held in the tube. Waits for the device, so its seconds are its own.

@@ -1,0 +1,147 @@
+// PointCloud (point_cloud.hpp): the handle on a PointTree; the choice of origin.
+#include "snvr/point_cloud.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <utility>
+
+#include "geometry/point_tree.hpp"
+#include "geometry/vec3_math.hpp"
+#include "io/io_common.hpp"
+#include "snvr/error.hpp"
+
+namespace snvr {
+namespace {
+
+void check_size(std::size_t n) {
+    if (n >= std::size_t(std::numeric_limits<std::uint32_t>::max()))
+        throw ResourceError("a point cloud holds at most 4,294,967,294 points, not " + std::to_string(n));
+}
+
+[[noreturn]] void non_finite(std::size_t i, const Vec3& p) {
+    throw InputError("point " + std::to_string(i) + " has a non-finite coordinate (" + detail::format_number(p[0]) +
+                     " " + detail::format_number(p[1]) + " " + detail::format_number(p[2]) + ")");
+}
+
+bool finite(const Vec3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+
+// Points 1e308 and -1e308 apart span more than float coordinates about any origin hold:
+// the two outermost points along the axis are named.
+[[noreturn]] void too_far(const PointSet& points, int a) {
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        if (points[i][a] < points[lo][a]) lo = i;
+        if (points[i][a] > points[hi][a]) hi = i;
+    }
+    const std::string axis(1, "xyz"[a]);
+    throw InputError("the points span more than float coordinates can hold along " + axis + ": point " +
+                     std::to_string(lo) + " at " + axis + " = " + detail::format_number(points[lo][a]) + " and point " +
+                     std::to_string(hi) + " at " + axis + " = " + detail::format_number(points[hi][a]) +
+                     " (points are counted from 0); remove the stray points");
+}
+
+// 0 where float holds the points as they are, or they lie near the world origin;
+// else their round centre, so that floats keep their digits.
+Vec3 choose_origin(const PointSet& points) {
+    bool floats = true;
+    for (const Vec3& p : points)
+        for (double x : p) floats = floats && double(float(x)) == x;
+    if (floats) return {0, 0, 0};
+    const Bounds box = bounds(points);
+    double far = 0;
+    for (int a = 0; a < 3; ++a) far = std::max(far, std::abs(box.lo[a] / 2 + box.hi[a] / 2));
+    return far <= box.longest() ? Vec3{0, 0, 0} : round_centre(points);
+}
+
+}  // namespace
+
+PointCloud::PointCloud() : tree_(std::make_unique<detail::PointTree>()) {}
+
+PointCloud::PointCloud(const PointSet& points) {
+    check_size(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+        if (!finite(points[i])) non_finite(i, points[i]);
+    const Vec3 origin = choose_origin(points);
+    std::vector<Vec3f> xyz(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+        for (int a = 0; a < 3; ++a) {
+            xyz[i][a] = float(points[i][a] - origin[a]);
+            if (!std::isfinite(xyz[i][a])) too_far(points, a);
+        }
+    tree_ = std::make_unique<detail::PointTree>(std::move(xyz), std::vector<std::uint32_t>(), origin);
+}
+
+PointCloud::PointCloud(std::vector<Vec3f> coordinates, const Vec3& origin) {
+    check_size(coordinates.size());
+    if (!finite(origin)) throw InputError("the points' origin is not finite");
+    for (std::size_t i = 0; i < coordinates.size(); ++i) {
+        const Vec3f& c = coordinates[i];
+        if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
+            non_finite(i, {origin[0] + c[0], origin[1] + c[1], origin[2] + c[2]});
+    }
+    tree_ = std::make_unique<detail::PointTree>(std::move(coordinates), std::vector<std::uint32_t>(), origin);
+}
+
+PointCloud::PointCloud(const PointCloud& other) : tree_(std::make_unique<detail::PointTree>(*other.tree_)) {}
+PointCloud& PointCloud::operator=(const PointCloud& other) {
+    if (this != &other) tree_ = std::make_unique<detail::PointTree>(*other.tree_);
+    return *this;
+}
+PointCloud::PointCloud(PointCloud&& other) noexcept : tree_(std::move(other.tree_)) {
+    other.tree_ = std::make_unique<detail::PointTree>();
+}
+PointCloud& PointCloud::operator=(PointCloud&& other) noexcept {
+    std::swap(tree_, other.tree_);
+    return *this;
+}
+PointCloud::~PointCloud() = default;
+
+std::size_t PointCloud::size() const { return tree_->size(); }
+Vec3 PointCloud::operator[](std::size_t k) const { return tree_->point(k); }
+std::size_t PointCloud::input_index(std::size_t k) const { return tree_->input[k]; }
+const Vec3& PointCloud::origin() const { return tree_->origin; }
+
+std::array<Vec3, 2> PointCloud::box() const {
+    if (tree_->nodes.empty()) return {tree_->origin, tree_->origin};
+    return {tree_->lo(tree_->nodes[0]), tree_->hi(tree_->nodes[0])};
+}
+
+PointSet PointCloud::to_point_set() const {
+    // Input indices may have gaps (points dropped): they keep their order.
+    std::vector<std::uint32_t> order(size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return tree_->input[a] < tree_->input[b]; });
+    PointSet out(size());
+    for (std::size_t i = 0; i < order.size(); ++i) out[i] = tree_->point(order[i]);
+    return out;
+}
+
+void PointCloud::keep(const std::vector<std::uint8_t>& flags) {
+    if (flags.size() != size()) throw ParameterError("PointCloud::keep: one flag a point");
+    std::size_t to = 0;
+    for (std::size_t k = 0; k < flags.size(); ++k)
+        if (flags[k]) {
+            tree_->xyz[to] = tree_->xyz[k];
+            tree_->input[to] = tree_->input[k];
+            ++to;
+        }
+    if (to == size()) return;
+    tree_->xyz.resize(to);
+    tree_->input.resize(to);
+    tree_->xyz.shrink_to_fit();
+    tree_->input.shrink_to_fit();
+    tree_->refile();
+}
+
+void PointCloud::scale(double factor) {
+    if (!(factor > 0) || !std::isfinite(factor)) throw ParameterError("a point cloud's scale factor must be positive");
+    if (factor != 1) tree_->scale(factor);
+}
+
+void PointCloud::translate(const Vec3& by) {
+    for (int a = 0; a < 3; ++a) tree_->origin[a] += by[a];
+}
+
+}  // namespace snvr

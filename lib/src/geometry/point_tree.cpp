@@ -1,0 +1,430 @@
+// PointTree: the counting sort that files the points, the octree over their Morton
+// order, and the queries every stage shares.
+#include "geometry/point_tree.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace snvr::detail {
+namespace {
+
+constexpr int kBits = 21;  // per axis: a 63-bit key
+
+int threads() {
+#ifdef _OPENMP
+    return omp_get_max_threads();
+#else
+    return 1;
+#endif
+}
+
+// 21 bits spread to every third bit of 63.
+std::uint64_t spread(std::uint32_t v) {
+    std::uint64_t x = v & 0x1fffffu;
+    x = (x | x << 32) & 0x1f00000000ffffull;
+    x = (x | x << 16) & 0x1f0000ff0000ffull;
+    x = (x | x << 8) & 0x100f00f00f00f00full;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+    x = (x | x << 2) & 0x1249249249249249ull;
+    return x;
+}
+
+// Digit `level` (0: the root's, 3 bits) of a key.
+unsigned digit(std::uint64_t key, int level) { return unsigned(key >> (3 * (kBits - 1 - level))) & 7u; }
+
+// The smallest and largest of each axis, in parallel.
+void float_box(const std::vector<Vec3f>& p, Vec3f& lo, Vec3f& hi) {
+    const float inf = std::numeric_limits<float>::infinity();
+    lo = {inf, inf, inf};
+    hi = {-inf, -inf, -inf};
+    const std::ptrdiff_t n = std::ptrdiff_t(p.size());
+#pragma omp parallel if (n > (1 << 16))
+    {
+        Vec3f l = lo, h = hi;
+#pragma omp for schedule(static) nowait
+        for (std::ptrdiff_t i = 0; i < n; ++i)
+            for (int a = 0; a < 3; ++a) {
+                l[a] = std::min(l[a], p[i][a]);
+                h[a] = std::max(h[a], p[i][a]);
+            }
+#pragma omp critical(snvr_point_tree_box)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], l[a]);
+            hi[a] = std::max(hi[a], h[a]);
+        }
+    }
+}
+
+// Sorts the few children of a node by their distance, nearest last (popped first).
+struct Pending {
+    std::uint32_t node;
+    double dist_sq;
+};
+void sort_far_first(Pending* p, int n) {
+    for (int i = 1; i < n; ++i)
+        for (int j = i; j > 0 && p[j - 1].dist_sq < p[j].dist_sq; --j) std::swap(p[j - 1], p[j]);
+}
+
+}  // namespace
+
+// The Morton frame: cubic cells of the points' box, 2^21 a side.
+std::uint64_t PointTree::Frame::key(const Vec3f& p) const {
+    std::uint64_t k = 0;
+    for (int a = 0; a < 3; ++a) {
+        const double t = (double(p[a]) - lo[a]) * scale;
+        const std::uint32_t c = t > 0 ? (t < double(1u << kBits) ? std::uint32_t(t) : (1u << kBits) - 1) : 0;
+        k |= spread(c) << a;
+    }
+    return k;
+}
+
+PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> order, const Vec3& at) : origin(at) {
+    const std::size_t n = coordinates.size();
+    if (n == 0) return;
+    Vec3f lo, hi;
+    float_box(coordinates, lo, hi);
+    const double extent = std::max({double(hi[0]) - lo[0], double(hi[1]) - lo[1], double(hi[2]) - lo[2]});
+    frame_ = {{lo[0], lo[1], lo[2]}, extent > 0 ? double(1u << kBits) / extent : 1.0};
+
+    // Counting sort by a coarse cell (the top `bits` digits): about 8 points a cell, at
+    // most 2^21 cells. Each thread counts, then scatters, its own part of the input, so
+    // the sort is stable: within a cell the points keep their input order.
+    const int bits = std::clamp(int(std::log2(std::max(1.0, double(n) / 8)) / 3), 1, 7);
+    const int shift = 3 * (kBits - bits);
+    const std::size_t cells = std::size_t(1) << (3 * bits);
+    const int parts = n > (1u << 16) ? threads() : 1;
+    std::vector<std::uint32_t> count(std::size_t(parts) * cells, 0);
+    const auto part_begin = [&](int t) { return n * std::size_t(t) / std::size_t(parts); };
+#pragma omp parallel for num_threads(parts) schedule(static, 1)
+    for (int t = 0; t < parts; ++t) {
+        std::uint32_t* c = count.data() + std::size_t(t) * cells;
+        for (std::size_t i = part_begin(t); i < part_begin(t + 1); ++i) ++c[frame_.key(coordinates[i]) >> shift];
+    }
+    std::vector<std::uint32_t> cell_start(cells + 1, 0);
+    {
+        std::uint32_t at_slot = 0;
+        for (std::size_t c = 0; c < cells; ++c) {
+            cell_start[c] = at_slot;
+            for (int t = 0; t < parts; ++t) {
+                std::uint32_t& slot = count[std::size_t(t) * cells + c];
+                const std::uint32_t here = slot;
+                slot = at_slot;
+                at_slot += here;
+            }
+        }
+        cell_start[cells] = at_slot;
+    }
+    xyz.resize(n);
+    input.resize(n);
+#pragma omp parallel for num_threads(parts) schedule(static, 1)
+    for (int t = 0; t < parts; ++t) {
+        std::uint32_t* next = count.data() + std::size_t(t) * cells;
+        for (std::size_t i = part_begin(t); i < part_begin(t + 1); ++i) {
+            const std::uint32_t to = next[frame_.key(coordinates[i]) >> shift]++;
+            xyz[to] = coordinates[i];
+            input[to] = order.empty() ? std::uint32_t(i) : order[i];
+        }
+    }
+    std::vector<std::uint32_t>().swap(count);
+    std::vector<Vec3f>().swap(coordinates);
+    std::vector<std::uint32_t>().swap(order);
+
+    // Each coarse cell by its points' full keys (ties in input order).
+    std::vector<std::uint64_t> keys(n);
+    const std::ptrdiff_t ncells = std::ptrdiff_t(cells);
+#pragma omp parallel if (n > (1u << 16))
+    {
+        std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted;
+        std::vector<Vec3f> p;
+        std::vector<std::uint32_t> in;
+#pragma omp for schedule(dynamic, 256)
+        for (std::ptrdiff_t c = 0; c < ncells; ++c) {
+            const std::uint32_t b = cell_start[c], e = cell_start[c + 1];
+            if (b == e) continue;
+            sorted.clear();
+            for (std::uint32_t i = b; i < e; ++i) sorted.emplace_back(frame_.key(xyz[i]), i);
+            if (!std::is_sorted(sorted.begin(), sorted.end())) {
+                std::sort(sorted.begin(), sorted.end());
+                p.assign(xyz.begin() + b, xyz.begin() + e);
+                in.assign(input.begin() + b, input.begin() + e);
+                for (std::uint32_t i = b; i < e; ++i) {
+                    xyz[i] = p[sorted[i - b].second - b];
+                    input[i] = in[sorted[i - b].second - b];
+                }
+            }
+            for (std::uint32_t i = b; i < e; ++i) keys[i] = sorted[i - b].first;
+        }
+    }
+    build_nodes(keys);
+}
+
+void PointTree::refile() {
+    nodes.clear();
+    if (xyz.empty()) return;
+    std::vector<std::uint64_t> keys(xyz.size());
+    const std::ptrdiff_t n = std::ptrdiff_t(xyz.size());
+#pragma omp parallel for schedule(static) if (n > (1 << 16))
+    for (std::ptrdiff_t i = 0; i < n; ++i) keys[i] = frame_.key(xyz[i]);
+    build_nodes(keys);
+}
+
+namespace {
+
+// Builds the octree over sorted keys, depth first: each node's children are made
+// consecutive at once and filled after. Subtrees at or below `task_size` points are left
+// as tasks (their root made, not split) when `tasks` is given.
+struct NodeBuilder {
+    const std::vector<std::uint64_t>& keys;
+    std::vector<PointTree::Node>& out;
+    struct Task {
+        std::uint32_t slot;
+        int level;
+    };
+    std::vector<Task>* tasks = nullptr;
+    std::uint32_t task_size = 0;
+
+    void fill(std::uint32_t self, int level) {
+        const std::uint32_t b = out[self].begin, e = out[self].end;
+        // Levels where every point shares the next digit make no node.
+        while (level < kBits && e - b > PointTree::kLeafSize && digit(keys[b], level) == digit(keys[e - 1], level))
+            ++level;
+        out[self].children = 0;
+        if (e - b <= PointTree::kLeafSize || level >= kBits) return;
+        if (tasks && e - b <= task_size) {
+            tasks->push_back({self, level});
+            return;
+        }
+        std::uint32_t cut[9];
+        cut[0] = b;
+        for (unsigned d = 1; d < 8; ++d)
+            cut[d] = std::uint32_t(std::partition_point(keys.begin() + cut[d - 1], keys.begin() + e,
+                                                        [&](std::uint64_t k) { return digit(k, level) < d; }) -
+                                   keys.begin());
+        cut[8] = e;
+        const std::uint32_t first = std::uint32_t(out.size());
+        std::uint32_t made = 0;
+        for (int d = 0; d < 8; ++d)
+            if (cut[d + 1] > cut[d]) {
+                PointTree::Node child{};
+                child.begin = cut[d];
+                child.end = cut[d + 1];
+                out.push_back(child);
+                ++made;
+            }
+        out[self].child = first;
+        out[self].children = made;
+        for (std::uint32_t c = 0; c < made; ++c) fill(first + c, level + 1);
+    }
+};
+
+}  // namespace
+
+void PointTree::build_nodes(const std::vector<std::uint64_t>& keys) {
+    nodes.clear();
+    const std::uint32_t n = std::uint32_t(xyz.size());
+    if (n == 0) return;
+    Node root{};
+    root.end = n;
+    nodes.push_back(root);
+    // The top levels here; the subtrees below them in parallel, then appended.
+    std::vector<NodeBuilder::Task> tasks;
+    NodeBuilder top{keys, nodes};
+    const bool parallel = n > (1u << 16) && threads() > 1;
+    if (parallel) {
+        top.tasks = &tasks;
+        top.task_size = std::max<std::uint32_t>(kLeafSize, n / std::uint32_t(32 * threads()));
+    }
+    top.fill(0, 0);
+    std::vector<std::vector<Node>> local(tasks.size());
+    const std::ptrdiff_t nt = std::ptrdiff_t(tasks.size());
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
+    for (std::ptrdiff_t t = 0; t < nt; ++t) {
+        local[t].push_back(nodes[tasks[t].slot]);
+        NodeBuilder sub{keys, local[t]};
+        sub.fill(0, tasks[t].level);
+    }
+    for (std::size_t t = 0; t < tasks.size(); ++t) {
+        // Local node j >= 1 goes to offset + j - 1; the task's root to its slot.
+        const std::uint32_t offset = std::uint32_t(nodes.size());
+        std::vector<Node>& part = local[t];
+        for (Node& node : part)
+            if (node.children) node.child += offset - 1;
+        nodes[tasks[t].slot] = part[0];
+        nodes.insert(nodes.end(), part.begin() + 1, part.end());
+        std::vector<Node>().swap(part);
+    }
+    // Boxes: each leaf's from its points, then each inner node's from its children (which
+    // always come after it).
+    const std::ptrdiff_t nn = std::ptrdiff_t(nodes.size());
+#pragma omp parallel for schedule(dynamic, 1024) if (parallel)
+    for (std::ptrdiff_t i = 0; i < nn; ++i) {
+        Node& node = nodes[i];
+        if (!node.leaf()) continue;
+        node.lo = node.hi = xyz[node.begin];
+        for (std::uint32_t k = node.begin + 1; k < node.end; ++k)
+            for (int a = 0; a < 3; ++a) {
+                node.lo[a] = std::min(node.lo[a], xyz[k][a]);
+                node.hi[a] = std::max(node.hi[a], xyz[k][a]);
+            }
+    }
+    for (std::ptrdiff_t i = nn; i-- > 0;) {
+        Node& node = nodes[i];
+        if (node.leaf()) continue;
+        node.lo = nodes[node.child].lo;
+        node.hi = nodes[node.child].hi;
+        for (std::uint32_t c = 1; c < node.children; ++c)
+            for (int a = 0; a < 3; ++a) {
+                node.lo[a] = std::min(node.lo[a], nodes[node.child + c].lo[a]);
+                node.hi[a] = std::max(node.hi[a], nodes[node.child + c].hi[a]);
+            }
+    }
+}
+
+void PointTree::scale(double factor) {
+    origin = {origin[0] * factor, origin[1] * factor, origin[2] * factor};
+    const float f = float(factor);
+    // Rounding is monotone: the scaled boxes are still the tight boxes of the scaled points.
+    for (Vec3f& p : xyz)
+        for (float& x : p) x *= f;
+    for (Node& node : nodes)
+        for (int a = 0; a < 3; ++a) {
+            node.lo[a] *= f;
+            node.hi[a] *= f;
+        }
+    for (double& x : frame_.lo) x *= double(f);
+    frame_.scale /= double(f);
+}
+
+// ---- queries ----
+
+PointTree::Hit PointTree::nearest(const Vec3& q, double bound_sq) const {
+    Hit best{bound_sq, npos};
+    if (nodes.empty()) return best;
+    Pending stack[kMaxDepth * 8];
+    int top = 0;
+    stack[top++] = {0, box_dist_sq(q, nodes[0])};
+    while (top > 0) {
+        const Pending at = stack[--top];
+        if (!(at.dist_sq < best.dist_sq)) continue;
+        const Node& n = nodes[at.node];
+        if (n.leaf()) {
+            // Points all at one place are as near as the first of them.
+            const std::uint32_t end = n.lo == n.hi ? n.begin + 1 : n.end;
+            for (std::uint32_t k = n.begin; k < end; ++k) {
+                const double d = dist_sq(q, point(k));
+                if (d < best.dist_sq) best = {d, k};
+            }
+            continue;
+        }
+        Pending* kids = stack + top;
+        int m = 0;
+        for (std::uint32_t c = 0; c < n.children; ++c) {
+            const double d = box_dist_sq(q, nodes[n.child + c]);
+            if (d < best.dist_sq) kids[m++] = {n.child + c, d};
+        }
+        sort_far_first(kids, m);
+        top += m;
+    }
+    return best;
+}
+
+double PointTree::nearest_other(std::size_t k) const {
+    const Vec3 q = point(k);
+    double best = std::numeric_limits<double>::infinity();
+    Pending stack[kMaxDepth * 8];
+    int top = 0;
+    stack[top++] = {0, box_dist_sq(q, nodes[0])};
+    while (top > 0) {
+        const Pending at = stack[--top];
+        if (!(at.dist_sq < best)) continue;
+        const Node& n = nodes[at.node];
+        if (n.leaf()) {
+            const std::uint32_t end = n.lo == n.hi ? n.begin + 1 : n.end;
+            for (std::uint32_t j = n.begin; j < end; ++j) {
+                const double d = dist_sq(q, point(j));
+                if (d > 0 && d < best) best = d;
+            }
+            continue;
+        }
+        Pending* kids = stack + top;
+        int m = 0;
+        for (std::uint32_t c = 0; c < n.children; ++c) {
+            const double d = box_dist_sq(q, nodes[n.child + c]);
+            if (d < best) kids[m++] = {n.child + c, d};
+        }
+        sort_far_first(kids, m);
+        top += m;
+    }
+    return best < std::numeric_limits<double>::infinity() ? std::sqrt(best) : 0.0;
+}
+
+double PointTree::kth_nearest(std::size_t k, std::size_t kth) const {
+    // The kth + 1 smallest squared distances to all points, the point itself (0) included.
+    const std::size_t want = std::min(kth + 1, size());
+    std::vector<double> best;  // ascending, at most `want`
+    best.reserve(want + 1);
+    const auto worst = [&] { return best.size() < want ? std::numeric_limits<double>::infinity() : best.back(); };
+    const auto add = [&](double d, std::size_t copies) {
+        for (std::size_t c = 0; c < copies && d < worst(); ++c) {
+            best.insert(std::upper_bound(best.begin(), best.end(), d), d);
+            if (best.size() > want) best.pop_back();
+        }
+    };
+    const Vec3 q = point(k);
+    Pending stack[kMaxDepth * 8];
+    int top = 0;
+    stack[top++] = {0, box_dist_sq(q, nodes[0])};
+    while (top > 0) {
+        const Pending at = stack[--top];
+        if (!(at.dist_sq < worst())) continue;
+        const Node& n = nodes[at.node];
+        if (n.leaf()) {
+            if (n.lo == n.hi) add(dist_sq(q, point(n.begin)), n.count());
+            else
+                for (std::uint32_t j = n.begin; j < n.end; ++j) add(dist_sq(q, point(j)), 1);
+            continue;
+        }
+        Pending* kids = stack + top;
+        int m = 0;
+        for (std::uint32_t c = 0; c < n.children; ++c) {
+            const double d = box_dist_sq(q, nodes[n.child + c]);
+            if (d < worst()) kids[m++] = {n.child + c, d};
+        }
+        sort_far_first(kids, m);
+        top += m;
+    }
+    return std::sqrt(best.back());
+}
+
+std::size_t PointTree::count_within(const Vec3& q, double r_sq, std::size_t enough) const {
+    std::size_t found = 0;
+    if (nodes.empty()) return 0;
+    std::uint32_t stack[kMaxDepth * 8];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0 && found < enough) {
+        const Node& n = nodes[stack[--top]];
+        const Vec3 lo = this->lo(n), hi = this->hi(n);
+        if (box_dist_sq(q, lo, hi) > r_sq) continue;
+        // The far corner, rounded, is no nearer than any point in the box.
+        Vec3 far;
+        for (int a = 0; a < 3; ++a) far[a] = q[a] - lo[a] > hi[a] - q[a] ? lo[a] : hi[a];
+        if (dist_sq(q, far) <= r_sq) {
+            found += n.count();
+            continue;
+        }
+        if (n.leaf()) {
+            for (std::uint32_t j = n.begin; j < n.end; ++j) found += dist_sq(q, point(j)) <= r_sq;
+            continue;
+        }
+        for (std::uint32_t c = n.children; c-- > 0;) stack[top++] = n.child + c;
+    }
+    return found;
+}
+
+}  // namespace snvr::detail

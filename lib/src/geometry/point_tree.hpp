@@ -1,0 +1,129 @@
+// The points of a PointCloud in Morton order, filed into an octree of tight boxes: one
+// pass puts them into cells (a counting sort by a coarse cell, then each cell sorted by
+// its points' full keys), and every stage searches the same tree. Every query returns
+// exactly what a test of all points would (the squared distance summed as
+// (dx^2 + dy^2) + dz^2 in double, dx = q - p with p = origin + coordinate), since a
+// box's distance, rounded, is never above a point's in it.
+#pragma once
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "snvr/point_cloud.hpp"
+
+namespace snvr::detail {
+
+class PointTree {
+public:
+    // A node holds at most this many points unless they all share one finest cell.
+    static constexpr std::uint32_t kLeafSize = 32;
+    static constexpr std::uint32_t npos = std::uint32_t(-1);
+
+    struct Node {
+        Vec3f lo, hi;              // the tight box of its points, about the origin
+        std::uint32_t begin, end;  // its points
+        std::uint32_t child;       // its first child; the others follow it
+        std::uint32_t children;    // 0 for a leaf
+        std::uint32_t count() const { return end - begin; }
+        bool leaf() const { return children == 0; }
+    };
+
+    struct Hit {
+        double dist_sq;      // the bound when nothing nearer was found
+        std::uint32_t index; // npos when nothing nearer was found
+    };
+
+    PointTree() = default;
+    // Takes the coordinates (about origin) and each one's input index; sorts and files them.
+    PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> input, const Vec3& origin);
+
+    Vec3 origin{0, 0, 0};
+    std::vector<Vec3f> xyz;           // by tree order
+    std::vector<std::uint32_t> input; // input index of each
+    std::vector<Node> nodes;          // nodes[0] is the root (none when there are no points)
+
+    std::size_t size() const { return xyz.size(); }
+    Vec3 point(std::size_t k) const {
+        return {origin[0] + double(xyz[k][0]), origin[1] + double(xyz[k][1]), origin[2] + double(xyz[k][2])};
+    }
+    // A node's box in world units (rounding is monotone: it still holds its points).
+    Vec3 lo(const Node& n) const { return {origin[0] + double(n.lo[0]), origin[1] + double(n.lo[1]), origin[2] + double(n.lo[2])}; }
+    Vec3 hi(const Node& n) const { return {origin[0] + double(n.hi[0]), origin[1] + double(n.hi[1]), origin[2] + double(n.hi[2])}; }
+
+    // Squared distance from q to a point, and a lower bound of it for every point in a box.
+    static double dist_sq(const Vec3& q, const Vec3& p) {
+        const double x = q[0] - p[0], y = q[1] - p[1], z = q[2] - p[2];
+        return (x * x + y * y) + z * z;
+    }
+    static double box_dist_sq(const Vec3& q, const Vec3& lo, const Vec3& hi) {
+        const double x = std::max({0.0, lo[0] - q[0], q[0] - hi[0]});
+        const double y = std::max({0.0, lo[1] - q[1], q[1] - hi[1]});
+        const double z = std::max({0.0, lo[2] - q[2], q[2] - hi[2]});
+        return (x * x + y * y) + z * z;
+    }
+    double box_dist_sq(const Vec3& q, const Node& n) const { return box_dist_sq(q, lo(n), hi(n)); }
+
+    // The nearest point nearer than sqrt(bound_sq) (the first in tree order of equally near ones).
+    Hit nearest(const Vec3& q, double bound_sq = std::numeric_limits<double>::infinity()) const;
+    // The distance from point k to its nearest point at a distance above 0 (0 when there is none).
+    double nearest_other(std::size_t k) const;
+    // The distance from point k to its k-th nearest other point, duplicates counted (the
+    // farthest there is when there are fewer others).
+    double kth_nearest(std::size_t k, std::size_t kth) const;
+    // How many points lie at squared distance <= r_sq from q, counting up to `enough`.
+    std::size_t count_within(const Vec3& q, double r_sq, std::size_t enough) const;
+
+    // Calls leaf(node) for each leaf in tree order whose ancestors and itself `enter(node)`
+    // accepts; a bound that rejects a node rejects everything below it.
+    template <class Enter, class Leaf>
+    void for_each_leaf(Enter&& enter, Leaf&& leaf) const {
+        if (!nodes.empty()) for_each_leaf_below(nodes[0], enter, leaf);
+    }
+    // The same from `below` (a node of this tree) down.
+    template <class Enter, class Leaf>
+    void for_each_leaf_below(const Node& below, Enter&& enter, Leaf&& leaf) const {
+        std::uint32_t stack[kMaxDepth * 8];
+        int top = 0;
+        stack[top++] = std::uint32_t(&below - nodes.data());
+        while (top > 0) {
+            const Node& n = nodes[stack[--top]];
+            if (!enter(n)) continue;
+            if (n.leaf()) {
+                leaf(n);
+                continue;
+            }
+            for (std::uint32_t c = n.children; c-- > 0;) stack[top++] = n.child + c;
+        }
+    }
+    // Calls f(k) for every point k with dist_sq(q, point(k)) < r_sq.
+    template <class F>
+    void for_each_within(const Vec3& q, double r_sq, F&& f) const {
+        for_each_leaf([&](const Node& n) { return box_dist_sq(q, n) < r_sq; },
+                      [&](const Node& n) {
+                          for (std::uint32_t k = n.begin; k < n.end; ++k)
+                              if (dist_sq(q, point(k)) < r_sq) f(k);
+                      });
+    }
+
+    // Recomputes the nodes after points were dropped from xyz and input (the rest in order).
+    void refile();
+    // Multiplies every point by factor > 0; the boxes stay tight (rounding is monotone).
+    void scale(double factor);
+
+private:
+    static constexpr int kMaxDepth = 22;  // levels of 21-bit Morton keys, and the root
+
+    // Cubic cells over the points' first box, 2^21 a side: a point's cell, bit-interleaved.
+    struct Frame {
+        double lo[3];
+        double scale;
+        std::uint64_t key(const Vec3f& p) const;
+    };
+    void build_nodes(const std::vector<std::uint64_t>& keys);
+
+    Frame frame_{{0, 0, 0}, 1};
+};
+
+}  // namespace snvr::detail
