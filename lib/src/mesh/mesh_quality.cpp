@@ -334,24 +334,16 @@ void measure_offset(const Mesh& m, const PointTree& points, const std::vector<st
     q.offset_max = max_abs;
 }
 
-// The point figures from the signed depths (PointDepths) and, when given,
-// count_points_inside (the depths' own count is then the second opinion).
-void measure_points(std::vector<double>& depth, std::optional<std::size_t> counted_inside, MeshQuality& q) {
-    double depth_min = kInf;  // a minimum and a count: the same in any order
-    std::size_t parity_inside = 0;
-    for (double d : depth)
-        if (!std::signbit(d)) {
-            depth_min = std::min(depth_min, d);
-            ++parity_inside;
-        }
-    const std::size_t points_inside = counted_inside.value_or(parity_inside);
+// The point figures from PointDepths' and, when given, count_points_inside (the depths'
+// own count is then the second opinion).
+void measure_points(detail::PointDepths::Figures& f, std::optional<std::size_t> counted_inside, MeshQuality& q) {
+    const std::size_t points_inside = counted_inside.value_or(f.inside);
     q.points_inside = points_inside;
     q.points_outside = q.points - q.points_inside;
     q.inside_fraction = q.points == 0 ? kNaN : double(q.points_inside) / double(q.points);
-    q.inside_disagreements = parity_inside > q.points_inside ? parity_inside - q.points_inside
-                                                             : q.points_inside - parity_inside;
-    q.depth_min = depth_min < kInf ? depth_min / q.offset : kNaN;
-    q.depth_p01 = percentile_01(depth) / q.offset;
+    q.inside_disagreements = f.inside > q.points_inside ? f.inside - q.points_inside : q.points_inside - f.inside;
+    q.depth_min = f.depth_min < kInf ? f.depth_min / q.offset : kNaN;
+    q.depth_p01 = percentile_01(f.depths) / q.offset;
 }
 
 // The wall figures from every vertex's wall (reordered).
@@ -415,7 +407,7 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
     // inside by its nearest triangle's side (a ray only where that is unclear):
     // one inside test, not two.
     const std::size_t nv = mesh.vertices.size();
-    std::vector<double> wall(nv, kInf), depth(points.size());
+    std::vector<double> wall(nv, kInf);
     EdgeBuckets edges;
     std::optional<TriangleGrid> grid;
     std::optional<detail::PointDepths> depths;
@@ -456,7 +448,7 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
                 for (std::size_t k = 0; k < all.size(); ++k) all[k] = points.point(k);
                 points_inside = count_points_inside(mesh, all);
             }
-            depths.emplace(mesh, *grid, points, voxel);
+            depths.emplace(mesh, *grid, points, voxel, surface, surface);
         });
         if (!failed[1]) {
             const double eps = wall_epsilon(mesh);
@@ -465,11 +457,19 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
                 guarded(failed[2], [&] {
                     wall_thickness(mesh, *grid, normals, eps, first, std::min(nv, first + kWallChunk), wall);
                 });
-            // Chunks of neighbouring groups (they share bounds and working space), a few per thread.
+            // Chunks of neighbouring groups (they share bounds and working space), a few per
+            // thread; the second pass once the first has found the shallowest measured depth.
             const std::size_t chunk = std::max<std::size_t>(16, depths->groups() / 64);
+#pragma omp taskgroup
+            {
+                for (std::size_t g = 0; g < depths->groups(); g += chunk)
+#pragma omp task firstprivate(g)
+                    guarded(failed[2], [&] { depths->bound(g, std::min(depths->groups(), g + chunk)); });
+            }
+            const double shallowest = depths->shallowest();
             for (std::size_t g = 0; g < depths->groups(); g += chunk)
 #pragma omp task firstprivate(g)
-                guarded(failed[2], [&] { depths->measure(g, std::min(depths->groups(), g + chunk), surface, depth); });
+                guarded(failed[2], [&] { depths->settle(g, std::min(depths->groups(), g + chunk), shallowest); });
         }
 #pragma omp taskwait
     }
@@ -484,7 +484,8 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
     q.oriented = report.oriented();
     if (surface) measure_normal_noise(normals, edges, q);
     EdgeBuckets().swap(edges);
-    measure_points(depth, surface ? std::optional<std::size_t>(points_inside) : std::nullopt, q);
+    detail::PointDepths::Figures figures = depths ? depths->figures() : detail::PointDepths::Figures{};
+    measure_points(figures, surface ? std::optional<std::size_t>(points_inside) : std::nullopt, q);
     measure_walls(wall, q);
     if (exact) measure_exact(mesh, exact, q);
     q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

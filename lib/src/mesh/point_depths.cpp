@@ -1,7 +1,8 @@
 // PointDepths (point_depths.hpp): a dense scan has a hundred points or more per voxel
 // of surface, and a nearest-triangle search per point cost more than the whole
-// reconstruction; a group of points shares its candidate triangles instead, and each
-// leaf of it (about ten points) keeps those within its own reach.
+// reconstruction. A group of points shares one search and its list of candidate
+// triangles; a lower bound for the whole group settles most groups without a look at
+// their single points.
 #include "mesh/point_depths.hpp"
 
 #include <algorithm>
@@ -22,6 +23,7 @@ namespace snvr::detail {
 struct TriangleFrame {
     float values[15];  // ux uy uz vx vy vz nx ny nz len inv_len cx cy inv_bc inv_ca
     int first;         // the corner that is a
+    double radius;     // the farthest corner from a
 };
 
 static TriangleFrame triangle_frame(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
@@ -56,18 +58,27 @@ static TriangleFrame triangle_frame(const Vec3& p0, const Vec3& p1, const Vec3& 
                               length > 0 ? float(1 / length) : 0.0f, float(cu), float(cv),
                               inverse_sq(cu - length, cv), inverse_sq(cu, cv)};
     std::copy(values, values + 15, f.values);
+    f.radius = std::max(length, norm(ac));
     return f;
 }
 
 namespace {
 
-// Groups of at most this many points and this half diagonal (unless a leaf): a group
-// shares the grid search, each of its leaves then a shorter list.
-constexpr std::uint32_t kGroupPoints = 256;
-constexpr double kGroupVoxels = 3;
+// Groups of at most this many points and this half diagonal (unless a single leaf): a
+// group shares one grid search and its list of triangles, and the larger, the longer the
+// list and the looser its bound.
+constexpr std::uint32_t kGroupPoints = 64;
+constexpr double kGroupVoxels = 0.75;
+// Up to this many points every depth is measured, for the percentile; beyond, the groups
+// of about kSamplePoints points, evenly spread (the least depth is always exact).
+constexpr std::size_t kExactPoints = std::size_t(1) << 18;
+constexpr std::size_t kSamplePoints = std::size_t(1) << 18;
 // Below this many points in a group, each point searches the grid on its own (a sparse
 // scan: the shared search would cost more than it saves).
 constexpr std::uint32_t kFewPoints = 16;
+// A group farther than this from the last starts its search afresh (its bound would let
+// too many triangles through).
+constexpr double kJumpVoxels = 8;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr float kInfF = std::numeric_limits<float>::infinity();
 constexpr std::uint32_t kNone = std::uint32_t(-1);
@@ -120,18 +131,25 @@ struct LaneTriangles {
         id.resize(to);
         pad();
     }
-    // The triangles of `from` whose flag is set, in order.
-    void take(const LaneTriangles& from, const std::vector<std::uint8_t>& flags) {
-        std::size_t n = 0;
-        for (std::size_t j = 0; j < from.size(); ++j) n += flags[j];
+    // The triangles of `from` whose flag is set: first those whose `order` value is at
+    // most `first` (the likeliest nearest, so that they fill the first packet), then the
+    // rest; `firsts` of them are first.
+    void take(const LaneTriangles& from, const std::vector<std::uint8_t>& flags, std::size_t n, const float* order,
+              float first, std::size_t firsts) {
         reset(n);
         reach = from.reach;
+        std::size_t front = 0, back = firsts;
         for (std::size_t j = 0; j < from.size(); ++j)
             if (flags[j]) {
-                for (int k = 0; k < kFields; ++k) at(k, count) = from.at(k, j);
-                id.push_back(from.id[j]);
-                ++count;
+                const std::size_t to = order[j] <= first && front < firsts ? front++ : back++;
+                for (int k = 0; k < kFields; ++k) at(k, to) = from.at(k, j);
             }
+        // The ids in the same order.
+        id.assign(n, kNone);
+        front = 0, back = firsts;
+        for (std::size_t j = 0; j < from.size(); ++j)
+            if (flags[j]) id[order[j] <= first && front < firsts ? front++ : back++] = from.id[j];
+        count = n;
         pad();
     }
     // Fills the last packet with points far beyond any other (at 1e18 on each axis, the
@@ -149,21 +167,20 @@ struct LaneTriangles {
 typedef float F8 __attribute__((vector_size(32)));
 typedef std::int32_t I8 __attribute__((vector_size(32)));
 
-// Squared distance from (x, y, z) to a triangle, in float, branch-free (selects, and `&`
-// rather than `&&`), for one triangle (T = float) or eight (T = F8): in the triangle's
-// frame, its plane's distance squared, plus, unless the point's foot lies inside the
-// face, the squared distance in the plane to the nearest edge. get(field) gives the
+// The offset from a triangle's nearest point to (x, y, z), in the triangle's frame (du
+// along u, dv along v, dn along n), in float, branch-free (selects, and `&` rather than
+// `&&`), for one triangle (T = float) or eight (T = F8): in its plane, none where the
+// point's foot lies inside the face, else to the nearest edge. get(field) gives the
 // triangle's (or the eight's) value of a field.
 template <class T, class Get>
-__attribute__((always_inline)) inline T lane_dist_sq(T x, T y, T z, const Get& get) {
+__attribute__((always_inline)) inline void lane_offset(T x, T y, T z, const Get& get, T& du, T& dv, T& dn) {
     using L = LaneTriangles;
     const T zero{}, one = zero + 1;
-    const auto lower = [](T a, T b) { return a < b ? a : b; };
     const auto clamp01 = [&](T t) { return t < zero ? zero : (t > one ? one : t); };
     const T qx = x - get(L::ax), qy = y - get(L::ay), qz = z - get(L::az);
     const T pu = qx * get(L::ux) + qy * get(L::uy) + qz * get(L::uz);
     const T pv = qx * get(L::vx) + qy * get(L::vy) + qz * get(L::vz);
-    const T pn = qx * get(L::nx) + qy * get(L::ny) + qz * get(L::nz);
+    dn = qx * get(L::nx) + qy * get(L::ny) + qz * get(L::nz);
     const T length = get(L::len), cu = get(L::cx), cv = get(L::cy);
     // Edge ab along u, from 0 to length.
     const T ta = clamp01(pu * get(L::inv_len));
@@ -180,7 +197,17 @@ __attribute__((always_inline)) inline T lane_dist_sq(T x, T y, T z, const Get& g
     const T cu2 = wu + tc * cu, cv2 = wv + tc * cv;
     const T ca = cu2 * cu2 + cv2 * cv2;
     const auto inside = (cv > zero) & (pv >= zero) & (eu * pv - cv * bu >= zero) & (cv * pu - cu * pv >= zero);
-    return pn * pn + (inside ? zero : lower(lower(ab, bc), ca));
+    const auto to_ab = (ab <= bc) & (ab <= ca), to_bc = bc <= ca;
+    du = inside ? zero : (to_ab ? au : (to_bc ? bu2 : cu2));
+    dv = inside ? zero : (to_ab ? pv : (to_bc ? bv2 : cv2));
+}
+
+// The squared distance from (x, y, z) to a triangle (or eight), as lane_offset.
+template <class T, class Get>
+__attribute__((always_inline)) inline T lane_dist_sq(T x, T y, T z, const Get& get) {
+    T du, dv, dn;
+    lane_offset(x, y, z, get, du, dv, dn);
+    return du * du + dv * dv + dn * dn;
 }
 
 // A point's three least squared distances over triangles, and the triangles of the two
@@ -190,14 +217,70 @@ struct Least {
     std::uint32_t id[2];
 };
 
-// Least over the triangles, a packet at a time.
-__attribute__((target_clones("avx2", "default"))) Least nearest_over_triangles(const LaneTriangles& t, float x,
-                                                                             float y, float z) {
+// Lower bounds of each triangle's distance near a reference point r, in packets of eight
+// like the triangles': its distance D from r and the unit gradient g of that distance
+// there. A triangle is convex, so its distance is a convex function of the point and
+// lies above its tangent plane: dist(p) >= D + g . (p - r).
+struct TangentBounds {
+    std::vector<float> v;  // per packet: D[8], gx[8], gy[8], gz[8]
+    static constexpr std::size_t kPacket = 32;
+};
+
+__attribute__((target_clones("avx2", "default"))) void tangents_over_triangles(const LaneTriangles& t, float x,
+                                                                             float y, float z, float* out) {
+    const F8 px = F8{} + x, py = F8{} + y, pz = F8{} + z;
+    for (std::size_t p = 0; p < t.packets(); ++p) {
+        const float* fields = t.packet(p);
+        const auto get = [&](int field) {
+            F8 v;
+            std::memcpy(&v, fields + 8 * field, sizeof v);
+            return v;
+        };
+        F8 du, dv, dn;
+        lane_offset(px, py, pz, get, du, dv, dn);
+        const F8 d2 = du * du + dv * dv + dn * dn;
+        F8 d;
+        for (int l = 0; l < 8; ++l) d[l] = std::sqrt(d2[l]);
+        const F8 zero{};
+        const F8 inv = d > zero ? (zero + 1) / d : zero;  // no direction at distance 0: no bound but D
+        using L = LaneTriangles;
+        const F8 gx = (du * get(L::ux) + dv * get(L::vx) + dn * get(L::nx)) * inv;
+        const F8 gy = (du * get(L::uy) + dv * get(L::vy) + dn * get(L::ny)) * inv;
+        const F8 gz = (du * get(L::uz) + dv * get(L::vz) + dn * get(L::nz)) * inv;
+        float* to = out + p * TangentBounds::kPacket;
+        std::memcpy(to, &d, sizeof d);
+        std::memcpy(to + 8, &gx, sizeof gx);
+        std::memcpy(to + 16, &gy, sizeof gy);
+        std::memcpy(to + 24, &gz, sizeof gz);
+    }
+}
+
+// Least over the triangles, a packet at a time; after the first, a packet whose every
+// tangent bound (about the reference point (rx, ry, rz)) lies beyond the best distance so
+// far by `margin` (far above their rounding) cannot come near the least: it is passed by.
+__attribute__((target_clones("avx2", "default"))) Least nearest_over_triangles(const LaneTriangles& t,
+                                                                             const float* bounds, float x, float y,
+                                                                             float z, float rx, float ry, float rz,
+                                                                             float margin) {
     const F8 inf = F8{} + std::numeric_limits<float>::infinity();
     const F8 px = F8{} + x, py = F8{} + y, pz = F8{} + z;
+    const F8 ox = F8{} + (x - rx), oy = F8{} + (y - ry), oz = F8{} + (z - rz);
     F8 b1 = inf, b2 = inf, b3 = inf;
     I8 a1 = I8{} - 1, a2 = I8{} - 1;
+    float best = std::numeric_limits<float>::infinity();  // the least distance so far
     for (std::size_t p = 0; p < t.packets(); ++p) {
+        if (p > 0) {
+            const float* b = bounds + p * TangentBounds::kPacket;
+            F8 d, gx, gy, gz;
+            std::memcpy(&d, b, sizeof d);
+            std::memcpy(&gx, b + 8, sizeof gx);
+            std::memcpy(&gy, b + 16, sizeof gy);
+            std::memcpy(&gz, b + 24, sizeof gz);
+            const F8 low = d + gx * ox + gy * oy + gz * oz;
+            float least_low = low[0];
+            for (int l = 1; l < 8; ++l) least_low = std::min(least_low, low[l]);
+            if (least_low >= best + margin) continue;
+        }
         const float* fields = t.packet(p);
         const auto get = [&](int field) {
             F8 v;
@@ -213,6 +296,9 @@ __attribute__((target_clones("avx2", "default"))) Least nearest_over_triangles(c
         a2 = n1 ? a1 : (n2 ? id : a2);
         b1 = n1 ? d : b1;
         a1 = n1 ? id : a1;
+        float least = b1[0];
+        for (int l = 1; l < 8; ++l) least = std::min(least, b1[l]);
+        best = std::sqrt(least);
     }
     // Each lane holds its three least in order: the overall least is the least head, and
     // each next one the least head of what is left.
@@ -248,35 +334,71 @@ __attribute__((target_clones("avx2", "default"))) void distances_over_triangles(
     }
 }
 
-// A call's working space, kept from group to group.
+// A group's working space, kept from group to group.
 struct Scratch {
     std::vector<std::uint32_t> near, seen;
     std::uint32_t mark = 0;
-    LaneTriangles group, leaf;
-    std::vector<float> from, x, y, z;
+    LaneTriangles all, kept;
+    std::vector<float> from, firsts;
+    TangentBounds tangents;
     std::vector<std::uint8_t> flags;
-    std::vector<std::uint32_t> nearest;
-    std::vector<double> d2;
 };
+
+// Inside or not by the parity of crossings along a ray in a direction that no
+// grid-aligned edge of a marching-cubes mesh is parallel to, heading for the nearer face
+// of the mesh's box on every axis to cut the walk short. -1 inside, +1 outside.
+int ray_side(const TriangleGrid& grid, const Vec3& p, const Vec3& lo, const Vec3& hi) {
+    static const Vec3 dir = [] {
+        const Vec3 d{0.5377, 0.3019, 0.7877};
+        const double n = norm(d);
+        return Vec3{d[0] / n, d[1] / n, d[2] / n};
+    }();
+    Vec3 toward = dir;
+    for (int a = 0; a < 3; ++a)
+        if (p[a] - lo[a] < hi[a] - p[a]) toward[a] = -toward[a];
+    return grid.count_crossings(p, toward) % 2 == 1 ? -1 : 1;
+}
 
 }  // namespace
 
 PointDepths::~PointDepths() = default;
 
-PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel)
-    : mesh_(mesh), grid_(grid), points_(points) {
+PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
+                         bool every_point, bool by_rays)
+    : mesh_(mesh), grid_(grid), points_(points), every_point_(every_point), by_rays_(by_rays),
+      jump_(kJumpVoxels * voxel) {
+    // Leaves taken in Morton order, as many as fit in a group: neighbours in that order
+    // lie side by side.
     const double most = kGroupVoxels * voxel;
-    points.for_each_leaf(
-        [&](const PointTree::Node& n) {
-            if (n.leaf()) return true;
-            const double half_diag = 0.5 * std::sqrt(PointTree::dist_sq(points.lo(n), points.hi(n)));
-            if (n.count() <= kGroupPoints && half_diag <= most) {
-                groups_.push_back(&n);  // a group of its own: nothing below is entered
-                return false;
-            }
-            return true;
-        },
-        [&](const PointTree::Node& n) { groups_.push_back(&n); });
+    Group open{};
+    points.for_each_leaf([](const PointTree::Node&) { return true; }, [&](const PointTree::Node& leaf) {
+        const Vec3 lo = points.lo(leaf), hi = points.hi(leaf);
+        Group grown = open;
+        for (int a = 0; a < 3; ++a) {
+            grown.lo[a] = std::min(open.lo[a], lo[a]);
+            grown.hi[a] = std::max(open.hi[a], hi[a]);
+        }
+        grown.end = leaf.end;
+        const bool fits = leaf.end - open.begin <= kGroupPoints &&
+                          0.5 * std::sqrt(PointTree::dist_sq(grown.lo, grown.hi)) <= most;
+        if (open.end > open.begin && fits) {
+            open = grown;
+            return;
+        }
+        if (open.end > open.begin) groups_.push_back(open);
+        open = Group{};
+        open.begin = leaf.begin;
+        open.end = leaf.end;
+        open.lo = lo;
+        open.hi = hi;
+    });
+    if (open.end > open.begin) groups_.push_back(open);
+    // The groups the percentile is taken over: all of them for up to kExactPoints points,
+    // else every stride-th (evenly over the Morton order: over the whole surface).
+    const std::size_t n = points.size();
+    const std::size_t stride = every_point || n <= kExactPoints ? 1 : (n + kSamplePoints - 1) / kSamplePoints;
+    for (std::size_t g = 0; g < groups_.size(); g += stride) groups_[g].sampled = true;
+
     frames_.resize(mesh.triangles.size());
     const std::ptrdiff_t nt = std::ptrdiff_t(mesh.triangles.size());
 #pragma omp parallel for schedule(static) if (nt > (1 << 14))
@@ -294,159 +416,253 @@ PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const Point
     }
 }
 
-void PointDepths::measure(std::size_t first, std::size_t last, bool by_rays, std::vector<double>& depth) const {
+void PointDepths::bound(std::size_t first, std::size_t last) {
     Scratch s;
-    double before = kInf;  // the last group's centre's distance to the surface
+    double before = kInf;  // a bound on the last group's centre's distance to the surface
     Vec3 before_at{0, 0, 0};
     for (std::size_t g = first; g < last; ++g) {
-        const PointTree::Node& node = *groups_[g];
-        const Vec3 lo = points_.lo(node), hi = points_.hi(node);
-        const Vec3 centre{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
-        // Within the last group's distance plus the way between them: a tight bound.
-        const double guess = before + norm(sub(centre, before_at));
-        TriangleGrid::Closest at = grid_.closest(centre, guess * guess * (1 + 1e-9));
-        if (at.triangle == TriangleGrid::none) at = grid_.closest(centre);
-        before = std::sqrt(at.dist_sq);
+        Group& group = groups_[g];
+        const Vec3 centre = group.centre();
+        // The last group's bound plus the way between them (groups come in Morton order,
+        // mostly side by side); after a jump, a search of its own.
+        const double way = norm(sub(centre, before_at));
+        double bound = before + way;
+        if (!(way <= jump_)) {
+            const TriangleGrid::Closest at = grid_.closest(centre);
+            bound = at.triangle == TriangleGrid::none ? kInf : std::sqrt(at.dist_sq) * (1 + 1e-9);
+        }
+        before = visit(group, bound, false, &s);
         before_at = centre;
-        measure_group(node, centre, at.dist_sq, by_rays, &s, depth);
     }
 }
 
-void PointDepths::measure_group(const PointTree::Node& node, const Vec3& centre, double centre_sq, bool by_rays,
-                                void* scratch, std::vector<double>& depth) const {
+void PointDepths::settle(std::size_t first, std::size_t last, double shallowest) {
+    Scratch s;
+    for (std::size_t g = first; g < last; ++g) {
+        Group& group = groups_[g];
+        if (group.measured || group.side > 0 || !(group.low < shallowest)) continue;
+        const TriangleGrid::Closest at = grid_.closest(group.centre());
+        visit(group, at.triangle == TriangleGrid::none ? kInf : std::sqrt(at.dist_sq) * (1 + 1e-9), true, &s);
+    }
+}
+
+double PointDepths::shallowest() const {
+    double least = kInf;
+    for (const Group& g : groups_) least = std::min(least, g.shallowest);
+    return least;
+}
+
+PointDepths::Figures PointDepths::figures() const {
+    Figures f;
+    for (const Group& g : groups_) {
+        f.inside += g.inside;
+        f.depth_min = std::min(f.depth_min, g.shallowest);
+        f.depths.insert(f.depths.end(), g.depths.begin(), g.depths.end());
+    }
+    return f;
+}
+
+// The distance from p to the surface squared and its nearest triangle, among the kept
+// candidates (all within reach of p's group), exactly: in float and lanes first, then in
+// double for the least (and any that the floats could not tell from it).
+void PointDepths::nearest(const Vec3& p, const Vec3& centre, const void* scratch, double slack, float margin,
+                          double& d2, std::uint32_t& triangle) const {
+    const Scratch& s = *static_cast<const Scratch*>(scratch);
+    const auto& V = mesh_.vertices;
+    const auto& T = mesh_.triangles;
+    d2 = kInf;
+    triangle = kNone;
+    const auto exact = [&](std::uint32_t t) {
+        const double e = point_triangle_dist_sq(p, V[T[t][0]], V[T[t][1]], V[T[t][2]]);
+        if (e < d2 || (e == d2 && t < triangle)) d2 = e, triangle = t;
+    };
+    const Vec3 rel = sub(p, centre);
+    const Least low =
+        nearest_over_triangles(s.kept, s.tangents.v.data(), float(rel[0]), float(rel[1]), float(rel[2]), 0, 0, 0, margin);
+    if (low.id[0] == kNone) return;
+    // A least value clear of the next by twice the slack is the exact least: only its
+    // triangle is measured in double; two near-equal ones (a foot near the edge they share)
+    // both; more, every candidate.
+    if (double(low.d[1]) - double(low.d[0]) > 2 * slack) {
+        exact(low.id[0]);
+    } else if (double(low.d[2]) - double(low.d[0]) > 2 * slack) {
+        exact(low.id[0]);
+        exact(low.id[1]);
+    } else {
+        for (std::size_t j = 0; j < s.kept.size(); ++j) exact(s.kept.id[j]);
+    }
+}
+
+int PointDepths::side(const Vec3& p, std::uint32_t triangle) const {
+    int side = 0;
+    if (!by_rays_ && triangle != kNone) {
+        const auto& t = mesh_.triangles[triangle];
+        side = face_side(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
+    }
+    return side != 0 ? side : ray_side(grid_, p, lo_, hi_);
+}
+
+double PointDepths::visit(Group& group, double bound, bool every_point, void* scratch) const {
     Scratch& s = *static_cast<Scratch*>(scratch);
-    const std::uint32_t count = node.count();
+    const std::uint32_t count = group.end - group.begin;
+    const Vec3 centre = group.centre();
     double radius = 0;
-    for (std::uint32_t k = node.begin; k < node.end; ++k)
+    for (std::uint32_t k = group.begin; k < group.end; ++k)
         radius = std::max(radius, PointTree::dist_sq(points_.point(k), centre));
     radius = std::sqrt(radius);
     const auto& V = mesh_.vertices;
     const auto& T = mesh_.triangles;
-    s.d2.assign(count, kInf);
-    s.nearest.assign(count, kNone);
-
-    if (centre_sq < kInf && count < kFewPoints) {
-        // Too few to share a search: each point's own, bounded by the centre's distance
-        // plus the way to it.
-        for (std::uint32_t k = 0; k < count; ++k) {
-            const Vec3 p = points_.point(node.begin + k);
-            const double bound = std::sqrt(centre_sq) + norm(sub(p, centre));
-            TriangleGrid::Closest near = grid_.closest(p, bound * bound * (1 + 1e-9) + 1e-300);
+    every_point = every_point || every_point_ || group.sampled;
+    const auto measured = [&](std::uint32_t k, double d2, std::uint32_t triangle) {
+        const Vec3 p = points_.point(k);
+        const double d = std::sqrt(d2);
+        const bool inside = side(p, triangle) < 0;
+        if (inside) {
+            group.shallowest = std::min(group.shallowest, d);
+            ++group.inside;
+        }
+        if (group.sampled) group.depths.push_back(inside ? d : -d);
+    };
+    const auto start = [&] {
+        group.inside = 0;
+        group.shallowest = kInf;
+        group.depths.clear();
+        group.measured = true;
+    };
+    if (!(bound < kInf)) {  // no triangle at all: every point outside, infinitely far
+        start();
+        for (std::uint32_t k = group.begin; k < group.end; ++k) measured(k, kInf, kNone);
+        return kInf;
+    }
+    if (count < kFewPoints) {
+        // Too few to share a search: each point's own, bounded by the centre's bound plus
+        // the way to it.
+        start();
+        double centre_bound = kInf;
+        for (std::uint32_t k = group.begin; k < group.end; ++k) {
+            const Vec3 p = points_.point(k);
+            const double way = norm(sub(p, centre)), own = (bound + way) * (1 + 1e-9);
+            TriangleGrid::Closest near = grid_.closest(p, own * own + 1e-300);
             if (near.triangle == TriangleGrid::none) near = grid_.closest(p);
-            s.d2[k] = near.dist_sq;
-            s.nearest[k] = near.triangle == TriangleGrid::none ? kNone : near.triangle;
+            measured(k, near.dist_sq, near.triangle == TriangleGrid::none ? kNone : near.triangle);
+            centre_bound = std::min(centre_bound, (std::sqrt(near.dist_sq) + way) * (1 + 1e-9));
         }
-    } else if (centre_sq < kInf) {
-        // Each point's nearest triangle lies within d + r of it, d the centre's distance
-        // to the surface: within d + 2 r of the centre. The grid's boxes give a superset, a
-        // ball around each triangle (centroid, farthest corner) a smaller one, and the
-        // triangles' own distances to the centre (in float, with room for its rounding)
-        // keep those that can matter.
-        const double reach = (std::sqrt(centre_sq) + 2 * radius) * (1 + 1e-9) + 1e-12 * (radius + 1);
-        if (s.seen.size() != T.size()) s.seen.assign(T.size(), 0);
-        grid_.near(centre, reach, s.near, s.seen, ++s.mark);
-        LaneTriangles& group = s.group;
-        group.reset(s.near.size());
-        for (std::uint32_t t : s.near) {
-            const Vec3 &a = V[T[t][0]], &b = V[T[t][1]], &c = V[T[t][2]];
-            const Vec3 mid{(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3};
-            const double ball = std::max({norm(sub(a, mid)), norm(sub(b, mid)), norm(sub(c, mid))});
-            if (norm(sub(centre, mid)) - ball > reach * (1 + 1e-9)) continue;
-            const TriangleFrame& f = frames_[t];
-            const Vec3 corner = sub(V[T[t][std::size_t(f.first)]], centre);
-            group.reach = std::max({group.reach, norm(sub(a, centre)), norm(sub(b, centre)), norm(sub(c, centre))});
-            group.add(t, f, corner);
-        }
-        group.pad();
-        // The floats err by far less than this: every value below (2 R)^2, R the largest
-        // coordinate about the centre, and rounded a dozen times by 2^-24 of it.
-        const double big = 2 * std::max(group.reach, radius);
-        const double slack = 0x1p-18 * big * big;
-        s.from.resize(group.packets() * 8);
-        distances_over_triangles(group, 0, 0, 0, s.from.data());
-        s.flags.resize(group.size());
-        for (std::size_t j = 0; j < group.size(); ++j) s.flags[j] = double(s.from[j]) <= reach * reach + slack;
-        group.keep(s.flags);
-
-        for (auto* v : {&s.x, &s.y, &s.z}) v->resize(count);
-        for (std::uint32_t k = 0; k < count; ++k) {
-            const Vec3 p = sub(points_.point(node.begin + k), centre);
-            s.x[k] = float(p[0]);
-            s.y[k] = float(p[1]);
-            s.z[k] = float(p[2]);
-        }
-        const auto exact = [&](const Vec3& p, std::uint32_t t, std::uint32_t k) {
-            const double e = point_triangle_dist_sq(p, V[T[t][0]], V[T[t][1]], V[T[t][2]]);
-            if (e < s.d2[k] || (e == s.d2[k] && t < s.nearest[k])) s.d2[k] = e, s.nearest[k] = t;
-        };
-        // Then each leaf the same way, about its point nearest its box's centre: the
-        // group's triangles within d + 2 r of that point, r the leaf's radius about it.
-        points_.for_each_leaf_below(
-            node, [](const PointTree::Node&) { return true; },
-            [&](const PointTree::Node& leaf) {
-                const Vec3 llo = points_.lo(leaf), lhi = points_.hi(leaf);
-                const Vec3 middle{0.5 * (llo[0] + lhi[0]), 0.5 * (llo[1] + lhi[1]), 0.5 * (llo[2] + lhi[2])};
-                std::uint32_t ref = leaf.begin;
-                for (std::uint32_t k = leaf.begin + 1; k < leaf.end; ++k)
-                    if (PointTree::dist_sq(points_.point(k), middle) < PointTree::dist_sq(points_.point(ref), middle))
-                        ref = k;
-                const Vec3 at = points_.point(ref);
-                double leaf_radius = 0;
-                for (std::uint32_t k = leaf.begin; k < leaf.end; ++k)
-                    leaf_radius = std::max(leaf_radius, PointTree::dist_sq(points_.point(k), at));
-                leaf_radius = std::sqrt(leaf_radius);
-                const std::uint32_t r = ref - node.begin;
-                distances_over_triangles(group, s.x[r], s.y[r], s.z[r], s.from.data());
-                float least = kInfF;
-                for (std::size_t j = 0; j < group.size(); ++j) least = std::min(least, s.from[j]);
-                const double leaf_reach = (std::sqrt(double(least) + slack) + 2 * leaf_radius) * (1 + 1e-9);
-                for (std::size_t j = 0; j < group.size(); ++j)
-                    s.flags[j] = double(s.from[j]) <= leaf_reach * leaf_reach + slack;
-                LaneTriangles& mine = s.leaf;
-                mine.take(group, s.flags);
-                // A least value clear of the next by twice the slack is the exact least: only
-                // its triangle is measured in double; two near-equal ones (a foot near the edge
-                // they share) both; more, every triangle of the leaf.
-                for (std::uint32_t k = leaf.begin - node.begin; k < leaf.end - node.begin; ++k) {
-                    const Least low = nearest_over_triangles(mine, s.x[k], s.y[k], s.z[k]);
-                    if (low.id[0] == kNone) continue;
-                    const Vec3 p = points_.point(node.begin + k);
-                    if (double(low.d[1]) - double(low.d[0]) > 2 * slack) {
-                        exact(p, low.id[0], k);
-                    } else if (double(low.d[2]) - double(low.d[0]) > 2 * slack) {
-                        exact(p, low.id[0], k);
-                        exact(p, low.id[1], k);
-                    } else {
-                        for (std::size_t j = 0; j < mine.size(); ++j) exact(p, mine.id[j], k);
-                    }
-                }
-            });
+        return centre_bound;
     }
 
-    // Inside or not by the parity of crossings along a ray in a direction that no
-    // grid-aligned edge of a marching-cubes mesh is parallel to, heading for the nearer
-    // face of the mesh's box on every axis to cut the walk short.
-    const Vec3 dir = [] {
-        const Vec3 d{0.5377, 0.3019, 0.7877};
-        const double n = norm(d);
-        return Vec3{d[0] / n, d[1] / n, d[2] / n};
-    }();
-    for (std::uint32_t k = 0; k < count; ++k) {
-        const Vec3 p = points_.point(node.begin + k);
-        const double d = std::sqrt(s.d2[k]);
-        int side = 0;
-        if (!by_rays && s.nearest[k] != kNone) {
-            const auto& t = T[s.nearest[k]];
-            side = face_side(p, V[t[0]], V[t[1]], V[t[2]]);
-        }
-        if (side == 0) {
-            Vec3 toward = dir;
-            for (int a = 0; a < 3; ++a)
-                if (p[a] - lo_[a] < hi_[a] - p[a]) toward[a] = -toward[a];
-            side = grid_.count_crossings(p, toward) % 2 == 1 ? -1 : 1;
-        }
-        depth[node.begin + k] = side < 0 ? d : -d;
+    // Each point's nearest triangle lies within d + r of it, d the centre's distance to
+    // the surface: within d + 2 r of the centre. The grid's boxes give a superset, and the
+    // triangles' own distances to the centre (in float, with room for its rounding) keep
+    // those that can matter. (d from a search bounded by the last group's: far fewer
+    // triangles go through the boxes than with that bound alone.)
+    const TriangleGrid::Closest at = grid_.closest(centre, bound * bound * (1 + 1e-9));
+    if (at.triangle != TriangleGrid::none) bound = std::sqrt(at.dist_sq) * (1 + 1e-9);
+    const double first_reach = (bound + 2 * radius) * (1 + 1e-9) + 1e-12 * (radius + 1);
+    if (s.seen.size() != T.size()) s.seen.assign(T.size(), 0);
+    grid_.near(centre, first_reach, s.near, s.seen, ++s.mark);
+    LaneTriangles& all = s.all;
+    all.reset(s.near.size());
+    for (std::uint32_t t : s.near) {
+        const TriangleFrame& f = frames_[t];
+        const Vec3 corner = sub(V[T[t][std::size_t(f.first)]], centre);
+        all.reach = std::max(all.reach, f.radius + norm(corner));
+        all.add(t, f, corner);
     }
+    all.pad();
+    // The floats err by far less than this: every value below (2 R)^2, R the largest
+    // coordinate about the centre, and rounded a dozen times by 2^-24 of it.
+    const double big = 2 * std::max(all.reach, radius);
+    const double slack = 0x1p-18 * big * big;
+    // The same in distances, for the tangent bounds: above their own rounding (a few
+    // 2^-24 of big) and the root of the slack over the least distance there is.
+    const float margin = float(0x1p-12 * big);
+    s.from.resize(all.packets() * 8);
+    distances_over_triangles(all, 0, 0, 0, s.from.data());
+    float least = kInfF;
+    for (std::size_t j = 0; j < all.size(); ++j) least = std::min(least, s.from[j]);
+    const double centre_bound = std::sqrt(double(least) + slack) * (1 + 1e-9);
+    const double reach = (centre_bound + 2 * radius) * (1 + 1e-9) + 1e-12 * (radius + 1);
+    // Those within reach, the eight nearest the centre first (with them a point has a good
+    // bound at once, and the tangent bounds pass most of the rest by).
+    s.flags.resize(all.size());
+    s.firsts.clear();
+    const float within = float(reach * reach + slack) * (1 + 0x1p-20f);
+    for (std::size_t j = 0; j < all.size(); ++j) {
+        s.flags[j] = s.from[j] <= within;
+        if (s.flags[j]) s.firsts.push_back(s.from[j]);
+    }
+    float first = kInfF;
+    const std::size_t kept = s.firsts.size(), firsts = std::min<std::size_t>(8, kept);
+    if (kept > 8) {
+        std::nth_element(s.firsts.begin(), s.firsts.begin() + 7, s.firsts.end());
+        first = s.firsts[7];
+    }
+    s.kept.take(all, s.flags, kept, s.from.data(), first, firsts);
+    s.tangents.v.resize(s.kept.packets() * TangentBounds::kPacket);
+    tangents_over_triangles(s.kept, 0, 0, 0, s.tangents.v.data());
+
+    if (every_point) {
+        start();
+        for (std::uint32_t k = group.begin; k < group.end; ++k) {
+            double d2;
+            std::uint32_t t;
+            nearest(points_.point(k), centre, &s, slack, margin, d2, t);
+            measured(k, d2, t);
+        }
+        return centre_bound;
+    }
+
+    // A bound on every point's distance at once. Each candidate's distance lies above its
+    // tangent plane at the centre, D + g . (p - c); split g along n (the gradient of the
+    // centre's nearest triangle: nearly every candidate's, on a smooth surface) and across
+    // it, and bound each part by the points' extent along n and their distance from the
+    // line through the centre along n.
+    const float* tb = s.tangents.v.data();
+    const auto tangent = [&](std::size_t j, int field) { return tb[j / 8 * TangentBounds::kPacket + 8 * field + j % 8]; };
+    std::size_t j0 = 0;
+    for (std::size_t j = 1; j < s.kept.size(); ++j)
+        if (tangent(j, 0) < tangent(j0, 0)) j0 = j;
+    const Vec3 n{tangent(j0, 1), tangent(j0, 2), tangent(j0, 3)};
+    double along_lo = kInf, along_hi = -kInf, across = 0;
+    std::uint32_t ref = group.begin;  // the point likeliest the shallowest: least along n
+    for (std::uint32_t k = group.begin; k < group.end; ++k) {
+        const Vec3 d = sub(points_.point(k), centre);
+        const double a = dot(d, n);
+        if (a < along_lo) along_lo = a, ref = k;
+        along_hi = std::max(along_hi, a);
+        across = std::max(across, norm(Vec3{d[0] - a * n[0], d[1] - a * n[1], d[2] - a * n[2]}));
+    }
+    double low = kInf;
+    for (std::size_t j = 0; j < s.kept.size(); ++j) {
+        const double c = tangent(j, 1) * n[0] + tangent(j, 2) * n[1] + tangent(j, 3) * n[2];
+        const double sine = std::sqrt(std::max(0.0, 1 - c * c));
+        low = std::min(low, double(tangent(j, 0)) + std::min(c * along_lo, c * along_hi) - sine * across);
+    }
+    // Far above the floats' rounding of D, g and the points, and n's of unit length.
+    low -= double(margin) + 1e-6 * (radius + centre_bound);
+    // That point, measured: the group's side when nothing crosses it, and a depth that
+    // bounds the shallowest from above (the tighter, the fewer groups settle() measures).
+    double d2;
+    std::uint32_t t;
+    nearest(points_.point(ref), centre, &s, slack, margin, d2, t);
+    const int ref_side = side(points_.point(ref), t);
+    // Two points on opposite sides have the surface between them, within their distance
+    // (at most 2 r) of each: with every point farther than that, they all share a side.
+    if (low > 2 * radius) {
+        group.low = low;
+        group.side = ref_side;
+        group.inside = ref_side < 0 ? count : 0;
+        group.shallowest = ref_side < 0 ? std::sqrt(d2) : kInf;
+        return centre_bound;
+    }
+    start();
+    for (std::uint32_t k = group.begin; k < group.end; ++k) {
+        double e2;
+        std::uint32_t e;
+        nearest(points_.point(k), centre, &s, slack, margin, e2, e);
+        measured(k, e2, e);
+    }
+    return centre_bound;
 }
 
 }  // namespace snvr::detail

@@ -1,6 +1,9 @@
-// How deep each point lies below a closed mesh's surface (point_depths.cpp).
+// How deep each point lies below a closed mesh's surface, and which points lie inside
+// (point_depths.cpp).
 #pragma once
 #include <cstddef>
+#include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "geometry/point_tree.hpp"
@@ -11,34 +14,72 @@ namespace snvr::detail {
 
 struct TriangleFrame;  // point_depths.cpp
 
-// The points in groups of nearby points (nodes of the tree), each group with the
-// triangles that can be nearest to one of its points: within d + 2 r of the group's
-// centre, d its distance to the surface and r its radius. Every point is then tested
-// against its group's few dozen triangles, in float and in parallel lanes, and the
-// nearest found again in double: the exact squared distance of the nearest triangle.
+// The points in groups of neighbours (leaves of the tree, consecutive in its order), each
+// group with the triangles that can be nearest to one of its points: within d + 2 r of
+// its centre, d the centre's distance to the surface and r the group's radius. A point is
+// measured against them in float and in vector lanes, then again in double for the
+// nearest: its exact squared distance. But most groups need no point measured: a lower
+// bound for the whole group (from the candidates' tangent planes) shows that nothing
+// crosses it (all its points share one side, that of the point nearest its centre) and
+// how deep its shallowest point can be. bound() visits every group; settle() then
+// measures, point by point, the groups whose bound lies below the shallowest depth found
+// (one of them holds the shallowest point), so that the least depth is exact. Depths for
+// the percentile are measured in every group up to 2^18 points, else in evenly spread
+// groups of about that many points in all.
 class PointDepths {
 public:
-    // `voxel` bounds a group's radius (its triangles are those within a few voxels).
-    PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel);
+    // every_point: measure every point (and by a ray's crossings when by_rays) rather than
+    // only what the figures need.
+    PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel, bool every_point,
+                bool by_rays);
     ~PointDepths();
 
     std::size_t groups() const { return groups_.size(); }
-    // For the points of groups [first, last): depth[k] = their distance to the surface,
-    // negated (-0 for 0) when outside; inside by the side of the nearest triangle where
-    // the point's foot lies clear inside its face, else (or always when `by_rays`) by
-    // the parity of a ray's crossings. Neighbouring groups in one call share a bound.
-    void measure(std::size_t first, std::size_t last, bool by_rays, std::vector<double>& depth) const;
+    // The first pass over groups [first, last) (disjoint ranges from several threads).
+    void bound(std::size_t first, std::size_t last);
+    // The shallowest depth measured in the first pass: every bound() done.
+    double shallowest() const;
+    // The second pass over groups [first, last): those inside with a bound below `shallowest`.
+    void settle(std::size_t first, std::size_t last, double shallowest);
+
+    struct Figures {
+        std::size_t inside = 0;                                // points inside
+        double depth_min = std::numeric_limits<double>::infinity();  // the least depth of a point inside
+        std::vector<double> depths;  // signed depths (negative outside) of the points sampled for the percentile
+    };
+    Figures figures() const;
 
 private:
-    // One group, its centre's squared distance to the surface given; scratch: the
-    // call's working space (point_depths.cpp).
-    void measure_group(const PointTree::Node& node, const Vec3& centre, double centre_sq, bool by_rays, void* scratch,
-                       std::vector<double>& depth) const;
+    // Points [begin, end) of the tree, within the box [lo, hi], and what is known of them.
+    struct Group {
+        std::uint32_t begin = 0, end = 0;
+        Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+        bool sampled = false;   // its depths go to the percentile
+        bool measured = false;  // point by point
+        int side = 0;           // +1 all outside, -1 all inside, 0 not known as a whole
+        double low = -std::numeric_limits<double>::infinity();  // no point nearer the surface
+        double shallowest = std::numeric_limits<double>::infinity();  // least depth measured inside
+        std::size_t inside = 0;
+        std::vector<double> depths;  // when sampled
+        Vec3 centre() const { return {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])}; }
+    };
+    // One group, given a bound on its centre's distance to the surface; every_point to
+    // measure each point. Returns a (tighter) bound on the centre's distance.
+    double visit(Group& group, double bound, bool every_point, void* scratch) const;
+    // p's exact squared distance to the surface and nearest triangle, among the
+    // candidates the scratch holds for p's group.
+    void nearest(const Vec3& p, const Vec3& centre, const void* scratch, double slack, float margin, double& d2,
+                 std::uint32_t& triangle) const;
+    // -1 inside, +1 outside: by the nearest triangle's side where p's foot lies clear
+    // inside its face, else (or always, by_rays) by a ray's crossings.
+    int side(const Vec3& p, std::uint32_t triangle) const;
 
     const Mesh& mesh_;
     const TriangleGrid& grid_;
     const PointTree& points_;
-    std::vector<const PointTree::Node*> groups_;
+    bool every_point_, by_rays_;
+    double jump_;  // beyond this from the last group, a fresh search
+    std::vector<Group> groups_;
     std::vector<TriangleFrame> frames_;  // each triangle's, as the lanes take it
     Vec3 lo_{0, 0, 0}, hi_{0, 0, 0};  // the mesh's box, for the rays' directions
 };
