@@ -8,7 +8,10 @@
 namespace snvr {
 
 Vec3 round_centre(const PointSet& points) {
-    const Bounds box = bounds(points);  // both corners 0 for no points: no shift
+    return round_centre(bounds(points));  // both corners 0 for no points: no shift
+}
+
+Vec3 round_centre(const Bounds& box) {
     const double longest = box.longest();
     const double step = longest > 0 && std::isfinite(longest) ? std::pow(10.0, std::floor(std::log10(longest))) : 1.0;
     Vec3 centre{};
