@@ -30,9 +30,11 @@ InputPoints read_input(const std::string& path, const Parameters& params) {
     detail::require_regular_file(path);
     const std::string ext = detail::lower_extension(detail::format_name(path));
     if (ext != ".stl" && ext != ".ply" && ext != ".obj" && ext != ".off") return {read_points(path), 0, 0};
-    const std::string data = detail::read_input_bytes(path);
+    detail::InputBytes bytes(path);
+    const std::string_view data = bytes.view();
     if (!detail::has_faces(data, path)) return {detail::parse_points(data, path), 0, 0};
     const Mesh mesh = detail::parse_mesh(data, path);
+    bytes.release();
     for (const Vec3& v : mesh.vertices)
         for (double x : v)
             if (!std::isfinite(x)) throw InputError(path + ": a vertex has a non-finite coordinate");

@@ -1,6 +1,6 @@
-// read_points: picks the parser from the file extension, loads the whole file
-// with one read (parsers then work on memory, not streams) and rejects sets
-// that no later stage could use.
+// read_points: picks the parser from the file extension, maps the file (parsers
+// then work on memory, not streams; nothing is copied) and rejects sets that no
+// later stage could use.
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -62,7 +62,8 @@ PointSet detail::parse_points(std::string_view data, const std::string& path) {
 PointSet read_points(const std::string& path) {
     detail::require_regular_file(path);  // before the extension: "'dir' is a directory"
     parser_for(path);                    // an unknown extension fails before any read
-    return detail::parse_points(detail::read_input_bytes(path), path);
+    const detail::InputBytes bytes(path);
+    return detail::parse_points(bytes.view(), path);
 }
 
 }  // namespace snvr
