@@ -18,10 +18,13 @@ namespace snvr {
 class AtomicFile;
 
 // Chooses the reader from the extension: .ply (ASCII, binary little/big endian,
-// float or double x/y/z among any other properties), .xyz/.pts/.txt (whitespace
-// separated x y z per line, extra columns ignored), .obj ("v" lines), .off.
+// float or double x/y/z among any other properties), .xyz/.pts/.txt/.csv (x y z per
+// line, separated by spaces, tabs, commas or semicolons, extra columns ignored), .obj
+// ("v" lines), .off, .las; each also gzipped (.gz). The points are read as 32-bit floats
+// about an origin and returned as doubles: float files exactly, double values rounded
+// to within 1.5e-7 of their box's diagonal (see FloatPoints in io/point_readers.hpp).
 // Throws IoError (cannot open) or InputError (malformed, names file and place);
-// non-finite coordinates and empty sets are InputErrors.
+// non-finite coordinates, points too far apart for floats and empty sets are InputErrors.
 PointSet read_points(const std::string& path);
 
 // The points a reconstruction starts from: a point file as read_points reads it, or a

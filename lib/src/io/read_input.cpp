@@ -32,7 +32,11 @@ InputPoints read_input(const std::string& path, const Parameters& params) {
     if (ext != ".stl" && ext != ".ply" && ext != ".obj" && ext != ".off") return {read_points(path), 0, 0};
     detail::InputBytes bytes(path);
     const std::string_view data = bytes.view();
-    if (!detail::has_faces(data, path)) return {detail::parse_points(data, path), 0, 0};
+    if (!detail::has_faces(data, path)) {
+        detail::FloatPoints points = detail::parse_points(data, path);
+        bytes.release();  // before the doubles are made: the file and the doubles never together
+        return {detail::world_points(points), 0, 0};
+    }
     const Mesh mesh = detail::parse_mesh(data, path);
     bytes.release();
     for (const Vec3& v : mesh.vertices)
