@@ -125,8 +125,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
         say("read: " + grouped(input.points.size()) + " points");
     try {
         // From here on every length is in millimetres: the points, the options, the outputs.
-        PreparedPoints prepared = prepare_points(o, snvr::PointCloud(input.points));
-        input.points = snvr::PointSet();
+        PreparedPoints prepared = prepare_points(o, std::move(input.points));
         const snvr::PointCloud& points = prepared.points;
         const snvr::Parameters& params = prepared.params;
         const snvr::DroppedOutliers& outliers = prepared.outliers;

@@ -18,6 +18,8 @@
 #include <vector>
 
 #include "cli_run.hpp"
+#include "snvr/error.hpp"
+#include "snvr/reconstruct.hpp"
 
 namespace fs = std::filesystem;
 using namespace cli_testing;
@@ -208,8 +210,17 @@ TEST_CASE("numbers beyond a double's range, and messages in printable text") {
     fs::remove(t.out());
     expect_failure("reconstruct " + t.file("over.xyz", "0 0 0\n1 0 0\n1e400 1 1\n") + o, 1,
                    "point 2 has a non-finite coordinate (inf 1 1)", t);
+    // Points read as floats about one origin: a span of 2e308 fits no origin, refused as read.
     expect_failure("reconstruct " + t.file("span.xyz", "0 0 0\n1 1 1\n1e308 0 0\n-1e308 0 0\n") + o, 1,
-                   "span more than float coordinates can hold along x: point 3 at x = -1e+308 and point 2 at x = 1e+308", t);
+                   "span.xyz: point 2 (1e+308 0 0) lies beyond 32-bit float range", t);
+    // Points given in memory become a cloud of floats about one origin, which names the two.
+    try {
+        snvr::plan_domain(snvr::PointSet{{0, 0, 0}, {1, 1, 1}, {1e308, 0, 0}, {-1e308, 0, 0}}, snvr::Parameters{});
+        FAIL("a span beyond a float's range was planned");
+    } catch (const snvr::InputError& e) {
+        CHECK(std::string(e.what()).find("span more than float coordinates can hold along x: point 3 at x = -1e+308 "
+                                         "and point 2 at x = 1e+308") != std::string::npos);
+    }
     // Control bytes, an escape sequence and a NUL in a bad token are escaped, not printed raw.
     static const char control[] = "0 0 0\n1 \x01\x1b[31mab\0c 1\n";
     const Run bad = run("reconstruct " + t.file("ctl.xyz", std::string(control, sizeof control - 1)) + o);

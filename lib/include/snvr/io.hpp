@@ -12,24 +12,30 @@
 #include "snvr/geometry.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/parameters.hpp"
+#include "snvr/point_cloud.hpp"
 
 namespace snvr {
 
 class AtomicFile;
 
 // Chooses the reader from the extension: .ply (ASCII, binary little/big endian,
-// float or double x/y/z among any other properties), .xyz/.pts/.txt (whitespace
-// separated x y z per line, extra columns ignored), .obj ("v" lines), .off.
+// float or double x/y/z among any other properties), .xyz/.pts/.txt/.csv (x y z per
+// line, separated by spaces, tabs, commas or semicolons, extra columns ignored), .obj
+// ("v" lines), .off, .las; each also gzipped (.gz). The points are read as 32-bit floats
+// about an origin and returned as doubles: float files exactly, double values rounded
+// to within 1.5e-7 of their box's diagonal (see FloatPoints in io/point_readers.hpp).
 // Throws IoError (cannot open) or InputError (malformed, names file and place);
-// non-finite coordinates and empty sets are InputErrors.
+// non-finite coordinates, points too far apart for floats and empty sets are InputErrors.
 PointSet read_points(const std::string& path);
+// The same points as a cloud (point_cloud.hpp), as read: 12 bytes a point, no doubles made.
+PointCloud read_point_cloud(const std::string& path);
 
-// The points a reconstruction starts from: a point file as read_points reads it, or a
-// mesh (.stl; .ply, .obj or .off with faces; any of them gzipped) with its triangles
+// The points a reconstruction starts from: a point file as read_point_cloud reads it, or
+// a mesh (.stl; .ply, .obj or .off with faces; any of them gzipped) with its triangles
 // sampled at half the voxel the run will have (sample_triangles), so that its faces,
 // not only its corners, are thickened.
 struct InputPoints {
-    PointSet points;
+    PointCloud points;
     std::size_t triangles = 0;  // the mesh's, when the input was one
     double spacing = 0;         // the sampling's
 };

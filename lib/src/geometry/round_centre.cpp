@@ -8,9 +8,11 @@
 
 namespace snvr {
 
-namespace {
+Vec3 round_centre(const PointSet& points) {
+    return round_centre(bounds(points));  // both corners 0 for no points: no shift
+}
 
-Vec3 round_centre_of(const Bounds& box) {
+Vec3 round_centre(const Bounds& box) {
     const double longest = box.longest();
     const double step = longest > 0 && std::isfinite(longest) ? std::pow(10.0, std::floor(std::log10(longest))) : 1.0;
     Vec3 centre{};
@@ -18,14 +20,10 @@ Vec3 round_centre_of(const Bounds& box) {
     return centre;
 }
 
-}  // namespace
-
-Vec3 round_centre(const PointSet& points) { return round_centre_of(bounds(points)); }  // no points: no shift
-
 Vec3 round_centre(const PointCloud& points) {
     if (points.empty()) return {0, 0, 0};
     const std::array<Vec3, 2> box = points.box();
-    return round_centre_of({box[0], box[1]});
+    return round_centre(Bounds{box[0], box[1]});
 }
 
 }  // namespace snvr

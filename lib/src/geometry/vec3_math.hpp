@@ -32,6 +32,9 @@ inline Bounds bounds(const std::vector<Vec3>& points) {
     return b;
 }
 
+// round_centre (geometry.hpp) of a box rather than of its points.
+Vec3 round_centre(const Bounds& box);
+
 // Twice the triangle's area times its unit normal, from the counter-clockwise order.
 inline Vec3 face_vector(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
     const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];

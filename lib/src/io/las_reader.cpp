@@ -1,10 +1,13 @@
 // LAS 1.0-1.4 point clouds (ASPRS LiDAR format), uncompressed point records of any
 // format 0-10: every record starts with X, Y, Z as int32, scaled and offset by the
-// header's doubles. Compressed LAZ is refused by name.
+// header's doubles. Compressed LAZ is refused by name. The records are split between
+// threads; the header's box chooses the origin.
 #include <cstdint>
 #include <string>
 
+#include "io/float_origin.hpp"
 #include "io/io_common.hpp"
+#include "io/parallel_records.hpp"
 #include "io/point_readers.hpp"
 #include "snvr/error.hpp"
 
@@ -14,7 +17,7 @@ namespace {
 // Byte offsets in the public header block.
 constexpr std::size_t kVersionMajor = 24, kVersionMinor = 25, kHeaderSize = 94, kPointOffset = 96,
                       kPointFormat = 104, kRecordLength = 105, kLegacyCount = 107, kScale = 131, kOffset = 155,
-                      kCount64 = 247, kHeader12 = 227, kHeader14 = 375;
+                      kMaxX = 179, kCount64 = 247, kHeader12 = 227, kHeader14 = 375;
 
 // The smallest record of each point data format 0-10.
 constexpr std::uint16_t kRecordBytes[] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
@@ -24,9 +27,38 @@ T field(std::string_view data, std::size_t at) {
     return load_bytes<T>(data.data() + at, !host_is_little_endian());  // LAS is little endian
 }
 
+// A point record's X, Y, Z: int32 scaled and offset by the header's doubles.
+struct LasRecords {
+    std::string_view data;
+    std::size_t first = 0, length = 0;
+    double scale[3] = {}, offset[3] = {};
+
+    Vec3 operator()(std::size_t i) const {
+        const std::size_t at = first + i * length;
+        Vec3 p;
+        for (std::size_t a = 0; a < 3; ++a) p[a] = double(field<std::int32_t>(data, at + 4 * a)) * scale[a] + offset[a];
+        return p;
+    }
+};
+
+// The points' box as the header gives it (max before min, x, y, z); empty when the six
+// figures make no box.
+SampleBox header_box(std::string_view data) {
+    SampleBox box;
+    Vec3 lo, hi;
+    for (std::size_t a = 0; a < 3; ++a) {
+        hi[a] = field<double>(data, kMaxX + 16 * a);
+        lo[a] = field<double>(data, kMaxX + 16 * a + 8);
+        if (!(lo[a] <= hi[a])) return box;  // NaN fails too
+    }
+    box.add(lo);
+    box.add(hi);
+    return box;
+}
+
 }  // namespace
 
-PointSet parse_las(std::string_view data, const std::string& path) {
+FloatPoints parse_las(std::string_view data, const std::string& path, const ParseOptions& options) {
     const auto fail = [&](const std::string& what) { return InputError(path + ": " + what); };
     if (data.size() < 4 || data.substr(0, 4) != "LASF") throw fail("not a LAS file (no 'LASF' signature)");
     if (data.size() < kHeader12) throw fail("the LAS header is cut short (" + std::to_string(data.size()) + " bytes)");
@@ -53,17 +85,23 @@ PointSet parse_las(std::string_view data, const std::string& path) {
     if (count > fit)
         throw fail("expected " + std::to_string(count) + " point records, file ends after " + std::to_string(fit) +
                    " (byte offset " + std::to_string(first + fit * length) + ")");
-    double scale[3], offset[3];
-    for (int a = 0; a < 3; ++a) {
-        scale[a] = field<double>(data, kScale + 8 * std::size_t(a));
-        offset[a] = field<double>(data, kOffset + 8 * std::size_t(a));
+    LasRecords records{data, first, length};
+    for (std::size_t a = 0; a < 3; ++a) {
+        records.scale[a] = field<double>(data, kScale + 8 * a);
+        records.offset[a] = field<double>(data, kOffset + 8 * a);
     }
-    PointSet points(count);
-    for (std::uint64_t i = 0; i < count; ++i) {
-        const std::size_t at = first + std::size_t(i) * length;
-        for (int a = 0; a < 3; ++a)
-            points[i][std::size_t(a)] = double(field<std::int32_t>(data, at + 4 * std::size_t(a))) * scale[a] + offset[a];
+    const std::size_t n = std::size_t(count);
+    FloatPoints points;
+    // The header knows the box before any point is read; where it does not hold the
+    // points to the bound (a header box that is wrong), the first points choose instead.
+    const SampleBox claimed = header_box(data);
+    points.origin = choose_origin(claimed.count ? claimed : sample_records(n, records, options.origin_sample));
+    ConvertedRecords done = convert_records(n, records, points.origin, points.xyz, options.threads);
+    if (claimed.count && (done.first_refused < n || !within_origin_bound(done.box, points.origin))) {
+        points.origin = choose_origin(sample_records(n, records, options.origin_sample));
+        done = convert_records(n, records, points.origin, points.xyz, options.threads);
     }
+    if (done.first_refused < n) refuse_point(path, done.first_refused, records(done.first_refused), points.origin);
     return points;
 }
 

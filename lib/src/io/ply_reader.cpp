@@ -1,7 +1,8 @@
 // PLY point reader: parses the header into elements and properties, then walks
 // the data section (ASCII, or binary in either byte order) up to and including
 // the vertex element, taking x, y and z from wherever they sit among the
-// vertex properties. Elements after the vertices are never read.
+// vertex properties. Elements after the vertices are never read. Vertex records
+// of fixed size are split between threads, ASCII lines parsed by parse_lines.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -9,10 +10,13 @@
 #include <utility>
 #include <vector>
 
+#include "io/float_origin.hpp"
 #include "io/io_common.hpp"
+#include "io/parallel_lines.hpp"
+#include "io/parallel_records.hpp"
 #include "io/point_readers.hpp"
-#include "snvr/error.hpp"
 #include "io/text_scan.hpp"
+#include "snvr/error.hpp"
 
 namespace snvr::detail {
 namespace {
@@ -183,6 +187,17 @@ std::size_t plausible_count(std::uint64_t count, std::size_t bytes_left) {
     return std::size_t(std::min<std::uint64_t>(count, bytes_left / 3));
 }
 
+// Coordinates of these types are floats already: held exactly with origin 0.
+bool exact_in_float(Scalar type) {
+    return type != Scalar::Float64 && type != Scalar::Int32 && type != Scalar::UInt32;
+}
+
+bool exact_in_float(const Element& vertex) {
+    for (const Property& p : vertex.properties)
+        if (p.axis >= 0 && !exact_in_float(p.type)) return false;
+    return true;
+}
+
 // ---- binary data ----
 
 // Bounds-checked walk over the binary data section.
@@ -236,88 +251,173 @@ bool fixed_item_size(const Element& element, std::size_t& size) {
     return true;
 }
 
-PointSet read_binary(const Header& header, std::string_view data, const std::string& path) {
+// Where x, y and z sit in a vertex record of fixed size: records decode directly.
+struct FixedVertex {
+    const char* first = nullptr;  // the first record
+    std::size_t size = 0;
+    std::size_t at[3] = {};
+    Scalar type[3] = {};
+    bool swap = false;
+
+    FixedVertex(const Element& vertex, const char* records, std::size_t record_size, bool swap_bytes)
+        : first(records), size(record_size), swap(swap_bytes) {
+        std::size_t offset = 0;
+        for (const Property& p : vertex.properties) {
+            if (p.axis >= 0) {
+                at[p.axis] = offset;
+                type[p.axis] = p.type;
+            }
+            offset += scalar_size(p.type);
+        }
+    }
+    Vec3 operator()(std::size_t i) const {
+        const char* record = first + i * size;
+        return {load_scalar(type[0], record + at[0], swap), load_scalar(type[1], record + at[1], swap),
+                load_scalar(type[2], record + at[2], swap)};
+    }
+};
+
+[[noreturn]] void binary_ends(const std::string& path, const Element& element, std::uint64_t got, std::size_t offset) {
+    throw InputError(path + ": " + ends_early(element.count, got, item_noun(element)) + " (byte offset " +
+                     std::to_string(offset) + ")");
+}
+
+// The vertices as fixed-size records, split between threads.
+FloatPoints read_fixed_vertices(const Element& vertex, std::size_t size, BinaryReader& in, std::string_view data,
+                                bool swap, const std::string& path, const ParseOptions& options) {
+    const std::uint64_t fit = in.bytes_left() / size;
+    if (fit < vertex.count) {
+        // The offset where an item by item walk stops: after the last whole property.
+        std::size_t left = in.bytes_left() - std::size_t(fit) * size, offset = in.offset() + std::size_t(fit) * size;
+        for (const Property& p : vertex.properties) {
+            if (left < scalar_size(p.type)) break;
+            left -= scalar_size(p.type);
+            offset += scalar_size(p.type);
+        }
+        binary_ends(path, vertex, fit, offset);
+    }
+    const std::size_t count = std::size_t(vertex.count);
+    const FixedVertex decode(vertex, data.data() + in.offset(), size, swap);
+    FloatPoints points;
+    if (!exact_in_float(vertex)) points.origin = choose_origin(sample_records(count, decode, options.origin_sample));
+    const ConvertedRecords done = convert_records(count, decode, points.origin, points.xyz, options.threads);
+    if (done.first_refused < count) refuse_point(path, done.first_refused, decode(done.first_refused), points.origin);
+    return points;
+}
+
+// The vertices item by item, where lists make their sizes vary.
+FloatPoints read_listed_vertices(const Element& vertex, BinaryReader& in, std::size_t data_size,
+                                 const std::string& path, const ParseOptions& options) {
+    FloatPoints points;
+    if (!exact_in_float(vertex)) {
+        BinaryReader ahead = in;
+        SampleBox sample;
+        Vec3 xyz{};
+        for (std::uint64_t i = 0; i < std::min<std::uint64_t>(vertex.count, options.origin_sample); ++i) {
+            if (!ahead.read_item(vertex, xyz)) break;  // reported below, in order
+            sample.add(xyz);
+        }
+        points.origin = choose_origin(sample);
+    }
+    points.xyz.reserve(plausible_count(vertex.count, data_size));
+    std::uint64_t refused = vertex.count;
+    Vec3 refused_point{};
+    Vec3 xyz{};
+    for (std::uint64_t i = 0; i < vertex.count; ++i) {
+        if (!in.read_item(vertex, xyz)) binary_ends(path, vertex, i, in.offset());
+        Float3 q;
+        if (!to_float(xyz, points.origin, q) && refused == vertex.count) {
+            refused = i;
+            refused_point = xyz;
+        }
+        points.xyz.push_back(q);
+    }
+    if (refused < vertex.count) refuse_point(path, refused, refused_point, points.origin);
+    return points;
+}
+
+FloatPoints read_binary(const Header& header, std::string_view data, const std::string& path,
+                        const ParseOptions& options) {
     const bool file_little = header.format == Format::BinaryLittle;
-    BinaryReader in(data, header.data_offset, file_little != host_is_little_endian(), path);
-    PointSet points;
-    for (std::size_t e = 0; e <= header.vertex; ++e) {
+    const bool swap = file_little != host_is_little_endian();
+    BinaryReader in(data, header.data_offset, swap, path);
+    for (std::size_t e = 0; e < header.vertex; ++e) {
         const Element& element = header.elements[e];
-        const bool keep = e == header.vertex;
-        if (keep) points.reserve(plausible_count(element.count, data.size() - header.data_offset));
         std::size_t size = 0;
-        if (!keep && fixed_item_size(element, size)) {
+        if (fixed_item_size(element, size)) {
             // Skipped in one step: a loop over a huge count of empty items would not end.
             const std::uint64_t fit = size ? in.bytes_left() / size : element.count;
-            if (fit < element.count)
-                throw InputError(path + ": " + ends_early(element.count, fit, item_noun(element)) + " (byte offset " +
-                                 std::to_string(in.offset() + fit * size) + ")");
+            if (fit < element.count) binary_ends(path, element, fit, in.offset() + std::size_t(fit) * size);
             in.skip(std::size_t(element.count * size));
             continue;
         }
-        Vec3 xyz{};
-        for (std::uint64_t i = 0; i < element.count; ++i) {
-            if (!in.read_item(element, xyz))
-                throw InputError(path + ": " + ends_early(element.count, i, item_noun(element)) +
-                                 " (byte offset " + std::to_string(in.offset()) + ")");
-            if (keep) points.push_back(xyz);
-        }
+        Vec3 ignored{};
+        for (std::uint64_t i = 0; i < element.count; ++i)
+            if (!in.read_item(element, ignored)) binary_ends(path, element, i, in.offset());
     }
-    return points;
+    const Element& vertex = header.elements[header.vertex];
+    std::size_t size = 0;
+    if (fixed_item_size(vertex, size)) return read_fixed_vertices(vertex, size, in, data, swap, path, options);
+    return read_listed_vertices(vertex, in, data.size() - header.data_offset, path, options);
 }
 
 // ---- ASCII data ----
 
-// Parses one data line of the vertex element; every value must be a number.
-class AsciiItem {
+// A data line of the vertex element, for parse_lines; every value must be a number.
+class AsciiVertex {
 public:
-    AsciiItem(std::string_view line, std::size_t line_number, std::uint64_t index, const std::string& path)
-        : rest_(line), line_(line_number), index_(index), path_(path) {}
+    explicit AsciiVertex(const Element& element) : element_(element) {}
 
-    Vec3 parse(const Element& element) {
-        Vec3 xyz{};
-        for (const Property& p : element.properties) {
+    LineKind operator()(std::string_view line, Vec3& xyz, std::string& what) const {
+        std::string_view rest = line;
+        if (next_token(rest).empty()) return LineKind::Skip;  // blank
+        rest = line;
+        for (const Property& p : element_.properties) {
+            double value = 0;
+            if (!number(rest, p, p.is_list, value, what)) return LineKind::Error;
             if (p.is_list) {
-                const double count = number(p.name + " (list length)");
                 // Negated so that NaN fails too; the bound keeps the cast defined.
-                if (!(count >= 0 && count <= 1e15 && count == std::floor(count)))
-                    fail("bad list length for " + in_quotes(p.name));
-                for (std::uint64_t k = 0; k < std::uint64_t(count); ++k) number(p.name);
-            } else {
-                const double value = number(p.name);
-                if (p.axis >= 0) xyz[std::size_t(p.axis)] = value;
+                if (!(value >= 0 && value <= 1e15 && value == std::floor(value))) {
+                    what = "bad list length for " + in_quotes(p.name);
+                    return LineKind::Error;
+                }
+                double item = 0;
+                for (std::uint64_t k = 0; k < std::uint64_t(value); ++k)
+                    if (!number(rest, p, false, item, what)) return LineKind::Error;
+            } else if (p.axis >= 0) {
+                xyz[std::size_t(p.axis)] = value;
             }
         }
-        if (!next_token(rest_).empty()) fail("more values than the vertex element's properties");
-        return xyz;
+        if (!next_token(rest).empty()) {
+            what = "more values than the vertex element's properties";
+            return LineKind::Error;
+        }
+        return LineKind::Point;
     }
+    std::string item_prefix(std::uint64_t item) const { return "vertex " + std::to_string(item) + ": "; }
 
 private:
-    double number(const std::string& property) {
-        const std::string_view token = next_token(rest_);
-        if (token.empty()) fail("too few values (missing " + in_quotes(property) + ")");
-        double value = 0;
-        if (!parse_number(token, value)) fail("expected a number for " + in_quotes(property) + ", found " + in_quotes(token));
-        return value;
-    }
-    [[noreturn]] void fail(const std::string& what) {
-        throw InputError(path_ + ": line " + std::to_string(line_) + ": vertex " + std::to_string(index_) + ": " + what);
+    // The next value, for property p (its list length when `length`).
+    static bool number(std::string_view& rest, const Property& p, bool length, double& value, std::string& what) {
+        const std::string_view token = next_token(rest);
+        if (!token.empty() && parse_number(token, value)) return true;
+        const std::string name = in_quotes(length ? p.name + " (list length)" : p.name);
+        what = token.empty() ? "too few values (missing " + name + ")"
+                             : "expected a number for " + name + ", found " + in_quotes(token);
+        return false;
     }
 
-    std::string_view rest_;
-    std::size_t line_;
-    std::uint64_t index_;
-    const std::string& path_;
+    const Element& element_;
 };
 
 bool is_blank(std::string_view line) { return next_token(line).empty(); }
 
-PointSet read_ascii(const Header& header, std::string_view data, const std::string& path) {
-    LineScanner lines(data.substr(header.data_offset), header.lines);
-    PointSet points;
-    for (std::size_t e = 0; e <= header.vertex; ++e) {
+FloatPoints read_ascii(const Header& header, std::string_view data, const std::string& path,
+                       const ParseOptions& options) {
+    const std::string_view body = data.substr(header.data_offset);
+    LineScanner lines(body, header.lines);
+    for (std::size_t e = 0; e < header.vertex; ++e) {  // the elements before the vertices: a line an item
         const Element& element = header.elements[e];
-        const bool keep = e == header.vertex;
-        if (keep) points.reserve(plausible_count(element.count, data.size() - header.data_offset));
         for (std::uint64_t i = 0; i < element.count; ++i) {
             std::string_view line;
             do {
@@ -325,17 +425,24 @@ PointSet read_ascii(const Header& header, std::string_view data, const std::stri
                     throw InputError(path + ": " + ends_early(element.count, i, item_noun(element)) + " (line " +
                                      std::to_string(lines.line_number()) + ")");
             } while (is_blank(line));
-            if (keep) points.push_back(AsciiItem(line, lines.line_number(), i, path).parse(element));
         }
     }
-    return points;
+    const Element& vertex = header.elements[header.vertex];
+    LineRegion region;
+    region.text = body;
+    region.begin = lines.offset();
+    region.lines_before = header.lines;
+    region.limit = vertex.count;
+    region.items = item_noun(vertex);
+    return parse_lines(region, AsciiVertex(vertex), path, options);
 }
 
 }  // namespace
 
-PointSet parse_ply(std::string_view data, const std::string& path) {
+FloatPoints parse_ply(std::string_view data, const std::string& path, const ParseOptions& options) {
     const Header header = parse_header(data, path);
-    return header.format == Format::Ascii ? read_ascii(header, data, path) : read_binary(header, data, path);
+    return header.format == Format::Ascii ? read_ascii(header, data, path, options)
+                                          : read_binary(header, data, path, options);
 }
 
 }  // namespace snvr::detail

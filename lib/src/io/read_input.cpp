@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "geometry/vec3_math.hpp"
 #include "io/io_common.hpp"
@@ -29,18 +30,24 @@ double half_voxel(const Mesh& mesh, const Parameters& params) {
 InputPoints read_input(const std::string& path, const Parameters& params) {
     detail::require_regular_file(path);
     const std::string ext = detail::lower_extension(detail::format_name(path));
-    if (ext != ".stl" && ext != ".ply" && ext != ".obj" && ext != ".off") return {read_points(path), 0, 0};
-    const std::string data = detail::read_input_bytes(path);
-    if (!detail::has_faces(data, path)) return {detail::parse_points(data, path), 0, 0};
+    if (ext != ".stl" && ext != ".ply" && ext != ".obj" && ext != ".off") return {read_point_cloud(path), 0, 0};
+    detail::InputBytes bytes(path);
+    const std::string_view data = bytes.view();
+    if (!detail::has_faces(data, path)) {
+        detail::FloatPoints points = detail::parse_points(data, path);
+        bytes.release();  // before the cloud is filed: the file and the cloud never together
+        return {PointCloud(std::move(points.xyz), points.origin), 0, 0};
+    }
     const Mesh mesh = detail::parse_mesh(data, path);
+    bytes.release();
     for (const Vec3& v : mesh.vertices)
         for (double x : v)
             if (!std::isfinite(x)) throw InputError(path + ": a vertex has a non-finite coordinate");
     InputPoints in;
     in.triangles = mesh.triangles.size();
     in.spacing = half_voxel(mesh, params);
-    if (!(in.spacing > 0)) return {mesh.vertices, in.triangles, 0};  // all at one place: the vertices will do
-    in.points = sample_triangles(mesh, in.spacing);
+    if (!(in.spacing > 0)) return {PointCloud(mesh.vertices), in.triangles, 0};  // all at one place: the vertices will do
+    in.points = PointCloud(sample_triangles(mesh, in.spacing));
     return in;
 }
 

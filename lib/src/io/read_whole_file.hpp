@@ -1,6 +1,9 @@
-// The whole of a file as bytes, in one read of the size the file system gives.
+// The whole of a file as bytes: read in one read of the size the file system gives, or
+// mapped where a parser needs only to look at them.
 #pragma once
+#include <cstddef>
 #include <string>
+#include <string_view>
 
 namespace snvr::detail {
 
@@ -19,5 +22,27 @@ std::string read_input_bytes(const std::string& path);
 
 // path without a trailing ".gz": the name whose extension picks the format.
 std::string format_name(const std::string& path);
+
+// The bytes read_input_bytes gives, without copying a plain file: it is mapped read-only
+// (read whole where it cannot be mapped); a .gz file is inflated into memory. Whichever,
+// released by release() or the destructor, so that parsed points need not share memory
+// with them. Throws as read_whole_file. (Like any mapping, a file cut short by another
+// process while mapped ends this one with SIGBUS; one that grows is read at its old size.)
+class InputBytes {
+public:
+    explicit InputBytes(const std::string& path);
+    ~InputBytes() { release(); }
+    InputBytes(const InputBytes&) = delete;
+    InputBytes& operator=(const InputBytes&) = delete;
+
+    std::string_view view() const { return view_; }
+    void release();
+
+private:
+    void* mapped_ = nullptr;
+    std::size_t mapped_size_ = 0;
+    std::string owned_;  // inflated, or read where mapping failed
+    std::string_view view_;
+};
 
 }  // namespace snvr::detail

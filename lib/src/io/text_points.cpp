@@ -1,13 +1,14 @@
-// Line-based point formats: XYZ/PTS/TXT columns as scanners export them, OBJ "v"
-// lines and OFF vertex blocks. '#' starts a comment in all of them.
-#include <algorithm>
+// Line-based point formats: XYZ/PTS/TXT/CSV columns as scanners export them, OBJ "v"
+// lines and OFF vertex blocks. '#' starts a comment in all of them. Each is a line parser
+// for parse_lines (parallel_lines.hpp); only what comes before the points (a header of
+// names, OFF's counts) is read serially.
 #include <cstdint>
 #include <string>
-#include <utility>
 
+#include "io/parallel_lines.hpp"
 #include "io/point_readers.hpp"
-#include "snvr/error.hpp"
 #include "io/text_scan.hpp"
+#include "snvr/error.hpp"
 
 namespace snvr::detail {
 namespace {
@@ -42,16 +43,20 @@ bool parse_field(std::string_view token, bool decimal_comma, double& out) {
     return parse_number(std::string_view(copy, token.size()), out);
 }
 
-// The first three of `count` tokens as a point.
-Vec3 to_point(const std::string_view* tokens, std::size_t count, const std::string& path, std::size_t line,
-              bool decimal_comma = false) {
-    if (count < 3) line_error(path, line, "expected x y z, found " + std::to_string(count) + " value(s)");
-    Vec3 point{};
-    for (std::size_t axis = 0; axis < 3; ++axis) {
-        if (!parse_field(tokens[axis], decimal_comma, point[axis]))
-            line_error(path, line, "expected a number, found " + in_quotes(tokens[axis]));
+// The first three of `count` tokens as a point, or Error with the reason.
+LineKind to_point(const std::string_view* tokens, std::size_t count, Vec3& point, std::string& what,
+                  bool decimal_comma = false) {
+    if (count < 3) {
+        what = "expected x y z, found " + std::to_string(count) + " value(s)";
+        return LineKind::Error;
     }
-    return point;
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+        if (!parse_field(tokens[axis], decimal_comma, point[axis])) {
+            what = "expected a number, found " + in_quotes(tokens[axis]);
+            return LineKind::Error;
+        }
+    }
+    return LineKind::Point;
 }
 
 // Up to `max` leading fields of a scanner's text line: separated by spaces, tabs, commas
@@ -75,12 +80,56 @@ std::size_t scanner_fields(std::string_view line, std::string_view* fields, std:
     return n;
 }
 
-// One point per line is typical, so the newline count is a good (and bounded) reservation.
-PointSet reserved_points(std::string_view data) {
-    PointSet points;
-    points.reserve(std::size_t(std::count(data.begin(), data.end(), '\n')) + 1);
-    return points;
+// A scanner's line: x y z and perhaps more columns, or a lone number (a PTS point count).
+struct ScannerLine {
+    LineKind operator()(std::string_view line, Vec3& point, std::string& what) const {
+        std::string_view tokens[3];
+        bool decimal_comma = false;
+        const std::size_t count = scanner_fields(line, tokens, 3, decimal_comma);
+        if (count == 0) return LineKind::Skip;
+        if (count == 1) {  // a lone number is a PTS point count, not a point
+            double value = 0;
+            if (parse_field(tokens[0], decimal_comma, value)) return LineKind::Skip;
+            what = "expected a number, found " + in_quotes(tokens[0]);
+            return LineKind::Error;
+        }
+        return to_point(tokens, count, point, what, decimal_comma);
+    }
+    std::string item_prefix(std::uint64_t) const { return {}; }
+};
+
+// Where a scanner's points start: after a first line of names ("X Y Z", "x,y,z,r,g,b"),
+// if the first line with fields is one; at the start otherwise.
+std::size_t after_header_of_names(std::string_view data) {
+    LineScanner lines(data);
+    std::string_view line, tokens[1];
+    bool decimal_comma = false;
+    while (lines.next(line)) {
+        if (scanner_fields(line, tokens, 1, decimal_comma) == 0) continue;
+        double value = 0;
+        return parse_field(tokens[0], decimal_comma, value) ? 0 : lines.offset();
+    }
+    return data.size();
 }
+
+struct ObjLine {
+    LineKind operator()(std::string_view line, Vec3& point, std::string& what) const {
+        std::string_view tokens[4];
+        const std::size_t count = leading_tokens(line, tokens, 4);
+        if (count == 0 || tokens[0] != "v") return LineKind::Skip;  // only "v" lines count
+        return to_point(tokens + 1, count - 1, point, what);
+    }
+    std::string item_prefix(std::uint64_t) const { return {}; }
+};
+
+struct OffVertexLine {
+    LineKind operator()(std::string_view line, Vec3& point, std::string& what) const {
+        std::string_view tokens[3];
+        const std::size_t count = leading_tokens(line, tokens, 3);
+        return count == 0 ? LineKind::Skip : to_point(tokens, count, point, what);
+    }
+    std::string item_prefix(std::uint64_t) const { return {}; }
+};
 
 // OFF, COFF, NOFF, STOFF, ...: optional prefixes whose vertex lines still start with x y z.
 bool is_off_keyword(std::string_view token) {
@@ -91,39 +140,20 @@ bool is_off_keyword(std::string_view token) {
 
 }  // namespace
 
-PointSet parse_xyz(std::string_view data, const std::string& path) {
-    PointSet points = reserved_points(data);
-    LineScanner lines(data);
-    std::string_view line, tokens[3];
-    bool first = true, decimal_comma = false;
-    while (lines.next(line)) {
-        const std::size_t count = scanner_fields(line, tokens, 3, decimal_comma);
-        if (count == 0) continue;
-        double value = 0;
-        const bool numeric = parse_field(tokens[0], decimal_comma, value);
-        // A first line of names ("X Y Z", "x,y,z,r,g,b") is a header.
-        if (std::exchange(first, false) && !numeric) continue;
-        if (count == 1) {  // a lone number is a PTS point count, not a point
-            if (!numeric) line_error(path, lines.line_number(), "expected a number, found " + in_quotes(tokens[0]));
-            continue;
-        }
-        points.push_back(to_point(tokens, count, path, lines.line_number(), decimal_comma));
-    }
-    return points;
+FloatPoints parse_xyz(std::string_view data, const std::string& path, const ParseOptions& options) {
+    LineRegion region;
+    region.text = data;
+    region.begin = after_header_of_names(data);
+    return parse_lines(region, ScannerLine{}, path, options);
 }
 
-PointSet parse_obj(std::string_view data, const std::string& path) {
-    PointSet points = reserved_points(data);
-    LineScanner lines(data);
-    std::string_view line, tokens[4];
-    while (lines.next(line)) {
-        const std::size_t count = leading_tokens(line, tokens, 4);
-        if (count > 0 && tokens[0] == "v") points.push_back(to_point(tokens + 1, count - 1, path, lines.line_number()));
-    }
-    return points;
+FloatPoints parse_obj(std::string_view data, const std::string& path, const ParseOptions& options) {
+    LineRegion region;
+    region.text = data;
+    return parse_lines(region, ObjLine{}, path, options);
 }
 
-PointSet parse_off(std::string_view data, const std::string& path) {
+FloatPoints parse_off(std::string_view data, const std::string& path, const ParseOptions& options) {
     LineScanner lines(data);
     std::string_view tokens[3];
     std::size_t count = next_tokens(lines, tokens, 2);
@@ -135,19 +165,12 @@ PointSet parse_off(std::string_view data, const std::string& path) {
             throw InputError(path + ": missing vertex/face counts after the 'OFF' header");
         vertex_count = tokens[0];
     }
-    std::uint64_t expected = 0;
-    if (!parse_count(vertex_count, expected))
+    LineRegion region;
+    region.text = data;
+    region.begin = lines.offset();
+    if (!parse_count(vertex_count, region.limit))
         line_error(path, lines.line_number(), "expected the vertex count, found " + in_quotes(vertex_count));
-    PointSet points;
-    points.reserve(std::size_t(std::min<std::uint64_t>(expected, data.size() / 6)));
-    while (points.size() < expected) {
-        count = next_tokens(lines, tokens, 3);
-        if (count == 0)
-            throw InputError(path + ": " + ends_early(expected, points.size(), "vertices") + " (line " +
-                             std::to_string(lines.line_number()) + ")");
-        points.push_back(to_point(tokens, count, path, lines.line_number()));
-    }
-    return points;
+    return parse_lines(region, OffVertexLine{}, path, options);
 }
 
 }  // namespace snvr::detail

@@ -13,15 +13,19 @@
 
 namespace snvr::detail {
 
-// Hands out one line at a time (without "\n" or "\r\n") and counts lines. A text
-// with no "\n" at all but some "\r" (old Mac files) has its lines ended by "\r".
+// The byte that ends a text's lines: '\n', except in a text with no "\n" at all but
+// some "\r" (old Mac files), whose lines "\r" ends.
+inline char line_end_of(std::string_view text) {
+    return text.find('\n') == std::string_view::npos && text.find('\r') != std::string_view::npos ? '\r' : '\n';
+}
+
+// Hands out one line at a time (without "\n" or "\r\n") and counts lines, ended as
+// line_end_of says.
 class LineScanner {
 public:
     // lines_before: how many file lines precede `text`, so numbers match the file.
     explicit LineScanner(std::string_view text, std::size_t lines_before = 0)
-        : text_(text),
-          end_(text.find('\n') == std::string_view::npos && text.find('\r') != std::string_view::npos ? '\r' : '\n'),
-          line_(lines_before) {}
+        : text_(text), end_(line_end_of(text)), line_(lines_before) {}
 
     bool next(std::string_view& line) {
         if (pos_ >= text_.size()) return false;
