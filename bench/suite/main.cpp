@@ -203,6 +203,7 @@ void run_points_section(Options& o, std::ofstream& jsonl, std::vector<Record>& r
     PointsOptions& po = o.points;
     po.quick = o.quick;
     po.data = o.data;
+    po.repeat = o.repeat;
     if (!o.devices.empty()) po.device = o.devices.front();
     if (po.scratch.empty()) {
         const char* tmp = std::getenv("TMPDIR");

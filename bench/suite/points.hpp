@@ -3,7 +3,9 @@
 // scans, each reconstructed by snvr-cl at each grid as a user runs it, beside the
 // plain distance + marching cubes peer and the OpenVDB peer at the same voxel and
 // offset. Every program runs as a process of its own: its seconds and peak memory are
-// taken from outside (wait4), ours per stage from its --report.
+// taken from outside (wait4), ours per stage from its --report. Runs under 10 s are
+// repeated (--repeat) and the median kept: they are the noisiest, and the smallest
+// clouds are the base of the cost per extra point.
 #pragma once
 #include <cstddef>
 #include <functional>
@@ -21,6 +23,7 @@ struct PointsOptions {
     std::string scratch;  // generated clouds and every program's outputs, removed as the section goes
     std::string device;   // snvr-cl --device; empty: its own choice
     std::string data;     // the scans' directory
+    int repeat = 3;       // runs of a program whose first run is short (median kept)
     bool quick = false;   // two tiny spheres at 64 cells, for CI
 };
 

@@ -54,7 +54,8 @@ std::string points_markdown(const std::vector<Record>& all) {
     for (const std::string& b : backends) ran_on += (ran_on.empty() ? "" : ", ") + b;
     std::string md =
         "\n### Points: the cost of a run against the number of points\n\n"
-        "Each program a process of its own, run once: its wall-clock seconds and peak resident memory (wait4), file to mesh. "
+        "Each program a process of its own: its wall-clock seconds and peak resident memory (wait4), file to mesh; a program "
+        "whose first run took under 10 s runs --repeat times (the median run; its spread in results.jsonl), the others once. "
         "snvr-cl reconstruct at the grid (cells on the longest axis, its defaults otherwise; on " +
         (ran_on.empty() ? std::string("-") : ran_on) +
         "); the plain distance + marching cubes peer (distance+MC) and OpenVDB (particles to level set, 4 curvature steps, "
