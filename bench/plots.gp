@@ -68,9 +68,14 @@ set logscale xy
 set xlabel "points"
 set output dir . "/points.png"
 set title "Seconds against points at a fixed grid (lines: the noisy sphere; circles: other shapes and scans)"
-set ylabel "seconds, file to mesh (whole process, one run)"
+set ylabel "wall-clock seconds, file to mesh (whole process)"
 plot for [i=1:words(S)] family_rows(f, word(S, i), sphere) using 3:4 with linespoints lc colour(word(S, i)) dt dashes(word(S, i)) pt 7 title word(S, i), \
      for [i=1:words(S)] family_rows(f, word(S, i), others) using 3:4 with points lc colour(word(S, i)) pt 6 ps 1.5 notitle
+set output dir . "/points_cpu.png"
+set title "CPU seconds against points at a fixed grid (lines: the noisy sphere; circles: other shapes and scans)"
+set ylabel "CPU seconds, user + system, every thread"
+plot for [i=1:words(S)] family_rows(f, word(S, i), sphere) using 3:6 with linespoints lc colour(word(S, i)) dt dashes(word(S, i)) pt 7 title word(S, i), \
+     for [i=1:words(S)] family_rows(f, word(S, i), others) using 3:6 with points lc colour(word(S, i)) pt 6 ps 1.5 notitle
 set output dir . "/points_memory.png"
 set title "Peak memory against points at a fixed grid (lines: the noisy sphere; circles: other shapes and scans)"
 set ylabel "peak resident memory, MiB"

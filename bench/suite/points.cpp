@@ -110,7 +110,7 @@ bool measure_ours(const PointsOptions& o, const PointsPrograms& p, const std::st
                                   "--report", report, "--quiet"};
     if (!o.device.empty()) argv.insert(argv.end(), {"--device", o.device});
     const ProgramRun run = run_program(argv);
-    r.set("snvr_process_s", run.seconds).set("snvr_peak_mib", run.peak_mib);
+    r.set("snvr_process_s", run.seconds).set("snvr_cpu_s", run.cpu_seconds).set("snvr_peak_mib", run.peak_mib);
     if (!run.ok()) {
         r.set("snvr_error", run.why());
         return false;
@@ -144,7 +144,7 @@ bool measure_ours(const PointsOptions& o, const PointsPrograms& p, const std::st
 void measure_distance_peer(const PointsPrograms& p, const std::string& cloud, const Lengths& l, const std::string& dir, Record& r) {
     const ProgramRun run =
         run_program({p.distance_mc_peer, cloud, "-o", dir + "/distance_mc.stl", "--voxel", exact(l.voxel), "--offset", exact(l.offset)});
-    r.set("distance_mc_process_s", run.seconds).set("distance_mc_peak_mib", run.peak_mib);
+    r.set("distance_mc_process_s", run.seconds).set("distance_mc_cpu_s", run.cpu_seconds).set("distance_mc_peak_mib", run.peak_mib);
     if (!run.ok()) {
         r.set("distance_mc_error", run.why());
         return;
@@ -166,7 +166,7 @@ void measure_openvdb_peer(const PointsPrograms& p, const std::string& cloud, con
     }
     const ProgramRun run =
         run_program({p.openvdb_peer, cloud, "-o", dir + "/openvdb.stl", "--voxel", exact(l.voxel), "--offset", exact(l.offset)});
-    r.set("openvdb_process_s", run.seconds).set("openvdb_peak_mib", run.peak_mib);
+    r.set("openvdb_process_s", run.seconds).set("openvdb_cpu_s", run.cpu_seconds).set("openvdb_peak_mib", run.peak_mib);
     if (!run.ok()) {
         r.set("openvdb_error", run.why());
         return;
@@ -213,15 +213,17 @@ const char* const kPrograms[] = {"snvr", "distance_mc", "openvdb"};
 bool measured(const Record& r, const std::string& program) { return r.has(program + "_process_s") && !r.has(program + "_error"); }
 
 // What each extra point costs against the family's smallest cloud at the same grid:
-// (t(N) - t(N0)) / (N - N0), whole-process seconds, in nanoseconds.
+// (t(N) - t(N0)) / (N - N0) in nanoseconds, of whole-process wall-clock seconds and of
+// CPU seconds.
 void set_cost_per_point(Record& r, const Record& base) {
     const double extra = r.number("points") - base.number("points");
     if (!(extra > 0)) return;
     r.set("base_points", base.number("points"));
     for (const char* program : kPrograms) {
         const std::string p = program;
-        if (measured(r, p) && measured(base, p))
-            r.set(p + "_ns_per_point", 1e9 * (r.number(p + "_process_s") - base.number(p + "_process_s")) / extra);
+        if (!measured(r, p) || !measured(base, p)) continue;
+        r.set(p + "_ns_per_point", 1e9 * (r.number(p + "_process_s") - base.number(p + "_process_s")) / extra);
+        r.set(p + "_cpu_ns_per_point", 1e9 * (r.number(p + "_cpu_s") - base.number(p + "_cpu_s")) / extra);
     }
 }
 

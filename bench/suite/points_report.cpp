@@ -39,7 +39,10 @@ constexpr Program kPrograms[] = {{"snvr", "snvr-cl"}, {"distance_mc", "distance+
 
 bool measured(const Record& r, const std::string& p) { return r.has(p + "_process_s") && !r.has(p + "_error"); }
 
-std::string seconds(const Record& r, const std::string& p) { return measured(r, p) ? fmt("%.2f", r.number(p + "_process_s")) : "-"; }
+// Wall-clock seconds, and CPU seconds in brackets.
+std::string seconds(const Record& r, const std::string& p) {
+    return measured(r, p) ? fmt("%.2f", r.number(p + "_process_s")) + " (" + fmt("%.2f", r.number(p + "_cpu_s")) + ")" : "-";
+}
 std::string mib(const Record& r, const std::string& p) { return measured(r, p) ? fmt("%.0f", r.number(p + "_peak_mib")) : "-"; }
 
 }  // namespace
@@ -60,10 +63,12 @@ std::string points_markdown(const std::vector<Record>& all) {
         (ran_on.empty() ? std::string("-") : ran_on) +
         "); the plain distance + marching cubes peer (distance+MC) and OpenVDB (particles to level set, 4 curvature steps, "
         "volume to mesh) at its voxel h and offset l. ns per extra point: (t(N) - t(N0)) / (N - N0) against the same shape's "
-        "smallest cloud at the same grid.\n\n"
-        "| cloud | points | grid | l (h) | snvr-cl s | MiB | distance+MC s | MiB | OpenVDB s | MiB | snvr-cl / distance+MC: s, MiB | "
-        "snvr-cl / OpenVDB: s, MiB | ns per extra point: snvr-cl, distance+MC, OpenVDB |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "smallest cloud at the same grid, of wall-clock and of CPU seconds (user + system, every thread: on a shared "
+        "machine the steadier figure). s (cpu): wall-clock seconds (CPU seconds); ratios of wall-clock seconds.\n\n"
+        "| cloud | points | grid | l (h) | snvr-cl s (cpu) | MiB | distance+MC s (cpu) | MiB | OpenVDB s (cpu) | MiB | "
+        "snvr-cl / distance+MC: s, MiB | snvr-cl / OpenVDB: s, MiB | ns per extra point, wall: snvr-cl, distance+MC, OpenVDB | "
+        "the same, cpu |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     std::string problems;
     for (const Record* r : rows) {
         md += "| " + r->text("case") + " | " + fmt("%.0f", r->number("points")) + " | " + r->text("resolution") + " | " +
@@ -72,9 +77,12 @@ std::string points_markdown(const std::vector<Record>& all) {
         for (const char* peer : {"distance_mc", "openvdb"})
             md += " | " + fmt("%.2f", r->number(std::string("snvr_over_") + peer + "_s")) + ", " +
                   fmt("%.2f", r->number(std::string("snvr_over_") + peer + "_mib"));
-        std::vector<std::string> costs;
-        for (const Program& p : kPrograms) costs.push_back(fmt("%.0f", r->number(std::string(p.key) + "_ns_per_point")));
-        md += " | " + joined(costs) + " |\n";
+        std::vector<std::string> wall, cpu;
+        for (const Program& p : kPrograms) {
+            wall.push_back(fmt("%.0f", r->number(std::string(p.key) + "_ns_per_point")));
+            cpu.push_back(fmt("%.0f", r->number(std::string(p.key) + "_cpu_ns_per_point")));
+        }
+        md += " | " + joined(wall) + " | " + joined(cpu) + " |\n";
         if (r->has("error")) problems += "- " + r->text("case") + " at " + r->text("resolution") + ": " + r->text("error") + "\n";
         for (const Program& p : kPrograms)
             if (r->has(std::string(p.key) + "_error"))
@@ -103,12 +111,13 @@ std::string points_markdown(const std::vector<Record>& all) {
 void write_points_data(const std::vector<Record>& all, const std::string& dir) {
     std::ofstream f(dir + "/points.dat");
     if (!f) throw std::runtime_error("cannot write " + dir + "/points.dat");
-    f << "# series family points seconds peak_mib\n";
+    f << "# series family points seconds peak_mib cpu_seconds\n";
     for (const Program& p : kPrograms)
         for (const Record* r : points_rows(all))
             if (measured(*r, p.key))
                 f << p.label << "/" << r->text("resolution") << ' ' << r->text("family") << ' ' << r->text("points") << ' '
-                  << r->text(std::string(p.key) + "_process_s") << ' ' << r->text(std::string(p.key) + "_peak_mib") << '\n';
+                  << r->text(std::string(p.key) + "_process_s") << ' ' << r->text(std::string(p.key) + "_peak_mib") << ' '
+                  << r->text(std::string(p.key) + "_cpu_s") << '\n';
 }
 
 }  // namespace snvr::bench

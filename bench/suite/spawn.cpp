@@ -55,6 +55,8 @@ ProgramRun run_program(const std::vector<std::string>& argv) {
         if (errno != EINTR) throw std::runtime_error("wait4() failed");
     run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     run.peak_mib = double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
+    const auto seconds_of = [](const timeval& t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
+    run.cpu_seconds = seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
     if (WIFEXITED(status)) run.exit_code = WEXITSTATUS(status);
     if (WIFSIGNALED(status)) run.signal = WTERMSIG(status);
     if (run.exit_code == 127 && run.output.rfind("cannot run ", 0) == 0) throw std::runtime_error(run.output);

@@ -1,6 +1,6 @@
 // Runs another program as a user would, each in its own process: its exit status,
-// its wall-clock seconds and its peak resident memory (wait4's rusage, ru_maxrss),
-// and what it printed. For the benchmarks that time whole command lines.
+// its wall-clock and CPU seconds and its peak resident memory (wait4's rusage), and
+// what it printed. For the benchmarks that time whole command lines.
 #pragma once
 #include <string>
 #include <vector>
@@ -11,6 +11,7 @@ struct ProgramRun {
     int exit_code = -1;     // the program's exit status, or -1 when it did not exit (a signal)
     int signal = 0;         // the signal that ended it, when one did
     double seconds = 0;     // wall clock, from before the fork to after its end
+    double cpu_seconds = 0; // user + system, all its threads: on a shared machine the steadier figure
     double peak_mib = 0;    // ru_maxrss of the program, MiB
     std::string output;     // stdout and stderr together
     bool ok() const { return exit_code == 0; }
