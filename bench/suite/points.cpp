@@ -254,7 +254,9 @@ void run_points(const PointsOptions& o, const PointsPrograms& p, const std::func
     for (const Cloud& c : clouds) {
         std::string path = c.scan;
         if (path.empty()) {
-            path = o.scratch + "/" + c.family + "-" + exact(c.spacing) + ".ply";
+            char name[64];
+            std::snprintf(name, sizeof name, "/%s-%g.ply", c.family.c_str(), c.spacing);
+            path = o.scratch + name;
             const ProgramRun made = run_program({p.snvr_cl, "sample", c.family, "-o", path, "--spacing", exact(c.spacing)});
             if (!made.ok()) {
                 for (int grid : grids) keep(base(c, grid).set("error", "sampling it: " + made.why()));
