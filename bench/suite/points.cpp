@@ -229,13 +229,6 @@ void set_cost_per_point(Record& r, const Record& base) {
 
 }  // namespace
 
-std::vector<std::string> points_families(const std::string& data) {
-    std::vector<std::string> out;
-    for (const Shape& s : kShapes) out.push_back(s.name);
-    for (const Cloud& c : scans(data)) out.push_back(c.family);
-    return out;
-}
-
 void run_points(const PointsOptions& o, const PointsPrograms& p, const std::function<void(const Record&)>& keep) {
     const std::vector<int> grids = o.quick ? std::vector<int>{64} : o.grids;
     const std::vector<Cloud> clouds = plan_clouds(o);

@@ -32,9 +32,6 @@ struct PointsPrograms {
     std::string snvr_cl, distance_mc_peer, openvdb_peer;
 };
 
-// The families the section knows (shapes first, then the scans found in `data`).
-std::vector<std::string> points_families(const std::string& data);
-
 // Runs the section, handing each row (a cloud at a grid, every program) to `keep` as
 // soon as it is measured.
 void run_points(const PointsOptions& options, const PointsPrograms& programs, const std::function<void(const Record&)>& keep);
