@@ -53,6 +53,37 @@ plot for [s in series(f)] rows(f, s) using 2:3 with linespoints pt 7 title s, \
 unset logscale
 }
 
+# The points section: one line per program (colour) and grid (dashes: 256 solid, 512
+# dashed, ...) along the noisy sphere's densities; the other shapes and the scans as
+# open circles in their line's colour.
+f = dir . "/points.dat"
+if (strlen(series(f)) > 0) {
+S = series(f)
+family_rows(file, s, condition) = "< awk '$1 == \"" . s . "\" && " . condition . "' " . file
+colour(s) = strstrt(s, "snvr-cl") ? 1 : (strstrt(s, "distance") ? 2 : 4)
+dashes(s) = 1 + ((int(log(real(s[strstrt(s, "/") + 1:])) / log(2) + 0.5) - 8) % 5 + 5) % 5
+sphere = "$2 == \"noisy-sphere\""
+others = "$2 != \"noisy-sphere\""
+set logscale xy
+set xlabel "points"
+set output dir . "/points.png"
+set title "Seconds against points at a fixed grid (lines: the noisy sphere; circles: other shapes and scans)"
+set ylabel "wall-clock seconds, file to mesh (whole process)"
+plot for [i=1:words(S)] family_rows(f, word(S, i), sphere) using 3:4 with linespoints lc colour(word(S, i)) dt dashes(word(S, i)) pt 7 title word(S, i), \
+     for [i=1:words(S)] family_rows(f, word(S, i), others) using 3:4 with points lc colour(word(S, i)) pt 6 ps 1.5 notitle
+set output dir . "/points_cpu.png"
+set title "CPU seconds against points at a fixed grid (lines: the noisy sphere; circles: other shapes and scans)"
+set ylabel "CPU seconds, user + system, every thread"
+plot for [i=1:words(S)] family_rows(f, word(S, i), sphere) using 3:6 with linespoints lc colour(word(S, i)) dt dashes(word(S, i)) pt 7 title word(S, i), \
+     for [i=1:words(S)] family_rows(f, word(S, i), others) using 3:6 with points lc colour(word(S, i)) pt 6 ps 1.5 notitle
+set output dir . "/points_memory.png"
+set title "Peak memory against points at a fixed grid (lines: the noisy sphere; circles: other shapes and scans)"
+set ylabel "peak resident memory, MiB"
+plot for [i=1:words(S)] family_rows(f, word(S, i), sphere) using 3:5 with linespoints lc colour(word(S, i)) dt dashes(word(S, i)) pt 7 title word(S, i), \
+     for [i=1:words(S)] family_rows(f, word(S, i), others) using 3:5 with points lc colour(word(S, i)) pt 6 ps 1.5 notitle
+unset logscale
+}
+
 f = dir . "/roofline.dat"
 if (strlen(series(f)) > 0) {
 set output dir . "/roofline.png"

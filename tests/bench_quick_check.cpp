@@ -1,6 +1,7 @@
 // snvr-bench --quick as CI runs it, so the suite cannot rot: it finishes, covers every
 // device with every section, reports no failed case, measures the quality section's
-// cases with both tools (or notes the peer is not built), and prints the tables it writes.
+// cases with both tools (or notes the peer is not built), runs the points section's
+// tiny clouds through snvr-cl and the peers, and prints the tables it writes.
 #include <doctest/doctest.h>
 #include <sys/wait.h>
 
@@ -43,6 +44,7 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
 
     std::ifstream jsonl(out / "results.jsonl");
     std::set<std::string> devices, seen, quality;
+    int points_rows = 0;
     std::string line;
     int records = 0;
     while (std::getline(jsonl, line)) {
@@ -58,6 +60,16 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
                 CHECK(fs::file_size(out / field(line, "png_zoom")) > 1000);
             }
             quality.insert(field(line, "case") + " " + field(line, "tool"));
+            continue;
+        }
+        if (field(line, "section") == "points") {
+            // Once, not per device: snvr-cl, the distance peer and OpenVDB (or its note), none failed.
+            ++points_rows;
+            CHECK(line.find("_error\"") == std::string::npos);
+            for (const char* key : {"\"snvr_process_s\": ", "\"snvr_peak_mib\": ", "\"snvr_steps_s\": ", "\"distance_mc_process_s\": ",
+                                    "\"distance_mc_peak_mib\": ", "\"snvr_over_distance_mc_s\": "})
+                CHECK(line.find(key) != std::string::npos);
+            CHECK((line.find("\"openvdb_process_s\": ") != std::string::npos || field(line, "openvdb_note").rfind("not built", 0) == 0));
             continue;
         }
         const std::string device = field(line, "device");
@@ -80,11 +92,13 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
     std::ifstream md_file(out / "results.md");
     std::stringstream md;
     md << md_file.rdbuf();
-    for (const char* heading : {"### Paper's Table 1", "### Paper's Table 2", "### Roofline", "### Scaling", "### Quality"}) {
+    CHECK(points_rows == 2);
+    for (const char* heading : {"### Paper's Table 1", "### Paper's Table 2", "### Roofline", "### Scaling", "### Quality", "### Points"}) {
         CHECK(md.str().find(heading) != std::string::npos);
         CHECK(printed.find(heading) != std::string::npos);
     }
     CHECK(md.str().find("### Not measured") == std::string::npos);
-    for (const char* dat : {"scaling.dat", "roofline.dat", "table2.dat"}) CHECK(fs::file_size(out / dat) > 40);
+    for (const char* dat : {"scaling.dat", "roofline.dat", "table2.dat", "points.dat"}) CHECK(fs::file_size(out / dat) > 40);
+    CHECK(fs::file_size(out / "points.md") > 200);
     fs::remove_all(out);
 }

@@ -2,20 +2,25 @@
 // roofline per device and a scaling series on every available device and precision
 // (or a chosen subset), each case in its own process with a warm-up and repetitions,
 // then the quality comparison with the OpenVDB peer (quality.hpp: once, on the default
-// device or the first of --devices), and writes results.jsonl, results.md, the data for bench/plots.gp and the
-// quality section's PNG previews.
+// device or the first of --devices) and the cost against the number of points
+// (points.hpp: snvr-cl and the peers as processes, once), and writes results.jsonl,
+// results.md (and points.md), the data for bench/plots.gp and the quality section's
+// PNG previews.
 //
-//   snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality] [--devices D1,D2]
+//   snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality,points] [--devices D1,D2]
 //              [--precisions double,float] [--repeat N] [--table2 128,256,512] [--scaling 128,256,384,512]
 //              [--data DIR] [--out DIR]
 //              [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]
+//              [--points-clouds noisy-sphere,torus,bunny,...] [--points-max N] [--points-grids 256,512] [--points-scratch DIR]
 // Cases above 256 cells on the longest axis run once, without a warm-up (minutes each).
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -24,6 +29,8 @@
 
 #include "isolated.hpp"
 #include "measure.hpp"
+#include "points.hpp"
+#include "points_report.hpp"
 #include "quality.hpp"
 #include "report.hpp"
 
@@ -34,7 +41,7 @@ namespace {
 
 struct Options {
     bool quick = false;
-    std::set<std::string> sections{"table1", "table2", "roofline", "scaling", "quality"};
+    std::set<std::string> sections{"table1", "table2", "roofline", "scaling", "quality", "points"};
     std::vector<std::string> devices, precisions;  // empty: all available / by mode
     int repeat = 3;
     std::vector<int> table2{128, 256, 512};  // 512^3 where memory allows (else "not measured")
@@ -43,6 +50,7 @@ struct Options {
     std::vector<int> quality_resolutions{128, 256, 512};
     std::vector<std::string> quality_cases;  // empty: all (--quick: bunny and sheets)
     int quality_reference = 256;             // the grid a case's offset is given in (--quick: 64)
+    PointsOptions points;                    // its device and data are filled in from the above
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -62,10 +70,12 @@ std::vector<int> resolutions(const std::string& s) {
 
 int usage(const char* why) {
     std::fprintf(stderr,
-                 "snvr-bench: %s\nusage: snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality] [--devices D1,D2]\n"
+                 "snvr-bench: %s\nusage: snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality,points] [--devices D1,D2]\n"
                  "                  [--precisions double,float] [--repeat N] [--table2 128,256,512] [--scaling 128,256,384,512]\n"
                  "                  [--data DIR] [--out DIR]\n"
-                 "                  [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]\n",
+                 "                  [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]\n"
+                 "                  [--points-clouds noisy-sphere,torus,helicoid,bunny,...] [--points-max N (7000000)]\n"
+                 "                  [--points-grids 256,512] [--points-scratch DIR ($TMPDIR/snvr-bench-points-PID)]\n",
                  why);
     return 2;
 }
@@ -188,6 +198,32 @@ void run_quality(const Options& o, const std::string& device, std::ofstream& jso
             }
 }
 
+// The points section: snvr-cl and the peers, each run a process of its own.
+void run_points_section(Options& o, std::ofstream& jsonl, std::vector<Record>& records) {
+    PointsOptions& po = o.points;
+    po.quick = o.quick;
+    po.data = o.data;
+    po.repeat = o.repeat;
+    if (!o.devices.empty()) po.device = o.devices.front();
+    if (po.scratch.empty()) {
+        const char* tmp = std::getenv("TMPDIR");
+        po.scratch = std::string(tmp && *tmp ? tmp : "/tmp") + "/snvr-bench-points-" + std::to_string(::getpid());
+    }
+    const PointsPrograms programs{SNVR_CL_PROGRAM, SNVR_DISTANCE_MC_PEER_PROGRAM, SNVR_OPENVDB_PEER_PROGRAM};
+    const auto keep = [&](const Record& r) {
+        jsonl << r.json() << '\n';
+        jsonl.flush();
+        records.push_back(r);
+    };
+    try {
+        run_points(po, programs, keep);
+    } catch (const std::exception& e) {
+        keep(Record().set("section", "points").set("case", "the section").set("error", e.what()));
+    }
+    std::error_code ignored;
+    std::filesystem::remove(po.scratch, ignored);  // only when nothing of the user's is left in it
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -214,6 +250,10 @@ int main(int argc, char** argv) {
         else if (opt == "--quality-resolutions") o.quality_resolutions = resolutions(val);
         else if (opt == "--quality-cases") o.quality_cases = split(val);
         else if (opt == "--quality-reference") o.quality_reference = std::atoi(val.c_str());
+        else if (opt == "--points-clouds") o.points.clouds = split(val);
+        else if (opt == "--points-max") o.points.max_points = std::atof(val.c_str());
+        else if (opt == "--points-grids") o.points.grids = resolutions(val);
+        else if (opt == "--points-scratch") o.points.scratch = val;
         else return usage(("unknown option " + opt).c_str());
     }
     if (o.repeat < 1) return usage("--repeat must be at least 1");
@@ -223,6 +263,10 @@ int main(int argc, char** argv) {
     for (int n : o.scaling)
         if (n < 8) return usage("--scaling must be at least 8 cells");
     if (o.quality_reference < 8) return usage("--quality-reference must be at least 8 cells");
+    if (o.points.grids.empty()) return usage("--points-grids is empty");
+    for (int n : o.points.grids)
+        if (n < 32) return usage("--points-grids must be at least 32 cells");
+    if (!(o.points.max_points > 0)) return usage("--points-max must be a positive number of points");
     if (o.quick) o.repeat = 1;
     if (o.precisions.empty()) o.precisions = o.quick ? std::vector<std::string>{"double"} : std::vector<std::string>{"double", "float"};
 
@@ -283,6 +327,7 @@ int main(int argc, char** argv) {
             }
         }
     if (o.sections.count("quality")) run_quality(o, o.devices.empty() ? "auto" : devices.front().first, jsonl, records);
+    if (o.sections.count("points")) run_points_section(o, jsonl, records);
 
     // Table 1: the paper's seconds where known.
     for (Record& r : records)
@@ -298,6 +343,8 @@ int main(int argc, char** argv) {
                " after one warm-up (above 256 cells: one run, no warm-up); medians, (min-max) is the spread.";
     const std::string md = markdown(records, heading);
     std::ofstream(o.out + "/results.md") << md;
+    const std::string points_md = points_markdown(records);
+    if (!points_md.empty()) std::ofstream(o.out + "/points.md") << heading << "\n" << points_md;
     write_plot_data(records, o.out);
     std::printf("%s", md.c_str());
     std::fprintf(stderr, "snvr-bench: wrote %s/results.jsonl, results.md and the plot data\n", o.out.c_str());

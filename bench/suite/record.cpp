@@ -24,7 +24,8 @@ std::string json_string(const std::string& s) {
 std::string format_number(double v) {
     if (!std::isfinite(v)) return "null";
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
+    // Counts (points, cells, triangles) in full; other figures to six digits.
+    std::snprintf(buf, sizeof buf, v == std::floor(v) && std::abs(v) < 1e15 ? "%.0f" : "%.6g", v);
     return buf;
 }
 

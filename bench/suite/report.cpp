@@ -6,6 +6,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "points_report.hpp"
+
 namespace snvr::bench {
 
 namespace {
@@ -146,6 +148,7 @@ std::string markdown(const std::vector<Record>& all, const std::string& heading)
                   fmt("%.1f", per_band_cell(*r, "solver_mib")) + " | " + fmt("%.1f", per_band_cell(*r, "peak_rss_mib")) + " |\n";
     }
     md += quality_table(all);
+    md += points_markdown(all);
     std::string errors;
     for (const Record& r : all)
         if (r.has("error"))
@@ -178,6 +181,7 @@ void write_plot_data(const std::vector<Record>& all, const std::string& dir) {
                 if (c == ' ') c = '_';
             rl << r->text("device") << "/" << r->text("precision") << ' ' << kernel << ' ' << r->text("gbps") << ' ' << r->text("of_copy") << '\n';
         }
+    write_points_data(all, dir);
     std::ofstream t2 = open("table2.dat");
     t2 << "# series n grown shrunk paper_grown paper_shrunk\n";
     for (const Record* r : section(all, "table2"))
