@@ -333,7 +333,7 @@ void brick_by_blocks(Candidates& in_brick, const std::vector<double> (&centre)[3
 // many per cell (about 25 per cell of surface at the usual band). On the test clouds at
 // 64 to 131 cells 16 to 128 did alike, but for two dense sheets at 64 cells (kd-tree
 // better) and igea at 64 cells (lists better).
-constexpr std::size_t kDenseRatio = 1 << 20;
+constexpr std::size_t kDenseRatio = 32;
 
 // One bounded kd-tree query per cell of the brick: the minimum of the same expression,
 // so the same distances. A neighbour's nearest point is nearly always this cell's nearest
