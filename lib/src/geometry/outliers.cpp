@@ -52,20 +52,41 @@ std::vector<std::uint8_t> sparse_points(const PointTree& t, const OutlierSetting
     // distance r2 or less; with fewer points in all, every one of them.
     const double r2 = root_bound_sq(s.reach_factor * typical);
     const std::size_t need = std::min(s.neighbours + 1, t.size());
-    std::vector<const PointTree::Node*> leaves;
-    t.for_each_leaf([](const PointTree::Node&) { return true; }, [&](const PointTree::Node& n) { leaves.push_back(&n); });
+    // In blocks of up to kBlock neighbours (nodes of the tree): a block whose points all
+    // lie within reach of each other clears them all; else a point's neighbours are
+    // counted in its leaf, then in its block, and only when too few are there, in the tree.
+    constexpr std::uint32_t kBlock = 128;
+    std::vector<const PointTree::Node*> blocks;
+    t.for_each_leaf(
+        [&](const PointTree::Node& n) {
+            if (n.count() > kBlock) return true;
+            blocks.push_back(&n);
+            return false;
+        },
+        [&](const PointTree::Node& n) { blocks.push_back(&n); });
     std::vector<std::uint8_t> sparse(t.size(), 0);
-    const std::ptrdiff_t nl = std::ptrdiff_t(leaves.size());
-#pragma omp parallel for schedule(dynamic, 64)
-    for (std::ptrdiff_t l = 0; l < nl; ++l) {
-        const PointTree::Node& leaf = *leaves[l];
-        if (leaf.count() >= need && PointTree::dist_sq(t.lo(leaf), t.hi(leaf)) <= r2) continue;
-        for (std::uint32_t k = leaf.begin; k < leaf.end; ++k) {
-            const Vec3 p = t.point(k);
-            std::size_t near = 0;
-            for (std::uint32_t j = leaf.begin; j < leaf.end; ++j) near += PointTree::dist_sq(p, t.point(j)) <= r2;
-            if (near < need) sparse[k] = t.count_within(p, r2, need) < need;
-        }
+    const std::ptrdiff_t nb = std::ptrdiff_t(blocks.size());
+    const auto within = [&](const Vec3& p, std::uint32_t b, std::uint32_t e) {
+        std::size_t near = 0;
+        for (std::uint32_t j = b; j < e; ++j) near += PointTree::dist_sq(p, t.point(j)) <= r2;
+        return near;
+    };
+#pragma omp parallel for schedule(dynamic, 16)
+    for (std::ptrdiff_t b = 0; b < nb; ++b) {
+        const PointTree::Node& block = *blocks[b];
+        if (block.count() >= need && PointTree::dist_sq(t.lo(block), t.hi(block)) <= r2) continue;
+        t.for_each_leaf_below(
+            block, [](const PointTree::Node&) { return true; },
+            [&](const PointTree::Node& leaf) {
+                const bool whole = leaf.count() >= need && PointTree::dist_sq(t.lo(leaf), t.hi(leaf)) <= r2;
+                if (whole) return;
+                for (std::uint32_t k = leaf.begin; k < leaf.end; ++k) {
+                    const Vec3 p = t.point(k);
+                    if (within(p, leaf.begin, leaf.end) >= need) continue;
+                    if (within(p, block.begin, block.end) >= need) continue;
+                    sparse[k] = t.count_within(p, r2, need) < need;
+                }
+            });
     }
     return sparse;
 }
