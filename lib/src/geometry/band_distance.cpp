@@ -335,36 +335,54 @@ void brick_by_blocks(Candidates& in_brick, const std::vector<double> (&centre)[3
 // better) and igea at 64 cells (lists better).
 constexpr std::size_t kDenseRatio = 32;
 
-// One bounded kd-tree query per cell of the brick: the minimum of the same expression,
-// so the same distances. A neighbour's nearest point is nearly always this cell's nearest
-// too, or close: its distance bounds the query so tightly that the tree prunes almost
-// everything (slightly above it, to find it again; at zero the query would find nothing,
-// but then the distance is known: 0).
+// The brick's cells by 2x2x2 packets, one walk of the tree per packet (the eight lanes
+// of PointTree::nearest_lanes: the same expression, so the same distances). The nearest
+// points of the packets before it, along each axis, start each lane's search: a
+// neighbour's nearest point is nearly always this cell's, or close, so the walk prunes
+// almost everything from the start.
 template <class Real>
-void brick_by_tree(const detail::PointTree& tree, const Domain& d, const CellRange& r, double rr, Real far, Real* values) {
-    const double L = d.length_scale();
+void brick_by_tree(const detail::PointTree& tree, const std::vector<double> (&centre)[3], const CellRange& r,
+                   double rr, double L, Real far, Real* values) {
+    constexpr int P = 2, kPackets = kBrick / P, kLanes = detail::PointTree::kLanes;
+    static_assert(P * P * P == kLanes, "a packet is one lane per cell");
     constexpr std::uint32_t npos = detail::PointTree::npos;
-    std::uint32_t known[kBrick][kBrick][kBrick];
-    for (int k = r.k0; k < r.k1; ++k)
-        for (int j = r.j0; j < r.j1; ++j)
-            for (int i = r.i0; i < r.i1; ++i) {
-                const int a = i - r.i0, b = j - r.j0, c = k - r.k0;
-                const Vec3 q = d.cell_center(i, j, k);
-                double bound_sq = rr;
-                std::uint32_t at = npos;
-                auto tighten = [&](std::uint32_t p) {
-                    if (p == npos || at != npos) return;
-                    const double dd = dist_sq(q, tree.point(p));
-                    if (dd == 0) at = p;
-                    bound_sq = std::min(bound_sq, dd * (1 + 1e-12));
+    std::uint32_t found[kPackets][kPackets][kPackets][kLanes];
+    const int lo[3] = {r.i0, r.j0, r.k0}, hi[3] = {r.i1, r.j1, r.k1};
+    for (int c = 0; c < kPackets && lo[2] + P * c < hi[2]; ++c)
+        for (int b = 0; b < kPackets && lo[1] + P * b < hi[1]; ++b)
+            for (int a = 0; a < kPackets && lo[0] + P * a < hi[0]; ++a) {
+                // The lanes' cells; those beyond the grid repeat its last cell.
+                double q[3][kLanes];
+                const int at[3] = {a, b, c};
+                for (int lane = 0; lane < kLanes; ++lane)
+                    for (int x = 0; x < 3; ++x) {
+                        const int cell = std::min(lo[x] + P * at[x] + ((lane >> x) & 1), hi[x] - 1);
+                        q[x][lane] = centre[x][std::size_t(cell)];
+                    }
+                double best[kLanes];
+                std::uint32_t index[kLanes];
+                std::fill(best, best + kLanes, rr);
+                std::fill(index, index + kLanes, npos);
+                const auto start_from = [&](const std::uint32_t (&before)[kLanes]) {
+                    for (std::uint32_t p : before) {
+                        if (p == npos) continue;
+                        const Vec3 pt = tree.point(p);
+                        for (int lane = 0; lane < kLanes; ++lane) {
+                            const double dd = dist_sq({q[0][lane], q[1][lane], q[2][lane]}, pt);
+                            if (dd < best[lane]) best[lane] = dd, index[lane] = p;
+                        }
+                    }
                 };
-                if (a > 0) tighten(known[c][b][a - 1]);
-                if (b > 0) tighten(known[c][b - 1][a]);
-                if (c > 0) tighten(known[c - 1][b][a]);
-                const detail::PointTree::Hit hit =
-                    at != npos ? detail::PointTree::Hit{0.0, at} : tree.nearest(q, bound_sq);
-                known[c][b][a] = hit.index;
-                values[a + kBrick * (b + kBrick * c)] = hit.index != npos ? Real(std::sqrt(hit.dist_sq) / L) : far;
+                if (a > 0) start_from(found[c][b][a - 1]);
+                if (b > 0) start_from(found[c][b - 1][a]);
+                if (c > 0) start_from(found[c - 1][b][a]);
+                tree.nearest_lanes(q, best, index);
+                std::copy(index, index + kLanes, found[c][b][a]);
+                for (int lane = 0; lane < kLanes; ++lane) {
+                    const int i = P * a + (lane & 1), j = P * b + ((lane >> 1) & 1), k = P * c + (lane >> 2);
+                    if (i < kBrick && j < kBrick && k < kBrick)
+                        values[i + kBrick * (j + kBrick * k)] = index[lane] != npos ? Real(std::sqrt(best[lane]) / L) : far;
+                }
             }
 }
 
@@ -428,7 +446,7 @@ BandDistance<Real> band_distance(const detail::PointTree& tree, const Domain& d,
             queried += std::size_t(r.i1 - r.i0) * std::size_t(r.j1 - r.j0) * std::size_t(r.k1 - r.k0);
             const Box bb = box_of(brick);
             if (leaves_near(tree, bb, lim * lim, leaves) > dense) {
-                brick_by_tree(tree, d, r, rr, far, values);
+                brick_by_tree(tree, centre, r, rr, L, far, values);
             } else {
                 gather(tree, leaves, bb, lim * lim, gathered);
                 if (gathered.n == 0) {  // nothing within the radius: all far

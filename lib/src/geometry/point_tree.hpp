@@ -67,6 +67,13 @@ public:
 
     // The nearest point nearer than sqrt(bound_sq) (the first in tree order of equally near ones).
     Hit nearest(const Vec3& q, double bound_sq = std::numeric_limits<double>::infinity()) const;
+    // Eight queries at once, lane by lane (a 2x2x2 block of cells: their searches visit
+    // nearly the same leaves, so one walk serves all eight, and each point is measured
+    // against the eight in SIMD). A lane's point nearer than sqrt(best[lane]) replaces
+    // best[lane] and index[lane]; lanes that find none keep theirs. The distances are the
+    // ones nearest() gives (a tie may pick another point).
+    static constexpr int kLanes = 8;
+    void nearest_lanes(const double (&q)[3][kLanes], double (&best)[kLanes], std::uint32_t (&index)[kLanes]) const;
     // The distance from point k to its nearest point at a distance above 0 (0 when there is none).
     double nearest_other(std::size_t k) const;
     // The distance from point k to its k-th nearest other point, duplicates counted (the

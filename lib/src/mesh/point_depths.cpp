@@ -64,6 +64,8 @@ static TriangleFrame triangle_frame(const Vec3& p0, const Vec3& p1, const Vec3& 
 
 namespace {
 
+Vec3 mid(const Vec3& a, const Vec3& b) { return {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])}; }
+
 // Groups of at most this many points and this half diagonal (unless a single leaf): a
 // group shares one grid search and its list of triangles, and the larger, the longer the
 // list and the looser its bound.
@@ -73,12 +75,18 @@ constexpr double kGroupVoxels = 0.75;
 // of about kSamplePoints points, evenly spread (the least depth is always exact).
 constexpr std::size_t kExactPoints = std::size_t(1) << 18;
 constexpr std::size_t kSamplePoints = std::size_t(1) << 18;
-// Below this many points in a group, each point searches the grid on its own (a sparse
+// Below this many points in a run, each point searches the grid on its own (a sparse
 // scan: the shared search would cost more than it saves).
 constexpr std::uint32_t kFewPoints = 16;
 // A group farther than this from the last starts its search afresh (its bound would let
 // too many triangles through).
 constexpr double kJumpVoxels = 8;
+// Neighbouring groups share one grid search: a run of consecutive groups whose box has
+// at most this half diagonal (and at most kRunGroups of them) takes the triangles within
+// reach of all of them at once, and each group then keeps its own from that list (in the
+// lanes, far cheaper than a search). Wider runs pass longer lists to each group.
+constexpr double kRunVoxels = 1.5;
+constexpr std::size_t kRunGroups = 32;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr float kInfF = std::numeric_limits<float>::infinity();
 constexpr std::uint32_t kNone = std::uint32_t(-1);
@@ -118,39 +126,6 @@ struct LaneTriangles {
         at(az, j) = float(a[2]);
         for (int k = ux; k < kFields; ++k) at(k, j) = f.values[k - ux];
         id.push_back(t);
-    }
-    // Keeps the triangles whose flag is set, in order.
-    void keep(const std::vector<std::uint8_t>& flags) {
-        std::size_t to = 0;
-        for (std::size_t j = 0; j < count; ++j)
-            if (flags[j]) {
-                for (int k = 0; k < kFields; ++k) at(k, to) = at(k, j);
-                id[to++] = id[j];
-            }
-        count = to;
-        id.resize(to);
-        pad();
-    }
-    // The triangles of `from` whose flag is set: first those whose `order` value is at
-    // most `first` (the likeliest nearest, so that they fill the first packet), then the
-    // rest; `firsts` of them are first.
-    void take(const LaneTriangles& from, const std::vector<std::uint8_t>& flags, std::size_t n, const float* order,
-              float first, std::size_t firsts) {
-        reset(n);
-        reach = from.reach;
-        std::size_t front = 0, back = firsts;
-        for (std::size_t j = 0; j < from.size(); ++j)
-            if (flags[j]) {
-                const std::size_t to = order[j] <= first && front < firsts ? front++ : back++;
-                for (int k = 0; k < kFields; ++k) at(k, to) = from.at(k, j);
-            }
-        // The ids in the same order.
-        id.assign(n, kNone);
-        front = 0, back = firsts;
-        for (std::size_t j = 0; j < from.size(); ++j)
-            if (flags[j]) id[order[j] <= first && front < firsts ? front++ : back++] = from.id[j];
-        count = n;
-        pad();
     }
     // Fills the last packet with points far beyond any other (at 1e18 on each axis, the
     // axes as frame: a squared distance near 3e36, still finite), whose id is kNone.
@@ -255,21 +230,72 @@ __attribute__((target_clones("avx2", "default"))) void tangents_over_triangles(c
     }
 }
 
-// Least over the triangles, a packet at a time; after the first, a packet whose every
-// tangent bound (about the reference point (rx, ry, rz)) lies beyond the best distance so
-// far by `margin` (far above their rounding) cannot come near the least: it is passed by.
+// The least tangent bound of every triangle at the offset (x, y, z) from the reference
+// point: a lower bound of the distance there.
+__attribute__((target_clones("avx2", "default"))) float least_tangent_bound(const LaneTriangles& t,
+                                                                          const float* bounds, float x, float y,
+                                                                          float z) {
+    F8 least = F8{} + std::numeric_limits<float>::infinity();
+    for (std::size_t p = 0; p < t.packets(); ++p) {
+        const float* b = bounds + p * TangentBounds::kPacket;
+        F8 d, gx, gy, gz;
+        std::memcpy(&d, b, sizeof d);
+        std::memcpy(&gx, b + 8, sizeof gx);
+        std::memcpy(&gy, b + 16, sizeof gy);
+        std::memcpy(&gz, b + 24, sizeof gz);
+        const F8 low = d + gx * x + gy * y + gz * z;
+        least = low < least ? low : least;
+    }
+    float m = least[0];
+    for (int l = 1; l < 8; ++l) m = std::min(m, least[l]);
+    return m;
+}
+
+// The least over the triangles of D + min(c lo, c hi) - sqrt(1 - c^2) across, c = g . n:
+// a lower bound of every distance at points whose offset from the reference point lies
+// between lo and hi along the unit n and within `across` of that line.
+__attribute__((target_clones("avx2", "default"))) float least_group_bound(const LaneTriangles& t, const float* bounds,
+                                                                        float nx, float ny, float nz, float lo,
+                                                                        float hi, float across) {
+    const F8 zero{}, one = zero + 1;
+    F8 least = zero + std::numeric_limits<float>::infinity();
+    for (std::size_t p = 0; p < t.packets(); ++p) {
+        const float* b = bounds + p * TangentBounds::kPacket;
+        F8 d, gx, gy, gz;
+        std::memcpy(&d, b, sizeof d);
+        std::memcpy(&gx, b + 8, sizeof gx);
+        std::memcpy(&gy, b + 16, sizeof gy);
+        std::memcpy(&gz, b + 24, sizeof gz);
+        const F8 c = gx * nx + gy * ny + gz * nz;
+        F8 s2 = one - c * c;
+        s2 = s2 > zero ? s2 : zero;
+        F8 sine;
+        for (int l = 0; l < 8; ++l) sine[l] = std::sqrt(s2[l]);
+        const F8 a = c * lo, z = c * hi;
+        const F8 v = d + (a < z ? a : z) - sine * across;
+        least = v < least ? v : least;
+    }
+    float m = least[0];
+    for (int l = 1; l < 8; ++l) m = std::min(m, least[l]);
+    return m;
+}
+
+// Least over the triangles, a packet at a time; a packet whose every tangent bound
+// (about the reference point (rx, ry, rz)) lies beyond the best distance so far (at
+// first `start`, at least the point's distance) by `margin` (far above their rounding)
+// cannot come near the least: it is passed by.
 __attribute__((target_clones("avx2", "default"))) Least nearest_over_triangles(const LaneTriangles& t,
                                                                              const float* bounds, float x, float y,
                                                                              float z, float rx, float ry, float rz,
-                                                                             float margin) {
+                                                                             float start, float margin) {
     const F8 inf = F8{} + std::numeric_limits<float>::infinity();
     const F8 px = F8{} + x, py = F8{} + y, pz = F8{} + z;
     const F8 ox = F8{} + (x - rx), oy = F8{} + (y - ry), oz = F8{} + (z - rz);
     F8 b1 = inf, b2 = inf, b3 = inf;
     I8 a1 = I8{} - 1, a2 = I8{} - 1;
-    float best = std::numeric_limits<float>::infinity();  // the least distance so far
+    float best = start;  // the least distance so far
     for (std::size_t p = 0; p < t.packets(); ++p) {
-        if (p > 0) {
+        {
             const float* b = bounds + p * TangentBounds::kPacket;
             F8 d, gx, gy, gz;
             std::memcpy(&d, b, sizeof d);
@@ -298,7 +324,7 @@ __attribute__((target_clones("avx2", "default"))) Least nearest_over_triangles(c
         a1 = n1 ? id : a1;
         float least = b1[0];
         for (int l = 1; l < 8; ++l) least = std::min(least, b1[l]);
-        best = std::sqrt(least);
+        best = std::min(best, std::sqrt(least));
     }
     // Each lane holds its three least in order: the overall least is the least head, and
     // each next one the least head of what is left.
@@ -319,29 +345,16 @@ __attribute__((target_clones("avx2", "default"))) Least nearest_over_triangles(c
     return least;
 }
 
-// The squared distance from one point to each triangle (and the padding), a packet at a time.
-__attribute__((target_clones("avx2", "default"))) void distances_over_triangles(const LaneTriangles& t, float x,
-                                                                              float y, float z, float* out) {
-    const F8 px = F8{} + x, py = F8{} + y, pz = F8{} + z;
-    for (std::size_t p = 0; p < t.packets(); ++p) {
-        const float* fields = t.packet(p);
-        const F8 d = lane_dist_sq(px, py, pz, [&](int field) {
-            F8 v;
-            std::memcpy(&v, fields + 8 * field, sizeof v);
-            return v;
-        });
-        std::memcpy(out + 8 * p, &d, sizeof d);
-    }
-}
-
 // A group's working space, kept from group to group.
 struct Scratch {
     std::vector<std::uint32_t> near, seen;
     std::uint32_t mark = 0;
-    LaneTriangles all, kept;
-    std::vector<float> from, firsts;
-    TangentBounds tangents;
-    std::vector<std::uint8_t> flags;
+    // The run's candidates about its centre.
+    LaneTriangles kept;
+    Vec3 run_centre{0, 0, 0};
+    double run_reach = 0;     // every triangle within this of run_centre is in `kept`
+    double run_distance = 0;  // run_centre's distance to the surface, at most
+    TangentBounds tangents;   // the kept's, about the group's centre
 };
 
 // Inside or not by the parity of crossings along a ray in a direction that no
@@ -366,7 +379,7 @@ PointDepths::~PointDepths() = default;
 PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
                          bool every_point, bool by_rays)
     : mesh_(mesh), grid_(grid), points_(points), every_point_(every_point), by_rays_(by_rays),
-      jump_(kJumpVoxels * voxel) {
+      jump_(kJumpVoxels * voxel), run_most_(kRunVoxels * voxel) {
     // Leaves taken in Morton order, as many as fit in a group: neighbours in that order
     // lie side by side.
     const double most = kGroupVoxels * voxel;
@@ -417,33 +430,78 @@ PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const Point
 }
 
 void PointDepths::bound(std::size_t first, std::size_t last) {
-    Scratch s;
-    double before = kInf;  // a bound on the last group's centre's distance to the surface
-    Vec3 before_at{0, 0, 0};
-    for (std::size_t g = first; g < last; ++g) {
-        Group& group = groups_[g];
-        const Vec3 centre = group.centre();
-        // The last group's bound plus the way between them (groups come in Morton order,
-        // mostly side by side); after a jump, a search of its own.
-        const double way = norm(sub(centre, before_at));
-        double bound = before + way;
-        if (!(way <= jump_)) {
-            const TriangleGrid::Closest at = grid_.closest(centre);
-            bound = at.triangle == TriangleGrid::none ? kInf : std::sqrt(at.dist_sq) * (1 + 1e-9);
-        }
-        before = visit(group, bound, false, &s);
-        before_at = centre;
-    }
+    std::vector<std::uint32_t> ids(last - first);
+    for (std::size_t g = first; g < last; ++g) ids[g - first] = std::uint32_t(g);
+    pass(ids, kInf);
 }
 
 void PointDepths::settle(std::size_t first, std::size_t last, double shallowest) {
-    Scratch s;
+    std::vector<std::uint32_t> ids;
     for (std::size_t g = first; g < last; ++g) {
-        Group& group = groups_[g];
-        if (group.measured || group.side > 0 || !(group.low < shallowest)) continue;
-        const TriangleGrid::Closest at = grid_.closest(group.centre());
-        visit(group, at.triangle == TriangleGrid::none ? kInf : std::sqrt(at.dist_sq) * (1 + 1e-9), true, &s);
+        const Group& group = groups_[g];
+        if (!group.measured && group.side < 0 && group.low < shallowest) ids.push_back(std::uint32_t(g));
     }
+    pass(ids, shallowest);
+}
+
+void PointDepths::pass(const std::vector<std::uint32_t>& ids, double settle_below) {
+    Scratch s;
+    double before = kInf;  // a bound on the last run's centre's distance to the surface
+    Vec3 before_at{0, 0, 0};
+    for (std::size_t i = 0, end = 0; i < ids.size(); ++i) {
+        if (i >= end) {
+            // The next run: groups while their box stays small (they come in Morton
+            // order, mostly side by side).
+            Vec3 lo = groups_[ids[i]].lo, hi = groups_[ids[i]].hi;
+            std::size_t points = groups_[ids[i]].end - groups_[ids[i]].begin;
+            for (end = i + 1; end < ids.size() && end - i < kRunGroups; ++end) {
+                Vec3 l = lo, h = hi;
+                for (int a = 0; a < 3; ++a) {
+                    l[a] = std::min(l[a], groups_[ids[end]].lo[a]);
+                    h[a] = std::max(h[a], groups_[ids[end]].hi[a]);
+                }
+                if (0.5 * norm(sub(h, l)) > run_most_) break;
+                lo = l, hi = h;
+                points += groups_[ids[end]].end - groups_[ids[end]].begin;
+            }
+            // The last run's bound plus the way between them; after a jump, a search of its own.
+            const Vec3 centre = mid(lo, hi);
+            const double way = norm(sub(centre, before_at));
+            before = gather(&s, centre, 0.5 * norm(sub(hi, lo)), way <= jump_ ? before + way : kInf, points >= kFewPoints);
+            before_at = centre;
+        }
+        visit(groups_[ids[i]], false, settle_below, &s);
+    }
+}
+
+double PointDepths::gather(void* scratch, const Vec3& centre, double radius, double bound, bool lanes) const {
+    Scratch& s = *static_cast<Scratch*>(scratch);
+    s.run_centre = centre;
+    s.kept.reset(0);
+    s.run_reach = -1;  // nothing gathered: the groups search point by point
+    // Each group's nearest triangles lie within d_g + 2 r_g of its centre c_g, and
+    // d_g <= d + |c_g - c| for d the run centre's distance: within d + 2 R of the run's
+    // centre c, R = |c_g - c| + r_g at most the run box's half diagonal.
+    const TriangleGrid::Closest at = grid_.closest(s.run_centre, bound < kInf ? bound * bound * (1 + 1e-9) : kInf);
+    const double d = at.triangle != TriangleGrid::none ? std::sqrt(at.dist_sq) * (1 + 1e-9)
+                     : bound < kInf                  ? bound
+                                                     : kInf;
+    s.run_distance = d;
+    if (!(d < kInf) || !lanes) return d;
+    s.run_reach = (d + 2 * radius) * (1 + 1e-9) + 1e-12 * (radius + 1);
+    const auto& V = mesh_.vertices;
+    const auto& T = mesh_.triangles;
+    if (s.seen.size() != T.size()) s.seen.assign(T.size(), 0);
+    grid_.near(s.run_centre, s.run_reach, s.near, s.seen, ++s.mark);
+    s.kept.reset(s.near.size());
+    for (std::uint32_t t : s.near) {
+        const TriangleFrame& f = frames_[t];
+        const Vec3 corner = sub(V[T[t][std::size_t(f.first)]], s.run_centre);
+        s.kept.reach = std::max(s.kept.reach, f.radius + norm(corner));
+        s.kept.add(t, f, corner);
+    }
+    s.kept.pad();
+    return d;
 }
 
 double PointDepths::shallowest() const {
@@ -465,8 +523,8 @@ PointDepths::Figures PointDepths::figures() const {
 // The distance from p to the surface squared and its nearest triangle, among the kept
 // candidates (all within reach of p's group), exactly: in float and lanes first, then in
 // double for the least (and any that the floats could not tell from it).
-void PointDepths::nearest(const Vec3& p, const Vec3& centre, const void* scratch, double slack, float margin,
-                          double& d2, std::uint32_t& triangle) const {
+void PointDepths::nearest(const Vec3& p, const Vec3& centre, double within, const void* scratch, double slack,
+                          float margin, double& d2, std::uint32_t& triangle) const {
     const Scratch& s = *static_cast<const Scratch*>(scratch);
     const auto& V = mesh_.vertices;
     const auto& T = mesh_.triangles;
@@ -476,9 +534,10 @@ void PointDepths::nearest(const Vec3& p, const Vec3& centre, const void* scratch
         const double e = point_triangle_dist_sq(p, V[T[t][0]], V[T[t][1]], V[T[t][2]]);
         if (e < d2 || (e == d2 && t < triangle)) d2 = e, triangle = t;
     };
-    const Vec3 rel = sub(p, centre);
-    const Least low =
-        nearest_over_triangles(s.kept, s.tangents.v.data(), float(rel[0]), float(rel[1]), float(rel[2]), 0, 0, 0, margin);
+    const Vec3 rel = sub(p, s.run_centre), ref = sub(centre, s.run_centre);
+    const Least low = nearest_over_triangles(s.kept, s.tangents.v.data(), float(rel[0]), float(rel[1]), float(rel[2]),
+                                             float(ref[0]), float(ref[1]), float(ref[2]),
+                                             float(within) * (1 + 0x1p-20f), margin);
     if (low.id[0] == kNone) return;
     // A least value clear of the next by twice the slack is the exact least: only its
     // triangle is measured in double; two near-equal ones (a foot near the edge they share)
@@ -502,7 +561,7 @@ int PointDepths::side(const Vec3& p, std::uint32_t triangle) const {
     return side != 0 ? side : ray_side(grid_, p, lo_, hi_);
 }
 
-double PointDepths::visit(Group& group, double bound, bool every_point, void* scratch) const {
+void PointDepths::visit(Group& group, bool every_point, double settle_below, void* scratch) const {
     Scratch& s = *static_cast<Scratch*>(scratch);
     const std::uint32_t count = group.end - group.begin;
     const Vec3 centre = group.centre();
@@ -510,8 +569,6 @@ double PointDepths::visit(Group& group, double bound, bool every_point, void* sc
     for (std::uint32_t k = group.begin; k < group.end; ++k)
         radius = std::max(radius, PointTree::dist_sq(points_.point(k), centre));
     radius = std::sqrt(radius);
-    const auto& V = mesh_.vertices;
-    const auto& T = mesh_.triangles;
     every_point = every_point || every_point_ || group.sampled;
     const auto measured = [&](std::uint32_t k, double d2, std::uint32_t triangle) {
         const Vec3 p = points_.point(k);
@@ -529,87 +586,81 @@ double PointDepths::visit(Group& group, double bound, bool every_point, void* sc
         group.depths.clear();
         group.measured = true;
     };
-    if (!(bound < kInf)) {  // no triangle at all: every point outside, infinitely far
-        start();
-        for (std::uint32_t k = group.begin; k < group.end; ++k) measured(k, kInf, kNone);
-        return kInf;
-    }
-    if (count < kFewPoints) {
-        // Too few to share a search: each point's own, bounded by the centre's bound plus
-        // the way to it.
-        start();
-        double centre_bound = kInf;
-        for (std::uint32_t k = group.begin; k < group.end; ++k) {
-            const Vec3 p = points_.point(k);
-            const double way = norm(sub(p, centre)), own = (bound + way) * (1 + 1e-9);
-            TriangleGrid::Closest near = grid_.closest(p, own * own + 1e-300);
-            if (near.triangle == TriangleGrid::none) near = grid_.closest(p);
-            measured(k, near.dist_sq, near.triangle == TriangleGrid::none ? kNone : near.triangle);
-            centre_bound = std::min(centre_bound, (std::sqrt(near.dist_sq) + way) * (1 + 1e-9));
-        }
-        return centre_bound;
-    }
-
-    // Each point's nearest triangle lies within d + r of it, d the centre's distance to
-    // the surface: within d + 2 r of the centre. The grid's boxes give a superset, and the
-    // triangles' own distances to the centre (in float, with room for its rounding) keep
-    // those that can matter. (d from a search bounded by the last group's: far fewer
-    // triangles go through the boxes than with that bound alone.)
-    const TriangleGrid::Closest at = grid_.closest(centre, bound * bound * (1 + 1e-9));
-    if (at.triangle != TriangleGrid::none) bound = std::sqrt(at.dist_sq) * (1 + 1e-9);
-    const double first_reach = (bound + 2 * radius) * (1 + 1e-9) + 1e-12 * (radius + 1);
-    if (s.seen.size() != T.size()) s.seen.assign(T.size(), 0);
-    grid_.near(centre, first_reach, s.near, s.seen, ++s.mark);
-    LaneTriangles& all = s.all;
-    all.reset(s.near.size());
-    for (std::uint32_t t : s.near) {
-        const TriangleFrame& f = frames_[t];
-        const Vec3 corner = sub(V[T[t][std::size_t(f.first)]], centre);
-        all.reach = std::max(all.reach, f.radius + norm(corner));
-        all.add(t, f, corner);
-    }
-    all.pad();
+    // The group's candidates from its run's: those within d + 2 r of its centre, d its
+    // centre's distance (the least over the run's, all within reach of the run's centre).
+    const Vec3 off = sub(centre, s.run_centre);
+    const float ox = float(off[0]), oy = float(off[1]), oz = float(off[2]);
+    const LaneTriangles& kept = s.kept;
     // The floats err by far less than this: every value below (2 R)^2, R the largest
-    // coordinate about the centre, and rounded a dozen times by 2^-24 of it.
-    const double big = 2 * std::max(all.reach, radius);
+    // coordinate about the run's centre, and rounded a dozen times by 2^-24 of it.
+    const double big = 2 * std::max(kept.reach, norm(off) + radius);
     const double slack = 0x1p-18 * big * big;
     // The same in distances, for the tangent bounds: above their own rounding (a few
     // 2^-24 of big) and the root of the slack over the least distance there is.
     const float margin = float(0x1p-12 * big);
-    s.from.resize(all.packets() * 8);
-    distances_over_triangles(all, 0, 0, 0, s.from.data());
-    float least = kInfF;
-    for (std::size_t j = 0; j < all.size(); ++j) least = std::min(least, s.from[j]);
-    const double centre_bound = std::sqrt(double(least) + slack) * (1 + 1e-9);
+    // Every candidate's distance from the centre and the tangent plane there; the least
+    // bounds the centre's distance.
+    double centre_bound = kInf;
+    std::size_t nearest_kept = 0;  // the candidate nearest the centre
+    if (kept.size() > 0) {
+        s.tangents.v.resize(kept.packets() * TangentBounds::kPacket);
+        tangents_over_triangles(kept, ox, oy, oz, s.tangents.v.data());
+        for (std::size_t j = 1; j < kept.size(); ++j)
+            if (s.tangents.v[j / 8 * TangentBounds::kPacket + j % 8] <
+                s.tangents.v[nearest_kept / 8 * TangentBounds::kPacket + nearest_kept % 8])
+                nearest_kept = j;
+        const double root = double(s.tangents.v[nearest_kept / 8 * TangentBounds::kPacket + nearest_kept % 8]) *
+                            (1 + 0x1p-20);
+        centre_bound = std::sqrt(root * root + slack) * (1 + 1e-9);
+    }
     const double reach = (centre_bound + 2 * radius) * (1 + 1e-9) + 1e-12 * (radius + 1);
-    // Those within reach, the eight nearest the centre first (with them a point has a good
-    // bound at once, and the tangent bounds pass most of the rest by).
-    s.flags.resize(all.size());
-    s.firsts.clear();
-    const float within = float(reach * reach + slack) * (1 + 0x1p-20f);
-    for (std::size_t j = 0; j < all.size(); ++j) {
-        s.flags[j] = s.from[j] <= within;
-        if (s.flags[j]) s.firsts.push_back(s.from[j]);
+    // Point k's distance to the surface, at most.
+    const auto within = [&](std::uint32_t k) {
+        return (centre_bound + std::sqrt(PointTree::dist_sq(points_.point(k), centre))) * (1 + 1e-9);
+    };
+    if (!(norm(off) * (1 + 1e-9) + reach <= s.run_reach)) {
+        // Beyond what the run gathered (or it gathered nothing): each point's own search.
+        start();
+        if (!(s.run_distance < kInf)) {  // no triangle at all: every point outside, infinitely far
+            for (std::uint32_t k = group.begin; k < group.end; ++k) measured(k, kInf, kNone);
+            return;
+        }
+        const double bound = (s.run_distance + norm(off)) * (1 + 1e-9);
+        for (std::uint32_t k = group.begin; k < group.end; ++k) {
+            const Vec3 p = points_.point(k);
+            const double own = (bound + norm(sub(p, centre))) * (1 + 1e-9);
+            TriangleGrid::Closest near = grid_.closest(p, own * own + 1e-300);
+            if (near.triangle == TriangleGrid::none) near = grid_.closest(p);
+            measured(k, near.dist_sq, near.triangle);
+        }
+        return;
     }
-    float first = kInfF;
-    const std::size_t kept = s.firsts.size(), firsts = std::min<std::size_t>(8, kept);
-    if (kept > 8) {
-        std::nth_element(s.firsts.begin(), s.firsts.begin() + 7, s.firsts.end());
-        first = s.firsts[7];
-    }
-    s.kept.take(all, s.flags, kept, s.from.data(), first, firsts);
-    s.tangents.v.resize(s.kept.packets() * TangentBounds::kPacket);
-    tangents_over_triangles(s.kept, 0, 0, 0, s.tangents.v.data());
-
     if (every_point) {
         start();
         for (std::uint32_t k = group.begin; k < group.end; ++k) {
             double d2;
             std::uint32_t t;
-            nearest(points_.point(k), centre, &s, slack, margin, d2, t);
+            nearest(points_.point(k), centre, within(k), &s, slack, margin, d2, t);
             measured(k, d2, t);
         }
-        return centre_bound;
+        return;
+    }
+
+    const float* tb = s.tangents.v.data();
+    if (settle_below < kInf) {
+        // All inside (as every group settle() visits): only a point whose own tangent
+        // bound lies below settle_below can be shallower than that.
+        for (std::uint32_t k = group.begin; k < group.end; ++k) {
+            const Vec3 p = points_.point(k), o = sub(p, centre);
+            const double low = double(least_tangent_bound(s.kept, tb, float(o[0]), float(o[1]), float(o[2]))) -
+                               double(margin) - 1e-6 * (radius + centre_bound);
+            if (!(low < settle_below)) continue;
+            double d2;
+            std::uint32_t t;
+            nearest(p, centre, within(k), &s, slack, margin, d2, t);
+            group.shallowest = std::min(group.shallowest, std::sqrt(d2));
+        }
+        return;
     }
 
     // A bound on every point's distance at once. Each candidate's distance lies above its
@@ -617,12 +668,8 @@ double PointDepths::visit(Group& group, double bound, bool every_point, void* sc
     // centre's nearest triangle: nearly every candidate's, on a smooth surface) and across
     // it, and bound each part by the points' extent along n and their distance from the
     // line through the centre along n.
-    const float* tb = s.tangents.v.data();
     const auto tangent = [&](std::size_t j, int field) { return tb[j / 8 * TangentBounds::kPacket + 8 * field + j % 8]; };
-    std::size_t j0 = 0;
-    for (std::size_t j = 1; j < s.kept.size(); ++j)
-        if (tangent(j, 0) < tangent(j0, 0)) j0 = j;
-    const Vec3 n{tangent(j0, 1), tangent(j0, 2), tangent(j0, 3)};
+    const Vec3 n{tangent(nearest_kept, 1), tangent(nearest_kept, 2), tangent(nearest_kept, 3)};
     double along_lo = kInf, along_hi = -kInf, across = 0;
     std::uint32_t ref = group.begin;  // the point likeliest the shallowest: least along n
     for (std::uint32_t k = group.begin; k < group.end; ++k) {
@@ -632,37 +679,36 @@ double PointDepths::visit(Group& group, double bound, bool every_point, void* sc
         along_hi = std::max(along_hi, a);
         across = std::max(across, norm(Vec3{d[0] - a * n[0], d[1] - a * n[1], d[2] - a * n[2]}));
     }
-    double low = kInf;
-    for (std::size_t j = 0; j < s.kept.size(); ++j) {
-        const double c = tangent(j, 1) * n[0] + tangent(j, 2) * n[1] + tangent(j, 3) * n[2];
-        const double sine = std::sqrt(std::max(0.0, 1 - c * c));
-        low = std::min(low, double(tangent(j, 0)) + std::min(c * along_lo, c * along_hi) - sine * across);
-    }
+    double low = least_group_bound(s.kept, tb, float(n[0]), float(n[1]), float(n[2]), float(along_lo),
+                                   float(along_hi), float(across));
     // Far above the floats' rounding of D, g and the points, and n's of unit length.
     low -= double(margin) + 1e-6 * (radius + centre_bound);
     // That point, measured: the group's side when nothing crosses it, and a depth that
     // bounds the shallowest from above (the tighter, the fewer groups settle() measures).
     double d2;
     std::uint32_t t;
-    nearest(points_.point(ref), centre, &s, slack, margin, d2, t);
+    nearest(points_.point(ref), centre, within(ref), &s, slack, margin, d2, t);
     const int ref_side = side(points_.point(ref), t);
-    // Two points on opposite sides have the surface between them, within their distance
-    // (at most 2 r) of each: with every point farther than that, they all share a side.
-    if (low > 2 * radius) {
+    // Nothing crosses the group when no surface comes within r of its centre (the points
+    // lie in that ball, and a segment between two of them with it), or when every point
+    // lies farther than 2 r from the surface (two on opposite sides would have it between
+    // them, within 2 r of each).
+    const double centre_low = double(least_tangent_bound(s.kept, tb, 0, 0, 0)) - double(margin) -
+                              1e-6 * (radius + centre_bound);
+    if (centre_low > radius || low > 2 * radius) {
         group.low = low;
         group.side = ref_side;
         group.inside = ref_side < 0 ? count : 0;
         group.shallowest = ref_side < 0 ? std::sqrt(d2) : kInf;
-        return centre_bound;
+        return;
     }
     start();
     for (std::uint32_t k = group.begin; k < group.end; ++k) {
         double e2;
         std::uint32_t e;
-        nearest(points_.point(k), centre, &s, slack, margin, e2, e);
+        nearest(points_.point(k), centre, within(k), &s, slack, margin, e2, e);
         measured(k, e2, e);
     }
-    return centre_bound;
 }
 
 }  // namespace snvr::detail

@@ -63,13 +63,21 @@ private:
         std::vector<double> depths;  // when sampled
         Vec3 centre() const { return {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])}; }
     };
-    // One group, given a bound on its centre's distance to the surface; every_point to
-    // measure each point. Returns a (tighter) bound on the centre's distance.
-    double visit(Group& group, double bound, bool every_point, void* scratch) const;
+    // Visits the groups `ids` (ascending) in runs of neighbours; settle_below as visit's.
+    void pass(const std::vector<std::uint32_t>& ids, double settle_below);
+    // Gathers into the scratch the candidate triangles of a run of groups, all within
+    // `radius` of `centre`, given a bound on the centre's distance to the surface (or
+    // infinity); without `lanes`, only that bound (the groups then search point by point).
+    // Returns a (tighter) bound on that distance.
+    double gather(void* scratch, const Vec3& centre, double radius, double bound, bool lanes) const;
+    // One group of the gathered run; every_point to measure each point. With settle_below
+    // finite, a group known to lie inside as a whole: each point whose bound lies below
+    // it is measured, for the shallowest.
+    void visit(Group& group, bool every_point, double settle_below, void* scratch) const;
     // p's exact squared distance to the surface and nearest triangle, among the
-    // candidates the scratch holds for p's group.
-    void nearest(const Vec3& p, const Vec3& centre, const void* scratch, double slack, float margin, double& d2,
-                 std::uint32_t& triangle) const;
+    // candidates the scratch holds for p's group (centre), p's distance at most `within`.
+    void nearest(const Vec3& p, const Vec3& centre, double within, const void* scratch, double slack, float margin,
+                 double& d2, std::uint32_t& triangle) const;
     // -1 inside, +1 outside: by the nearest triangle's side where p's foot lies clear
     // inside its face, else (or always, by_rays) by a ray's crossings.
     int side(const Vec3& p, std::uint32_t triangle) const;
@@ -78,7 +86,8 @@ private:
     const TriangleGrid& grid_;
     const PointTree& points_;
     bool every_point_, by_rays_;
-    double jump_;  // beyond this from the last group, a fresh search
+    double jump_;      // beyond this from the last run, a fresh search
+    double run_most_;  // the half diagonal of a run's box, at most
     std::vector<Group> groups_;
     std::vector<TriangleFrame> frames_;  // each triangle's, as the lanes take it
     Vec3 lo_{0, 0, 0}, hi_{0, 0, 0};  // the mesh's box, for the rays' directions
