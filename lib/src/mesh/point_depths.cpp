@@ -6,10 +6,12 @@
 #include "mesh/point_depths.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <thread>
 
 #include "geometry/vec3_math.hpp"
 
@@ -69,7 +71,7 @@ Vec3 mid(const Vec3& a, const Vec3& b) { return {0.5 * (a[0] + b[0]), 0.5 * (a[1
 // Groups of at most this many points and this half diagonal (unless a single leaf): a
 // group shares one grid search and its list of triangles, and the larger, the longer the
 // list and the looser its bound.
-constexpr std::uint32_t kGroupPoints = 64;
+constexpr std::uint32_t kGroupPoints = 256;
 constexpr double kGroupVoxels = 0.75;
 // Up to this many points every depth is measured, for the percentile; beyond, the groups
 // of about kSamplePoints points, evenly spread (the least depth is always exact).
@@ -230,13 +232,13 @@ __attribute__((target_clones("avx2", "default"))) void tangents_over_triangles(c
     }
 }
 
-// The least tangent bound of every triangle at the offset (x, y, z) from the reference
-// point: a lower bound of the distance there.
-__attribute__((target_clones("avx2", "default"))) float least_tangent_bound(const LaneTriangles& t,
-                                                                          const float* bounds, float x, float y,
-                                                                          float z) {
+// The least tangent bound, at the offset (x, y, z) from the reference point, of the
+// triangles in the given packets: a lower bound of their distance there.
+__attribute__((target_clones("avx2", "default"))) float least_tangent_bound(const float* bounds,
+                                                                          const std::vector<std::uint32_t>& packets,
+                                                                          float x, float y, float z) {
     F8 least = F8{} + std::numeric_limits<float>::infinity();
-    for (std::size_t p = 0; p < t.packets(); ++p) {
+    for (std::uint32_t p : packets) {
         const float* b = bounds + p * TangentBounds::kPacket;
         F8 d, gx, gy, gz;
         std::memcpy(&d, b, sizeof d);
@@ -355,6 +357,8 @@ struct Scratch {
     double run_reach = 0;     // every triangle within this of run_centre is in `kept`
     double run_distance = 0;  // run_centre's distance to the surface, at most
     TangentBounds tangents;   // the kept's, about the group's centre
+    std::vector<std::uint32_t> packets;
+    double shallowest = kInf;  // the least depth this pass has measured inside
 };
 
 // Inside or not by the parity of crossings along a ray in a direction that no
@@ -412,13 +416,10 @@ PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const Point
     const std::size_t stride = every_point || n <= kExactPoints ? 1 : (n + kSamplePoints - 1) / kSamplePoints;
     for (std::size_t g = 0; g < groups_.size(); g += stride) groups_[g].sampled = true;
 
-    frames_.resize(mesh.triangles.size());
-    const std::ptrdiff_t nt = std::ptrdiff_t(mesh.triangles.size());
-#pragma omp parallel for schedule(static) if (nt > (1 << 14))
-    for (std::ptrdiff_t t = 0; t < nt; ++t) {
-        const auto& tri = mesh.triangles[t];
-        frames_[t] = triangle_frame(mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]);
-    }
+    // Frames are made when a run first needs them (a sparse scan needs few): their
+    // memory is untouched until then.
+    frames_.reset(new TriangleFrame[mesh.triangles.size()]);
+    frame_state_.reset(new std::atomic<std::uint8_t>[mesh.triangles.size()]());
     if (!mesh.vertices.empty()) {
         lo_ = hi_ = mesh.vertices[0];
         for (const Vec3& v : mesh.vertices)
@@ -467,10 +468,14 @@ void PointDepths::pass(const std::vector<std::uint32_t>& ids, double settle_belo
             // The last run's bound plus the way between them; after a jump, a search of its own.
             const Vec3 centre = mid(lo, hi);
             const double way = norm(sub(centre, before_at));
-            before = gather(&s, centre, 0.5 * norm(sub(hi, lo)), way <= jump_ ? before + way : kInf, points >= kFewPoints);
+            const double half = 0.5 * norm(sub(hi, lo));
+            // A lone leaf wider than a run (a sparse scan) would gather far too many.
+            before = gather(&s, centre, half, way <= jump_ ? before + way : kInf,
+                            points >= kFewPoints && half <= run_most_);
             before_at = centre;
         }
         visit(groups_[ids[i]], false, settle_below, &s);
+        s.shallowest = std::min(s.shallowest, groups_[ids[i]].shallowest);
     }
 }
 
@@ -495,13 +500,28 @@ double PointDepths::gather(void* scratch, const Vec3& centre, double radius, dou
     grid_.near(s.run_centre, s.run_reach, s.near, s.seen, ++s.mark);
     s.kept.reset(s.near.size());
     for (std::uint32_t t : s.near) {
-        const TriangleFrame& f = frames_[t];
+        const TriangleFrame& f = frame(t);
         const Vec3 corner = sub(V[T[t][std::size_t(f.first)]], s.run_centre);
         s.kept.reach = std::max(s.kept.reach, f.radius + norm(corner));
         s.kept.add(t, f, corner);
     }
     s.kept.pad();
     return d;
+}
+
+const TriangleFrame& PointDepths::frame(std::uint32_t t) const {
+    std::atomic<std::uint8_t>& state = frame_state_[t];  // 0 none, 1 being made, 2 made
+    if (state.load(std::memory_order_acquire) != 2) {
+        std::uint8_t none = 0;
+        if (state.compare_exchange_strong(none, 1, std::memory_order_acq_rel)) {
+            const auto& tri = mesh_.triangles[t];
+            frames_[t] = triangle_frame(mesh_.vertices[tri[0]], mesh_.vertices[tri[1]], mesh_.vertices[tri[2]]);
+            state.store(2, std::memory_order_release);
+        } else {
+            while (state.load(std::memory_order_acquire) != 2) std::this_thread::yield();
+        }
+    }
+    return frames_[t];
 }
 
 double PointDepths::shallowest() const {
@@ -647,19 +667,36 @@ void PointDepths::visit(Group& group, bool every_point, double settle_below, voi
     }
 
     const float* tb = s.tangents.v.data();
-    if (settle_below < kInf) {
-        // All inside (as every group settle() visits): only a point whose own tangent
-        // bound lies below settle_below can be shallower than that.
+    // For a group all inside: each point whose own tangent bound lies below `below` is
+    // measured (a triangle farther than below + r from the centre bounds none of them
+    // below it); returns the least bound of the others.
+    const double room = double(margin) + 1e-6 * (radius + centre_bound);
+    const auto point_by_point = [&](double below) {
+        const float beyond = float((below + radius + room) * (1 + 1e-6));
+        s.packets.clear();
+        for (std::size_t p = 0; p < kept.packets(); ++p)
+            for (int l = 0; l < 8; ++l)
+                if (tb[p * TangentBounds::kPacket + std::size_t(l)] <= beyond) {
+                    s.packets.push_back(std::uint32_t(p));
+                    break;
+                }
+        double rest = kInf;
         for (std::uint32_t k = group.begin; k < group.end; ++k) {
             const Vec3 p = points_.point(k), o = sub(p, centre);
-            const double low = double(least_tangent_bound(s.kept, tb, float(o[0]), float(o[1]), float(o[2]))) -
-                               double(margin) - 1e-6 * (radius + centre_bound);
-            if (!(low < settle_below)) continue;
+            const double low = double(least_tangent_bound(tb, s.packets, float(o[0]), float(o[1]), float(o[2]))) - room;
+            if (!(low < below)) {
+                rest = std::min(rest, low);
+                continue;
+            }
             double d2;
             std::uint32_t t;
             nearest(p, centre, within(k), &s, slack, margin, d2, t);
             group.shallowest = std::min(group.shallowest, std::sqrt(d2));
         }
+        return rest;
+    };
+    if (settle_below < kInf) {  // all inside, as every group settle() visits
+        point_by_point(settle_below);
         return;
     }
 
@@ -693,13 +730,16 @@ void PointDepths::visit(Group& group, bool every_point, double settle_below, voi
     // lie in that ball, and a segment between two of them with it), or when every point
     // lies farther than 2 r from the surface (two on opposite sides would have it between
     // them, within 2 r of each).
-    const double centre_low = double(least_tangent_bound(s.kept, tb, 0, 0, 0)) - double(margin) -
-                              1e-6 * (radius + centre_bound);
+    const double centre_low = double(tangent(nearest_kept, 0)) - double(margin) - 1e-6 * (radius + centre_bound);
     if (centre_low > radius || low > 2 * radius) {
         group.low = low;
         group.side = ref_side;
         group.inside = ref_side < 0 ? count : 0;
         group.shallowest = ref_side < 0 ? std::sqrt(d2) : kInf;
+        // Where the whole group's bound lies below the shallowest depth this pass has
+        // measured (which the least depth can only undercut), the points' own bounds,
+        // while the run's tangents are at hand: settle() then rarely needs the group.
+        if (ref_side < 0 && low < s.shallowest) group.low = point_by_point(s.shallowest);
         return;
     }
     start();

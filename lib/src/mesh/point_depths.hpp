@@ -1,9 +1,11 @@
 // How deep each point lies below a closed mesh's surface, and which points lie inside
 // (point_depths.cpp).
 #pragma once
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "geometry/point_tree.hpp"
@@ -89,7 +91,10 @@ private:
     double jump_;      // beyond this from the last run, a fresh search
     double run_most_;  // the half diagonal of a run's box, at most
     std::vector<Group> groups_;
-    std::vector<TriangleFrame> frames_;  // each triangle's, as the lanes take it
+    // Triangle t's frame, as the lanes take it, made on first use (by one thread).
+    const TriangleFrame& frame(std::uint32_t t) const;
+    mutable std::unique_ptr<TriangleFrame[]> frames_;
+    mutable std::unique_ptr<std::atomic<std::uint8_t>[]> frame_state_;
     Vec3 lo_{0, 0, 0}, hi_{0, 0, 0};  // the mesh's box, for the rays' directions
 };
 
