@@ -148,6 +148,37 @@ std::size_t leaves_near(const detail::PointTree& tree, const Box& box, double li
     return total;
 }
 
+// Whether more than `most` points lie in the leaves within sqrt(lim_sq) of `box`: the
+// count stops there, and a node whose box lies inside the box widened by the limit
+// counts whole (a choice of method, not an answer: the count need not be exact).
+bool more_near_than(const detail::PointTree& tree, const Box& box, double lim_sq, std::size_t most) {
+    const double lim = std::sqrt(lim_sq);
+    std::size_t total = 0;
+    bool more = false;
+    tree.for_each_leaf(
+        [&](const detail::PointTree::Node& n) {
+            if (more) return false;
+            const Vec3 a = tree.lo(n), b = tree.hi(n);
+            double s = 0;
+            bool inside = true;
+            for (int d = 0; d < 3; ++d) {
+                const double g = std::max({a[d] - box.hi[d], 0.0, box.lo[d] - b[d]});
+                s += g * g;
+                inside = inside && a[d] >= box.lo[d] - lim && b[d] <= box.hi[d] + lim;
+            }
+            if (s > lim_sq) return false;
+            if (!inside) return true;
+            total += n.count();
+            more = total > most;
+            return false;
+        },
+        [&](const detail::PointTree::Node& n) {
+            total += n.count();
+            more = total > most;
+        });
+    return more;
+}
+
 // The points of the leaves within sqrt(lim_sq) of `box`.
 void gather(const detail::PointTree& tree, const std::vector<const detail::PointTree::Node*>& leaves, const Box& box,
             double lim_sq, Candidates& out) {
@@ -328,12 +359,12 @@ void brick_by_blocks(Candidates& in_brick, const std::vector<double> (&centre)[3
             }
 }
 
-// Where the points are far denser than the cells, the candidate lists grow long and one
-// kd-tree query per cell is cheaper: in bricks with more points around them than this
-// many per cell (about 25 per cell of surface at the usual band). On the test clouds at
-// 64 to 131 cells 16 to 128 did alike, but for two dense sheets at 64 cells (kd-tree
-// better) and igea at 64 cells (lists better).
-constexpr std::size_t kDenseRatio = 32;
+// Where the points are far denser than the cells, the candidate lists grow long and the
+// tree's packets (brick_by_tree) are cheaper: in bricks with more points around them
+// than this many per cell. Single-threaded band distance at 256 cells, noisy sphere of
+// 24.6 M points: 3.5 s at 16 (and at 8), 3.9 s at 32, 5.5 s at 64; alike at 1.5 M
+// points and on the bunny and the dragon.
+constexpr std::size_t kDenseRatio = 16;
 
 // The brick's cells by 2x2x2 packets, one walk of the tree per packet (the eight lanes
 // of PointTree::nearest_lanes: the same expression, so the same distances). The nearest
@@ -445,9 +476,10 @@ BandDistance<Real> band_distance(const detail::PointTree& tree, const Domain& d,
             const Cells brick{{r.i0, r.j0, r.k0}, {r.i1, r.j1, r.k1}};
             queried += std::size_t(r.i1 - r.i0) * std::size_t(r.j1 - r.j0) * std::size_t(r.k1 - r.k0);
             const Box bb = box_of(brick);
-            if (leaves_near(tree, bb, lim * lim, leaves) > dense) {
+            if (more_near_than(tree, bb, lim * lim, dense)) {
                 brick_by_tree(tree, centre, r, rr, L, far, values);
             } else {
+                leaves_near(tree, bb, lim * lim, leaves);
                 gather(tree, leaves, bb, lim * lim, gathered);
                 if (gathered.n == 0) {  // nothing within the radius: all far
                     std::fill(values, values + kBrick * kBrick * kBrick, far);
