@@ -66,7 +66,28 @@ std::vector<std::uint8_t> sparse_points(const PointTree& t, const OutlierSetting
         [&](const PointTree::Node& n) { blocks.push_back(&n); });
     std::vector<std::uint8_t> sparse(t.size(), 0);
     const std::ptrdiff_t nb = std::ptrdiff_t(blocks.size());
-    const auto within = [&](const Vec3& p, std::uint32_t b, std::uint32_t e) {
+    // How many of points [b, e) lie within reach of point k: in float first (the tree's
+    // own coordinates, so that the loop vectorises), with room for its rounding and the
+    // double's; only a count the room leaves open is taken again in double.
+    double far_coordinate = 0;
+    if (t.size()) {
+        for (int a = 0; a < 3; ++a)
+            far_coordinate = std::max({far_coordinate, std::abs(t.origin[a]) + std::abs(double(t.nodes[0].lo[a])),
+                                       std::abs(t.origin[a]) + std::abs(double(t.nodes[0].hi[a]))});
+    }
+    const double room = 0x1p-20 * r2 + 8 * std::sqrt(r2) * 0x1p-52 * far_coordinate;
+    const float sure_below = float((r2 - room) * (1 - 1e-6)), maybe_below = float((r2 + room) * (1 + 1e-6));
+    const auto within = [&](std::uint32_t k, std::uint32_t b, std::uint32_t e) {
+        const Vec3f q = t.xyz[k];
+        std::size_t sure = 0, maybe = 0;
+        for (std::uint32_t j = b; j < e; ++j) {
+            const float x = t.xyz[j][0] - q[0], y = t.xyz[j][1] - q[1], z = t.xyz[j][2] - q[2];
+            const float d = (x * x + y * y) + z * z;
+            sure += d <= sure_below;
+            maybe += d <= maybe_below;
+        }
+        if (sure >= need || maybe < need) return sure;
+        const Vec3 p = t.point(k);
         std::size_t near = 0;
         for (std::uint32_t j = b; j < e; ++j) near += PointTree::dist_sq(p, t.point(j)) <= r2;
         return near;
@@ -81,10 +102,9 @@ std::vector<std::uint8_t> sparse_points(const PointTree& t, const OutlierSetting
                 const bool whole = leaf.count() >= need && PointTree::dist_sq(t.lo(leaf), t.hi(leaf)) <= r2;
                 if (whole) return;
                 for (std::uint32_t k = leaf.begin; k < leaf.end; ++k) {
-                    const Vec3 p = t.point(k);
-                    if (within(p, leaf.begin, leaf.end) >= need) continue;
-                    if (within(p, block.begin, block.end) >= need) continue;
-                    sparse[k] = t.count_within(p, r2, need) < need;
+                    if (within(k, leaf.begin, leaf.end) >= need) continue;
+                    if (within(k, block.begin, block.end) >= need) continue;
+                    sparse[k] = t.count_within(t.point(k), r2, need) < need;
                 }
             });
     }
