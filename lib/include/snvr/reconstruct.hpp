@@ -90,12 +90,18 @@ std::size_t count_point_clusters(const PointSet& points, double link_distance); 
 // taken over up to median_sample points evenly strided in input order). Then, among the
 // rest, the clusters a shell of the offset planned for them (2 l: see
 // count_point_clusters) would leave apart as loose beads, if they have fewer than
-// min_cluster points and under 1% of all.
+// min_cluster points and under 1% of all. In between, with `strays`, the points that
+// the density let through because they lie within a few spacings of the surface, where
+// each would raise a bump on the shell: a point whose nearest neighbour is unusually far
+// and that stands clearly off the plane of its 16 nearest neighbours (by over six times
+// their scatter about it and over half the distance to the farthest of them). Points on
+// edges, corners and thin detail have no flat neighbourhood to stand off.
 struct OutlierSettings {
     std::size_t neighbours = 8;
     double reach_factor = 3;
     std::size_t min_cluster = 10;
     std::size_t median_sample = 100000;
+    bool strays = true;
     void validate() const;  // throws ParameterError naming the bad value
 };
 struct OutlierSplit {

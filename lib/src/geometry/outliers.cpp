@@ -6,13 +6,16 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "geometry/neighbour_counts.hpp"
 #include "geometry/point_clusters.hpp"
 #include "geometry/point_samples.hpp"
 #include "geometry/point_tree.hpp"
+#include "geometry/stray_points.hpp"
 #include "snvr/error.hpp"
 #include "snvr/reconstruct.hpp"
 
@@ -38,8 +41,9 @@ double root_bound_sq(double r) {
 }
 
 // Rule 1, by tree order: 1 for a point whose `neighbours`-th nearest other point is
-// farther than reach_factor times the median of that distance. Empty when the median is
-// 0 (most points at one place: nothing stands out).
+// farther than reach_factor times the median of that distance (fewer than neighbours + 1
+// points within that reach). Empty when the median is 0 (most points at one place:
+// nothing stands out).
 std::vector<std::uint8_t> sparse_points(const PointTree& t, const OutlierSettings& s) {
     const std::vector<std::uint32_t> sample = detail::strided_sample(t, s.median_sample);
     std::vector<double> reach(sample.size());
@@ -52,63 +56,7 @@ std::vector<std::uint8_t> sparse_points(const PointTree& t, const OutlierSetting
     // distance r2 or less; with fewer points in all, every one of them.
     const double r2 = root_bound_sq(s.reach_factor * typical);
     const std::size_t need = std::min(s.neighbours + 1, t.size());
-    // In blocks of up to kBlock neighbours (nodes of the tree): a block whose points all
-    // lie within reach of each other clears them all; else a point's neighbours are
-    // counted in its leaf, then in its block, and only when too few are there, in the tree.
-    constexpr std::uint32_t kBlock = 128;
-    std::vector<const PointTree::Node*> blocks;
-    t.for_each_leaf(
-        [&](const PointTree::Node& n) {
-            if (n.count() > kBlock) return true;
-            blocks.push_back(&n);
-            return false;
-        },
-        [&](const PointTree::Node& n) { blocks.push_back(&n); });
-    std::vector<std::uint8_t> sparse(t.size(), 0);
-    const std::ptrdiff_t nb = std::ptrdiff_t(blocks.size());
-    // How many of points [b, e) lie within reach of point k: in float first (the tree's
-    // own coordinates, so that the loop vectorises), with room for its rounding and the
-    // double's; only a count the room leaves open is taken again in double.
-    double far_coordinate = 0;
-    if (t.size()) {
-        for (int a = 0; a < 3; ++a)
-            far_coordinate = std::max({far_coordinate, std::abs(t.origin[a]) + std::abs(double(t.nodes[0].lo[a])),
-                                       std::abs(t.origin[a]) + std::abs(double(t.nodes[0].hi[a]))});
-    }
-    const double room = 0x1p-20 * r2 + 8 * std::sqrt(r2) * 0x1p-52 * far_coordinate;
-    const float sure_below = float((r2 - room) * (1 - 1e-6)), maybe_below = float((r2 + room) * (1 + 1e-6));
-    const auto within = [&](std::uint32_t k, std::uint32_t b, std::uint32_t e) {
-        const Vec3f q = t.xyz[k];
-        std::size_t sure = 0, maybe = 0;
-        for (std::uint32_t j = b; j < e; ++j) {
-            const float x = t.xyz[j][0] - q[0], y = t.xyz[j][1] - q[1], z = t.xyz[j][2] - q[2];
-            const float d = (x * x + y * y) + z * z;
-            sure += d <= sure_below;
-            maybe += d <= maybe_below;
-        }
-        if (sure >= need || maybe < need) return sure;
-        const Vec3 p = t.point(k);
-        std::size_t near = 0;
-        for (std::uint32_t j = b; j < e; ++j) near += PointTree::dist_sq(p, t.point(j)) <= r2;
-        return near;
-    };
-#pragma omp parallel for schedule(dynamic, 16)
-    for (std::ptrdiff_t b = 0; b < nb; ++b) {
-        const PointTree::Node& block = *blocks[b];
-        if (block.count() >= need && PointTree::dist_sq(t.lo(block), t.hi(block)) <= r2) continue;
-        t.for_each_leaf_below(
-            block, [](const PointTree::Node&) { return true; },
-            [&](const PointTree::Node& leaf) {
-                const bool whole = leaf.count() >= need && PointTree::dist_sq(t.lo(leaf), t.hi(leaf)) <= r2;
-                if (whole) return;
-                for (std::uint32_t k = leaf.begin; k < leaf.end; ++k) {
-                    if (within(k, leaf.begin, leaf.end) >= need) continue;
-                    if (within(k, block.begin, block.end) >= need) continue;
-                    sparse[k] = t.count_within(t.point(k), r2, need) < need;
-                }
-            });
-    }
-    return sparse;
+    return detail::points_short_of(t, r2, need);
 }
 
 // Moves the flagged points (by cloud order) into `out` (input index, world point) and
@@ -138,12 +86,23 @@ std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, con
     const std::vector<std::uint8_t> sparse = sparse_points(cloud.tree(), s);
     if (sparse.empty()) return out;
     take(cloud, sparse, out);
+    std::optional<DomainPlan> plan;  // of the points kept, while none is dropped
+    // Near the surface, what the density let through: points off their neighbours' plane.
+    if (s.strays) {
+        plan = plan_domain(cloud, params);
+        detail::StraySettings strays;
+        strays.least_lonely = 0.5 * plan->domain.h;
+        const std::vector<std::uint8_t> stray = detail::stray_points(cloud.tree(), strays);
+        if (!stray.empty() && take(cloud, stray, out)) plan.reset();
+    }
     // Among the rest, what the shell would carry as loose beads: clusters that the
     // offset the run will use (planned on the points kept) leaves apart, if small.
     // Dropping them can lower the offset (they may set the sampling gap), which can
     // part more: again until nothing changes (two rounds in the cases tried).
     for (int round = 0; round < 8; ++round) {
-        link = 2 * plan_domain(cloud, params).offset;
+        if (!plan) plan = plan_domain(cloud, params);
+        link = 2 * plan->offset;
+        plan.reset();
         const std::vector<std::uint32_t> root = detail::cluster_roots(cloud.tree(), link);
         std::vector<std::uint32_t> members(root.size(), 0);
         for (std::uint32_t r : root) ++members[r];

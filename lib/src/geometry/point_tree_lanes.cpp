@@ -26,7 +26,7 @@ typedef std::int32_t I8 __attribute__((vector_size(4 * kLanes)));
 
 // A node with this few points is measured whole rather than walked (its points are
 // contiguous): a box test costs about as much as a few points in the lanes.
-constexpr std::uint32_t kWholeNode = 64;
+constexpr std::uint32_t kWholeNode = 128;
 // Points filed at once before they are measured in double (there are usually a few).
 constexpr int kFiled = 128;
 
