@@ -74,12 +74,15 @@ namespace {
 // ((x^2 + y^2) + z^2, x = q - p per axis; ISO C++ mode, so no fused multiply-add), so
 // the values must match bit for bit; only cells within a hair of the band radius may go
 // either way.
+// `distinct`, when given, stands for the cloud in the brute force (its distinct points:
+// copies of one point change no distance).
 template <class Real>
-void check_exact(const PointSet& input, const Domain& d, const Band& band, const char* what) {
+void check_exact(const PointSet& input, const Domain& d, const Band& band, const char* what,
+                 const PointSet* distinct = nullptr) {
     const std::string label = what;
     CAPTURE(label);
     const PointCloud cloud(input);
-    const PointSet points = cloud.to_point_set();
+    const PointSet points = distinct ? PointCloud(*distinct).to_point_set() : cloud.to_point_set();
     const BandDistance<Real> bd = band_distance<Real>(cloud.tree(), d, band);
     const std::vector<Real> distance = bd.dense(d);
     REQUIRE(distance.size() == d.cells());
@@ -204,6 +207,26 @@ void check_clouds() {
         for (int n = 0; n < 16 * 16 * 60; ++n) sheets.push_back({unit(rng), unit(rng), z});
     for (int n = 0; n < 6; ++n) sheets.push_back(coarse.cell_center(3 + 2 * n, 5 + n, 0));  // alone on cell centres
     check_exact<Real>(sheets, coarse, Band{0.1, 0.15}, "two dense sheets");
+
+    // The same density on the odd grid (packets cut by the grid's far edges), tilted.
+    PointSet tilted;
+    for (int n = 0; n < 40000; ++n) {  // some 50 a cell of the sheet
+        const double u = unit(rng), v = unit(rng);
+        tilted.push_back({d.origin[0] + u * 0.37, d.origin[1] + v * 0.21, d.origin[2] + 0.1 + 0.3 * u + 0.05 * v});
+    }
+    check_exact<Real>(tilted, d, band, "a dense tilted sheet across the odd grid");
+
+    // A million copies of one point beside a few others, and every point in one cell.
+    PointSet copies(1000000, d.cell_center(20, 10, 25));
+    PointSet few = {d.cell_center(20, 10, 25), spot(0), spot(0), spot(0.1)};
+    copies.insert(copies.end(), few.begin() + 1, few.end());
+    check_exact<Real>(copies, d, band, "a million copies of one point and three others", &few);
+    PointSet one_cell;
+    const Vec3 c = d.cell_center(5, 17, 44);
+    for (int n = 0; n < 5000; ++n)
+        one_cell.push_back({c[0] + 0.4 * d.h * (unit(rng) - 0.5), c[1] + 0.4 * d.h * (unit(rng) - 0.5),
+                            c[2] + 0.4 * d.h * (unit(rng) - 0.5)});
+    check_exact<Real>(one_cell, d, band, "5000 points in one cell");
 }
 
 }  // namespace

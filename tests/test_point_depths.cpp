@@ -1,0 +1,99 @@
+// The check's point depths (PointDepths: groups, runs, tangent bounds) against brute
+// force over every triangle: the same points inside, the same least depth to the bit,
+// the same depths for the percentile.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "mesh/point_depths.hpp"
+#include "mesh/triangle_grid.hpp"
+#include "snvr/mesh.hpp"
+#include "snvr/point_cloud.hpp"
+#include "snvr/reconstruct.hpp"
+#include "snvr/shapes.hpp"
+
+using namespace snvr;
+
+namespace {
+
+struct Brute {
+    std::size_t inside = 0;
+    double depth_min = std::numeric_limits<double>::infinity();
+    std::vector<double> depths;  // signed, negative outside, sorted
+};
+
+Brute brute_force(const Mesh& mesh, const PointCloud& cloud) {
+    Brute b;
+    const auto& V = mesh.vertices;
+    for (std::size_t k = 0; k < cloud.size(); ++k) {
+        const Vec3 p = cloud[k];
+        double d2 = std::numeric_limits<double>::infinity();
+        for (const auto& t : mesh.triangles) d2 = std::min(d2, point_triangle_dist_sq(p, V[t[0]], V[t[1]], V[t[2]]));
+        const double d = std::sqrt(d2);
+        const bool inside = count_points_inside(mesh, {p}) == 1;
+        b.inside += inside;
+        if (inside) b.depth_min = std::min(b.depth_min, d);
+        b.depths.push_back(inside ? d : -d);
+    }
+    std::sort(b.depths.begin(), b.depths.end());
+    return b;
+}
+
+}  // namespace
+
+TEST_CASE("point depths: groups, runs and bounds give brute force's figures, dense and sparse") {
+    // A thin shell around a sphere, from the library itself.
+    const PointSet seeds = shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.02);
+    Parameters p;
+    p.resolution = 40;
+    p.device = "openmp";
+    const Result r = reconstruct(seeds, p);
+    const Mesh mesh = shell_mesh(r, seeds);
+    const double h = r.domain.h, l = r.offset;
+    REQUIRE(mesh.triangles.size() > 1000);
+    // Points: a dense cap (runs of groups share their searches), the sphere sparsely
+    // (groups of a point or two), spread across the wall and some beyond it, and some
+    // on the shell's surface itself.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> unit(0, 1);
+    PointSet points;
+    const auto at = [&](double theta, double phi, double radius) {
+        return Vec3{0.5 + radius * std::sin(theta) * std::cos(phi), 0.5 + radius * std::sin(theta) * std::sin(phi),
+                    0.5 + radius * std::cos(theta)};
+    };
+    for (int n = 0; n < 6000; ++n)  // within 0.3 rad of the pole: some 40 a voxel of surface
+        points.push_back(at(0.3 * std::sqrt(unit(rng)), 2 * M_PI * unit(rng), 0.3 + 0.9 * l * (2 * unit(rng) - 1)));
+    for (int n = 0; n < 1500; ++n)
+        points.push_back(at(std::acos(2 * unit(rng) - 1), 2 * M_PI * unit(rng), 0.3 + 1.3 * l * (2 * unit(rng) - 1)));
+    for (int n = 0; n < 50; ++n) points.push_back(mesh.vertices[std::size_t(unit(rng) * double(mesh.vertices.size()))]);
+    const PointCloud cloud(points);
+    const Brute b = brute_force(mesh, cloud);
+    REQUIRE(b.inside > 0);
+    REQUIRE(b.inside < cloud.size());
+
+    for (int threads_like : {1, 4}) {  // one pass over all groups, or in chunks
+        CAPTURE(threads_like);
+        const TriangleGrid grid(mesh);
+        detail::PointDepths depths(mesh, grid, cloud.tree(), h, false, false);
+        const std::size_t g = depths.groups(), step = (g + std::size_t(threads_like) - 1) / std::size_t(threads_like);
+        for (std::size_t first = 0; first < g; first += step) depths.bound(first, std::min(g, first + step));
+        const double shallowest = depths.shallowest();
+        for (std::size_t first = 0; first < g; first += step) depths.settle(first, std::min(g, first + step), shallowest);
+        detail::PointDepths::Figures f = depths.figures();
+        CHECK(f.inside == b.inside);
+        CHECK(f.depth_min == b.depth_min);
+        std::sort(f.depths.begin(), f.depths.end());
+        CHECK(f.depths == b.depths);  // every point sampled below 2^18 points
+    }
+    // Every point measured (measure_quality's way): the same.
+    const TriangleGrid grid(mesh);
+    detail::PointDepths every(mesh, grid, cloud.tree(), h, true, false);
+    every.bound(0, every.groups());
+    every.settle(0, every.groups(), every.shallowest());
+    const detail::PointDepths::Figures f = every.figures();
+    CHECK(f.inside == b.inside);
+    CHECK(f.depth_min == b.depth_min);
+}
