@@ -234,7 +234,7 @@ Command reconstruct_command(ReconstructOptions& o) {
         {"--outliers", "", "FILE",
          "write the points dropped as outliers (.ply or .xyz)", store(o.outliers)},
         {"--keep-outliers", "", "",
-         "use every point: by default points far sparser than the\nsurface, and clusters of under 10 points (and under 1%) that\nthe shell would leave apart as loose beads, are dropped",
+         "use every point: by default points far sparser than the\nsurface, lone points standing off a flat surface, and\nclusters of under 10 points (and under 1%) that the shell\nwould leave apart as loose beads, are dropped",
          set_flag(o.keep_outliers)},
         {"--min-piece-volume", "", "V",
          "drop solid pieces (each with its cavities) of less volume,\nin the input's units cubed (default 0: keep all)",

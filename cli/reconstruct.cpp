@@ -132,7 +132,8 @@ int run_reconstruct(const std::vector<std::string>& args) {
         const snvr::Vec3& shift = prepared.shift;
         const double to_mm = prepared.to_mm;
         if (!outliers.points.empty())
-            say(fmt("read: %s outliers dropped (sparse, or in clusters of under 10 points apart by over 2 x offset, "
+            say(fmt("read: %s outliers dropped (sparse, lone points standing off the surface, or in clusters of under 10 "
+                    "points apart by over 2 x offset, "
                     "%.3g mm); --keep-outliers keeps them", grouped(outliers.points.size()).c_str(), outliers.link));
         seconds.outliers = stage.lap();
 

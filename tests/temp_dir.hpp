@@ -3,8 +3,10 @@
 #include <atomic>
 #include <cstddef>
 #include <filesystem>
+#include <fstream>
 #include <iterator>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 
@@ -29,5 +31,12 @@ struct TempDir {
         return std::size_t(std::distance(std::filesystem::directory_iterator(path), std::filesystem::directory_iterator()));
     }
 };
+
+// Writes `bytes` to `path` as they are; throws (failing the test) when it cannot.
+inline void write_bytes(const std::string& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    if (!out.good()) throw std::runtime_error("cannot write " + path);
+}
 
 }  // namespace snvr::testing

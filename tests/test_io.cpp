@@ -28,14 +28,9 @@ namespace fs = std::filesystem;
 using snvr::PointSet;
 using snvr::Vec3;
 using snvr::testing::TempDir;
+using snvr::testing::write_bytes;
 
 namespace {
-
-void write_bytes(const std::string& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    REQUIRE(out.good());
-}
 
 std::string read_bytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

@@ -27,14 +27,9 @@ using snvr::Vec3;
 using snvr::detail::FloatPoints;
 using snvr::detail::ParseOptions;
 using snvr::testing::TempDir;
+using snvr::testing::write_bytes;
 
 namespace {
-
-void write_bytes(const std::string& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    REQUIRE(out.good());
-}
 
 // Exact round trip text for a double.
 std::string num(double v) {

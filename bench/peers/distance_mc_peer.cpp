@@ -11,57 +11,15 @@
 
 #include "distance_mc_shell.hpp"
 #include "host_measures.hpp"
+#include "peer_args.hpp"
 #include "snvr/io.hpp"
 #include "snvr/stopwatch.hpp"
 
-namespace {
-
-struct Args {
-    std::string points, out;
-    double voxel = 0, offset = 0;
-};
-
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
-double parse_number(const std::string& flag, const std::string& text) {
-    try {
-        std::size_t used = 0;
-        const double v = std::stod(text, &used);
-        if (used == text.size()) return v;
-    } catch (const std::exception&) {
-    }
-    throw UsageError(flag + " expects a number, got '" + text + "'");
-}
-
-Args parse(int argc, char** argv) {
-    Args a;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        const auto value = [&]() -> std::string {
-            if (i + 1 >= argc) throw UsageError(arg + " needs a value");
-            return argv[++i];
-        };
-        if (arg == "-o") a.out = value();
-        else if (arg == "--voxel") a.voxel = parse_number(arg, value());
-        else if (arg == "--offset") a.offset = parse_number(arg, value());
-        else if (!arg.empty() && arg[0] == '-') throw UsageError("unknown option " + arg);
-        else if (a.points.empty()) a.points = arg;
-        else throw UsageError("more than one input file");
-    }
-    if (a.points.empty() || a.out.empty()) throw UsageError("an input file and -o OUT are required");
-    if (!(a.voxel > 0) || !(a.offset > 0)) throw UsageError("--voxel and --offset are required and positive");
-    return a;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
-    Args args;
+    snvr::peers::PeerArgs args;
     try {
-        args = parse(argc, argv);
-    } catch (const UsageError& e) {
+        args = snvr::peers::parse_peer_args(argc, argv);
+    } catch (const snvr::peers::UsageError& e) {
         std::fprintf(stderr, "distance_mc_peer: %s\nusage: distance_mc_peer POINTS -o OUT.stl --voxel H --offset L\n", e.what());
         return 2;
     }

@@ -10,13 +10,6 @@ namespace snvr::bench {
 
 namespace {
 
-std::string fmt(const char* f, double v) {
-    if (!std::isfinite(v)) return "-";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, f, v);
-    return buf;
-}
-
 std::string joined(const std::vector<std::string>& parts) {
     std::string out;
     for (const std::string& p : parts) out += (out.empty() ? "" : ", ") + p;

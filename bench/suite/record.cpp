@@ -96,4 +96,11 @@ Record Record::deserialize(const std::string& lines) {
     return r;
 }
 
+std::string fmt(const char* f, double v) {
+    if (!std::isfinite(v)) return "-";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
 }  // namespace snvr::bench

@@ -32,4 +32,7 @@ private:
     std::vector<Field> fields_;
 };
 
+// A number for the tables: printf's format f, "-" when not finite.
+std::string fmt(const char* f, double v);
+
 }  // namespace snvr::bench

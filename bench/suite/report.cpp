@@ -12,13 +12,6 @@ namespace snvr::bench {
 
 namespace {
 
-std::string fmt(const char* f, double v) {
-    if (!std::isfinite(v)) return "-";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, f, v);
-    return buf;
-}
-
 std::vector<const Record*> section(const std::vector<Record>& all, const std::string& name) {
     std::vector<const Record*> out;
     for (const Record& r : all)

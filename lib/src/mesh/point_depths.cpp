@@ -203,6 +203,20 @@ struct TangentBounds {
     static constexpr std::size_t kPacket = 32;
 };
 
+// Packet p's tangent bounds in lanes: D, and g's three components.
+struct TangentLanes {
+    F8 d, gx, gy, gz;
+};
+__attribute__((always_inline)) inline TangentLanes tangent_lanes(const float* bounds, std::size_t p) {
+    const float* b = bounds + p * TangentBounds::kPacket;
+    TangentLanes t;
+    std::memcpy(&t.d, b, sizeof t.d);
+    std::memcpy(&t.gx, b + 8, sizeof t.gx);
+    std::memcpy(&t.gy, b + 16, sizeof t.gy);
+    std::memcpy(&t.gz, b + 24, sizeof t.gz);
+    return t;
+}
+
 __attribute__((target_clones("avx2", "default"))) void tangents_over_triangles(const LaneTriangles& t, float x,
                                                                              float y, float z, float* out) {
     const F8 px = F8{} + x, py = F8{} + y, pz = F8{} + z;
@@ -239,13 +253,8 @@ __attribute__((target_clones("avx2", "default"))) float least_tangent_bound(cons
                                                                           float x, float y, float z) {
     F8 least = F8{} + std::numeric_limits<float>::infinity();
     for (std::uint32_t p : packets) {
-        const float* b = bounds + p * TangentBounds::kPacket;
-        F8 d, gx, gy, gz;
-        std::memcpy(&d, b, sizeof d);
-        std::memcpy(&gx, b + 8, sizeof gx);
-        std::memcpy(&gy, b + 16, sizeof gy);
-        std::memcpy(&gz, b + 24, sizeof gz);
-        const F8 low = d + gx * x + gy * y + gz * z;
+        const TangentLanes g = tangent_lanes(bounds, p);
+        const F8 low = g.d + g.gx * x + g.gy * y + g.gz * z;
         least = low < least ? low : least;
     }
     float m = least[0];
@@ -262,19 +271,14 @@ __attribute__((target_clones("avx2", "default"))) float least_group_bound(const 
     const F8 zero{}, one = zero + 1;
     F8 least = zero + std::numeric_limits<float>::infinity();
     for (std::size_t p = 0; p < t.packets(); ++p) {
-        const float* b = bounds + p * TangentBounds::kPacket;
-        F8 d, gx, gy, gz;
-        std::memcpy(&d, b, sizeof d);
-        std::memcpy(&gx, b + 8, sizeof gx);
-        std::memcpy(&gy, b + 16, sizeof gy);
-        std::memcpy(&gz, b + 24, sizeof gz);
-        const F8 c = gx * nx + gy * ny + gz * nz;
+        const TangentLanes g = tangent_lanes(bounds, p);
+        const F8 c = g.gx * nx + g.gy * ny + g.gz * nz;
         F8 s2 = one - c * c;
         s2 = s2 > zero ? s2 : zero;
         F8 sine;
         for (int l = 0; l < 8; ++l) sine[l] = std::sqrt(s2[l]);
         const F8 a = c * lo, z = c * hi;
-        const F8 v = d + (a < z ? a : z) - sine * across;
+        const F8 v = g.d + (a < z ? a : z) - sine * across;
         least = v < least ? v : least;
     }
     float m = least[0];
@@ -298,13 +302,8 @@ __attribute__((target_clones("avx2", "default"))) Least nearest_over_triangles(c
     float best = start;  // the least distance so far
     for (std::size_t p = 0; p < t.packets(); ++p) {
         {
-            const float* b = bounds + p * TangentBounds::kPacket;
-            F8 d, gx, gy, gz;
-            std::memcpy(&d, b, sizeof d);
-            std::memcpy(&gx, b + 8, sizeof gx);
-            std::memcpy(&gy, b + 16, sizeof gy);
-            std::memcpy(&gz, b + 24, sizeof gz);
-            const F8 low = d + gx * ox + gy * oy + gz * oz;
+            const TangentLanes g = tangent_lanes(bounds, p);
+            const F8 low = g.d + g.gx * ox + g.gy * oy + g.gz * oz;
             float least_low = low[0];
             for (int l = 1; l < 8; ++l) least_low = std::min(least_low, low[l]);
             if (least_low >= best + margin) continue;
@@ -655,7 +654,8 @@ void PointDepths::visit(Group& group, bool every_point, double settle_below, voi
         }
         return;
     }
-    if (every_point) {
+    // Every point on its own: its exact distance and side.
+    const auto measure_all = [&] {
         start();
         for (std::uint32_t k = group.begin; k < group.end; ++k) {
             double d2;
@@ -663,6 +663,9 @@ void PointDepths::visit(Group& group, bool every_point, double settle_below, voi
             nearest(points_.point(k), centre, within(k), &s, slack, margin, d2, t);
             measured(k, d2, t);
         }
+    };
+    if (every_point) {
+        measure_all();
         return;
     }
 
@@ -742,13 +745,7 @@ void PointDepths::visit(Group& group, bool every_point, double settle_below, voi
         if (ref_side < 0 && low < s.shallowest) group.low = point_by_point(s.shallowest);
         return;
     }
-    start();
-    for (std::uint32_t k = group.begin; k < group.end; ++k) {
-        double e2;
-        std::uint32_t e;
-        nearest(points_.point(k), centre, within(k), &s, slack, margin, e2, e);
-        measured(k, e2, e);
-    }
+    measure_all();
 }
 
 }  // namespace snvr::detail
