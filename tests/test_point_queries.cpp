@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "geometry/neighbour_counts.hpp"
+#include "geometry/point_samples.hpp"
 #include "geometry/point_tree.hpp"
 #include "geometry/stray_points.hpp"
 #include "snvr/point_cloud.hpp"
@@ -207,4 +208,32 @@ TEST_CASE("stray points: one or two points above a flat surface go, a small feat
         CHECK(strays_in(shapes::by_name(shape, 0.01), {}, &others) == 0);
         CHECK(others == 0);
     }
+}
+
+TEST_CASE("strided_sample: the points of ranks floor(s n / samples) by input index, whatever the tree's order") {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> unit(0, 1);
+    for (const bool gaps : {false, true})
+        for (const std::size_t n : {1, 7, 1000, 54321}) {
+            std::vector<Vec3f> xyz(n);
+            std::vector<std::uint32_t> input(n);
+            for (std::size_t i = 0; i < n; ++i) {
+                xyz[i] = {unit(rng), unit(rng), unit(rng)};
+                input[i] = std::uint32_t(gaps ? 3 * i + 1 : i);  // with gaps: as after dropped points
+            }
+            const PointTree t(xyz, input, {0, 0, 0});
+            for (const std::size_t samples : {std::size_t(1), std::size_t(3), std::size_t(999), n, n + 5}) {
+                CAPTURE(gaps);
+                CAPTURE(n);
+                CAPTURE(samples);
+                const std::vector<std::uint32_t> got = detail::strided_sample(t, samples);
+                const std::size_t m = std::min(samples, n);
+                REQUIRE(got.size() == m);
+                for (std::size_t s = 0; s < m; ++s) {
+                    // The rank-th input index present; with gaps, 3 rank + 1.
+                    const std::size_t rank = s * n / m;
+                    CHECK(t.input[got[s]] == (gaps ? 3 * rank + 1 : rank));
+                }
+            }
+        }
 }
