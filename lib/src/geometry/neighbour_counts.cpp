@@ -46,11 +46,34 @@ std::vector<std::uint8_t> points_short_of(const PointTree& t, double r2, std::si
     for (std::ptrdiff_t b = 0; b < nb; ++b) {
         const PointTree::Node& block = *blocks[b];
         if (block.count() >= need && PointTree::dist_sq(t.lo(block), t.hi(block)) <= r2) continue;
+        // Runs of `need` points in a row (neighbours in Morton order: on a dense cloud
+        // nearly always close together) whose box is within reach across clear each other.
+        bool cleared[kBlock] = {};
+        const auto run = [&](std::uint32_t b) {
+            Vec3f lo = t.xyz[b], hi = lo;
+            for (std::uint32_t k = b + 1; k < b + need; ++k)
+                for (int a = 0; a < 3; ++a) {
+                    lo[a] = std::min(lo[a], t.xyz[k][a]);
+                    hi[a] = std::max(hi[a], t.xyz[k][a]);
+                }
+            const Vec3 o = t.origin;  // as t.lo() and t.hi() make a box's corners
+            if (PointTree::dist_sq({o[0] + double(lo[0]), o[1] + double(lo[1]), o[2] + double(lo[2])},
+                                   {o[0] + double(hi[0]), o[1] + double(hi[1]), o[2] + double(hi[2])}) <= r2)
+                std::fill(cleared + (b - block.begin), cleared + (b - block.begin + need), true);
+        };
+        // (A leaf of more points than a block holds copies of one point: the leaf test clears them.)
+        const bool runs = block.count() >= need && block.count() <= kBlock;
+        if (runs) {
+            for (std::uint32_t shift = 0; shift < 3; ++shift)
+                for (std::uint32_t b = block.begin + std::uint32_t(shift * need / 3); b + need <= block.end; b += std::uint32_t(need)) run(b);
+            run(block.end - std::uint32_t(need));
+        }
         t.for_each_leaf_below(
             block, [](const PointTree::Node&) { return true; },
             [&](const PointTree::Node& leaf) {
                 if (leaf.count() >= need && PointTree::dist_sq(t.lo(leaf), t.hi(leaf)) <= r2) return;
                 for (std::uint32_t k = leaf.begin; k < leaf.end; ++k) {
+                    if (runs && cleared[k - block.begin]) continue;
                     if (within(k, leaf.begin, leaf.end) >= need) continue;
                     if (within(k, block.begin, block.end) >= need) continue;
                     short_of[k] = t.count_within(t.point(k), r2, need) < need;
