@@ -363,8 +363,10 @@ void brick_by_blocks(Candidates& in_brick, const std::vector<double> (&centre)[3
 // tree's packets (brick_by_tree) are cheaper: in bricks with more points around them
 // than this many per cell. Single-threaded band distance at 256 cells, noisy sphere of
 // 24.6 M points: 3.5 s at 16 (and at 8), 3.9 s at 32, 5.5 s at 64; alike at 1.5 M
-// points and on the bunny and the dragon.
-constexpr std::size_t kDenseRatio = 16;
+// points and on the bunny and the dragon. At 512 cells (both threads, whole stage) the
+// 24.6 M sphere takes 4.0 s at 8, 3.8-3.9 s at 4, 4.5 s at 16, 6.8 s at 64; the 1.5 M
+// one 0.6 s at 4 to 16, 1.0 s at 2.
+constexpr std::size_t kDenseRatio = 8;
 
 // The brick's cells by 2x2x2 packets, one walk of the tree per packet (the eight lanes
 // of PointTree::nearest_lanes: the same expression, so the same distances). The nearest
