@@ -63,7 +63,7 @@ int run_sample(const std::vector<std::string>& args) {
         throw UsageError(e.what());  // an unknown shape name or a bad spacing came from the command line
     }
     snvr::write_points(points, parsed->output, fmt("snvr-cl sample %s --spacing %g --outliers %g", parsed->shape.c_str(), parsed->spacing, parsed->outliers));
-    std::cerr << "wrote " << grouped(points.size()) << " points to " << parsed->output << '\n';
+    std::cerr << "wrote " << grouped(points.size()) << " points to " << snvr::printable(parsed->output) << '\n';
     return 0;
 }
 

@@ -62,11 +62,21 @@ void remove_temporaries_on_signals() {
     }
 }
 
+// A reader that has gone (a closed stderr pipe) or a file-size limit would otherwise
+// kill the run by SIGPIPE or SIGXFSZ, between a temporary's creation and its rename:
+// ignored, they make the write fail instead, which the run reports (or, for messages,
+// drops) and cleans up after like any other failed write.
+void writes_fail_rather_than_kill() {
+    std::signal(SIGPIPE, SIG_IGN);
+    std::signal(SIGXFSZ, SIG_IGN);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     prefer_passive_waiting(argv);
     remove_temporaries_on_signals();
+    writes_fail_rather_than_kill();
     const std::vector<std::string> args(argv + 1, argv + argc);
     const std::string command = args.empty() ? "" : args[0];
     try {
@@ -81,7 +91,7 @@ int main(int argc, char** argv) {
         }
         return dispatch(command, std::vector<std::string>(args.begin() + 1, args.end()));
     } catch (const cli::UsageError& e) {
-        std::cerr << "snvr-cl: error: " << e.what() << "\nRun 'snvr-cl "
+        std::cerr << "snvr-cl: error: " << snvr::printable(e.what()) << "\nRun 'snvr-cl "
                   << (is_subcommand(command) ? command + " " : std::string()) << "--help' for usage.\n";
         return kUsage;
     } catch (const std::bad_alloc&) {

@@ -242,7 +242,7 @@ Command reconstruct_command(ReconstructOptions& o) {
         {"--keep-largest", "", "N", "keep only the N largest solid pieces (default 0: all)",
          store(o.pieces.keep_largest)},
         {"--origin", "", "center|keep",
-         "center: shift the points by their box centre, rounded\n(shown in the summary), so that far coordinates such as\nsurvey data keep their precision in float32 STL and PLY\n(default keep: coordinates as read)",
+         "center: shift the points by their box centre, rounded\n(shown in the summary), so that far coordinates such as\nsurvey data keep their precision in float32 STL and PLY;\nkeep: coordinates as read (default: keep, but center for\nSTL and 3MF where float32 would move the shell)",
          origin},
         {"--offset", "", "L",
          "distance of each wall from the points, world units\n"
@@ -404,6 +404,9 @@ std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::strin
         return std::nullopt;
     }
     o.input = only_positional(parse(command, args), "input file (the points)");
+    if (o.input == "-")
+        throw UsageError("points from standard input ('-') are not supported: give the points' file (its extension "
+                         "names the format)");
     if (o.output.empty()) throw UsageError("missing output: give -o FILE");
     require_extension("output", o.output, {".stl", ".ply", ".obj", ".3mf"});
     if (!o.volume.empty()) require_extension("--volume", o.volume, {".vti", ".nrrd"});
@@ -411,10 +414,12 @@ std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::strin
     if (!o.preview.empty()) require_extension("--preview", o.preview, {".png"});
     if (!o.outliers.empty()) require_extension("--outliers", o.outliers, {".ply", ".xyz"});
     if (!o.outliers.empty() && o.keep_outliers) throw UsageError("--outliers and --keep-outliers exclude each other");
-    if (!(o.scale > 0) || !std::isfinite(o.scale)) {
+    // A print at 1:1,000,000 or 1,000,000:1 is already beyond any printer; further the
+    // coordinates would leave float (and then double) range.
+    if (!(o.scale >= 1e-6 && o.scale <= 1e6)) {
         char text[32];
         std::snprintf(text, sizeof text, "%g", o.scale);
-        bad_value("--scale", text, "a positive number");
+        bad_value("--scale", text, "a factor from 1e-6 to 1e6");
     }
     // Out-of-range values are the command line's fault, so a usage error, not a failure.
     try {

@@ -29,7 +29,9 @@ struct ReconstructOptions {
     snvr::PieceFilter pieces;  // --min-piece-volume (input units cubed until scaled), --keep-largest
     snvr::Parameters params;
     snvr::MeshFairing fairing;
-    bool centre_origin = false;  // --origin center: points shifted by snvr::round_centre
+    // --origin center (true) or keep (false); unset: centred where a print format (STL,
+    // 3MF) could not hold the coordinates faithfully, as survey scans need.
+    std::optional<bool> centre_origin;
     std::string units = "mm";    // the input's length unit (--units)
     double scale = 1;            // --scale: input lengths times this
     // Every output is in millimetres: points and length options are multiplied by this.

@@ -43,14 +43,40 @@ void refuse_overwriting_input(const std::string& input, const std::string& outpu
                             input + "'; choose another output file");
 }
 
-// Every output, before the long run: its folder there, and not the input.
+// Whether two output paths name one file: the same file already (any link), or the
+// same path once made absolute with its existing folders' links and any . and .. resolved.
+bool same_file(const std::string& a, const std::string& b) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::equivalent(a, b, ec)) return true;
+    const fs::path ca = fs::weakly_canonical(fs::absolute(a, ec), ec);
+    if (ec) return false;
+    const fs::path cb = fs::weakly_canonical(fs::absolute(b, ec), ec);
+    return !ec && ca == cb;
+}
+
+// Every output, before the long run: its folder there, not the input, and no two of
+// them one file (the later would replace the earlier).
 void check_outputs(const ReconstructOptions& o) {
-    for (const auto& [path, which] : {std::pair{o.output, "the mesh"}, {o.volume, "the volume"},
-                                      {o.report, "the report"}, {o.outliers, "the outliers"},
-                                      {o.preview, "the preview"}}) {
-        if (path.empty()) continue;
-        check_writable_location(path);
-        refuse_overwriting_input(o.input, path, which);
+    struct Output {
+        std::string path;
+        const char* option;
+        const char* which;
+    };
+    std::vector<Output> outputs;
+    for (const Output& out : {Output{o.output, "-o", "the mesh"}, Output{o.volume, "--volume", "the volume"},
+                              Output{o.report, "--report", "the report"}, Output{o.outliers, "--outliers", "the outliers"},
+                              Output{o.preview, "--preview", "the preview"}}) {
+        if (out.path.empty()) continue;
+        for (const Output& earlier : outputs)
+            if (same_file(out.path, earlier.path))
+                throw UsageError(std::string(earlier.option) + " '" + earlier.path + "' and " + out.option + " '" +
+                                 out.path + "' name one file: give each output a file of its own");
+        outputs.push_back(out);
+    }
+    for (const Output& out : outputs) {
+        check_writable_location(out.path);
+        refuse_overwriting_input(o.input, out.path, out.which);
     }
 }
 
@@ -61,8 +87,28 @@ struct PreparedPoints {
     snvr::Parameters params;  // lengths in millimetres too
     snvr::DroppedOutliers outliers;
     snvr::Vec3 shift{0, 0, 0};
+    bool shift_by_default = false;  // not asked for: a print format needed it
     double to_mm = 1;
 };
+
+// Survey scans arrive far from the origin and slicers ignore absolute placement: a
+// print format (STL, 3MF) is centred unless told to keep, where its float32 would
+// otherwise move the shell (the run's voxel taken at its smallest, the points' box
+// over the resolution; the shell reaches an offset beyond the points).
+bool print_format_needs_centring(const std::string& output, const snvr::PointCloud& points,
+                                 const snvr::Parameters& params) {
+    const std::string ext = lower_extension(output);
+    if ((ext != ".stl" && ext != ".3mf") || points.empty()) return false;
+    const std::array<snvr::Vec3, 2> box = points.box();
+    double longest = 0, farthest = 0;
+    for (int a = 0; a < 3; ++a) {
+        longest = std::max(longest, box[1][a] - box[0][a]);
+        farthest = std::max({farthest, std::abs(box[0][a]), std::abs(box[1][a])});
+    }
+    const double voxel = params.voxel ? *params.voxel : longest / params.resolution;
+    const double offset = params.offset ? *params.offset : params.thickness ? *params.thickness / 2 : 3 * voxel;
+    return voxel > 0 && !snvr::holds_faithfully(farthest + offset, output, voxel);
+}
 
 PreparedPoints prepare_points(const ReconstructOptions& o, snvr::PointCloud points) {
     PreparedPoints in;
@@ -73,7 +119,10 @@ PreparedPoints prepare_points(const ReconstructOptions& o, snvr::PointCloud poin
         snvr::scale_lengths(in.params, in.to_mm);
     }
     if (!o.keep_outliers) in.outliers = snvr::drop_outliers(points, in.params);
-    if (o.centre_origin) in.shift = snvr::round_centre(points);
+    if (o.centre_origin.value_or(false) || (!o.centre_origin && print_format_needs_centring(o.output, points, in.params))) {
+        in.shift = snvr::round_centre(points);
+        in.shift_by_default = !o.centre_origin;
+    }
     points.translate({-in.shift[0], -in.shift[1], -in.shift[2]});
     for (snvr::Vec3& p : in.outliers.points)
         for (int a = 0; a < 3; ++a) p[a] -= in.shift[a];
@@ -166,6 +215,10 @@ int run_reconstruct(const std::vector<std::string>& args) {
         if (dropped_pieces.dropped)
             say(fmt("mesh: %zu solid piece%s dropped (%.4g mm^3 in all), %zu kept", dropped_pieces.dropped,
                     dropped_pieces.dropped == 1 ? "" : "s", dropped_pieces.dropped_volume, dropped_pieces.kept));
+        if (mesh.triangles.empty() && dropped_pieces.dropped)
+            throw snvr::Error(fmt("every solid piece of the shell (%zu, %.4g mm^3 in all) is smaller than "
+                                  "--min-piece-volume %g: nothing written",
+                                  dropped_pieces.dropped, dropped_pieces.dropped_volume, o.pieces.min_volume));
         if (mesh.triangles.empty())
             throw snvr::Error(fmt("the reconstructed shell is empty (no triangles on the %d x %d x %d grid, offset "
                                   "%.6g, voxel %.6g); try a larger --offset or a finer --resolution. Nothing written",
@@ -201,6 +254,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
         RunSummary summary{result, quality, seconds, o.output, o.volume, shift, size, o.units, to_mm,
                            o.input, points.size(), mesh_bytes, volume_bytes, warnings, outliers.points.size(),
                            outliers.link, o.outliers, dropped_pieces};
+        summary.shift_by_default = prepared.shift_by_default;
         summary.seconds.total = total.lap();
         if (!o.preview.empty()) outputs.add_bytes(snvr::render::preview_png(mesh, o.preview), o.preview);
         if (!o.report.empty()) outputs.add_bytes(report_json(summary), o.report);

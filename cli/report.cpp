@@ -43,7 +43,7 @@ void print_progress(std::ostream& out, const snvr::Progress& p) {
     } else if (p.stage == "step") {
         out << fmt("step %d/%d", p.step, p.steps);
     } else {
-        out << p.stage << (p.message.empty() ? "..." : ": " + p.message);
+        out << p.stage << (p.message.empty() ? "..." : ": " + snvr::printable(p.message));
     }
     if (p.stage == "step" && !p.message.empty()) out << ": " << p.message;
     out << std::endl;  // flushed: progress must show while the run goes on
@@ -93,9 +93,9 @@ void print_summary(std::ostream& out, const RunSummary& run) {
     const double cells = double(d.cells());
     const CycleTotals cycles = cycle_totals(r);
     const int total_cycles = cycles.total, max_cycles = cycles.most_in_a_step, unconverged = cycles.not_converged;
-    const auto row = [&out](const char* key, const std::string& value) {
+    const auto row = [&out](const char* key, const std::string& value) {  // values may hold the user's file names
         out << "  " << key << std::string(17 - std::min<std::size_t>(17, std::char_traits<char>::length(key)), ' ')
-            << value << '\n';
+            << snvr::printable(value) << '\n';
     };
     out << "summary:\n";
     if (run.outlier_link > 0)
@@ -105,8 +105,11 @@ void print_summary(std::ostream& out, const RunSummary& run) {
     row("grid", fmt("%d x %d x %d (%s cells), voxel %.6g, %d multigrid levels", d.nx, d.ny, d.nz,
                     grouped(d.cells()).c_str(), d.h, d.levels));
     if (run.shift != snvr::Vec3{0, 0, 0})
-        row("origin", fmt("shifted by (%.17g, %.17g, %.17g): add that back to place the shell", -run.shift[0],
-                          -run.shift[1], -run.shift[2]));
+        row("origin", fmt("shifted by (%.17g, %.17g, %.17g): add that back to place the shell%s", -run.shift[0],
+                          -run.shift[1], -run.shift[2],
+                          run.shift_by_default ? " (float32 in this format would move it so far from the origin; "
+                                                 "--origin keep keeps the coordinates)"
+                                               : ""));
     row("offset", fmt("%.6g (%.3g voxels), thickness %.6g; why: %s", r.offset, r.offset / d.h, 2 * r.offset,
                       r.offset_reason.empty() ? "not reported" : r.offset_reason.c_str()));
     row("sampling gap", fmt("%.6g", r.gap));

@@ -45,7 +45,7 @@ struct RunSummary {
     const snvr::MeshQuality& quality;  // its report is check_mesh's
     Seconds seconds;
     std::string output, volume;
-    snvr::Vec3 shift{};  // subtracted from the points (--origin center)
+    snvr::Vec3 shift{};  // subtracted from the points (--origin center, or by default for STL and 3MF)
     snvr::Vec3 size{};   // the shell's box, in millimetres
     std::string units;   // the input's (--units), and
     double to_mm = 1;    // what its lengths were multiplied by (--units, --scale)
@@ -57,6 +57,7 @@ struct RunSummary {
     double outlier_link = 0;        // linked within this (0: not looked for),
     std::string outliers_file;      // and where they went
     snvr::PieceReport pieces;       // --min-piece-volume, --keep-largest
+    bool shift_by_default = false;  // the shift was not asked for: the format needed it
 };
 
 // The extent of the mesh's vertices along x, y and z.

@@ -29,7 +29,10 @@ std::string report_json(const RunSummary& run) {
           {"points", run.points},
           {"units", run.units},
           {"to_millimetres", run.to_mm},
-          {"origin_shift", {0.0 - run.shift[0], 0.0 - run.shift[1], 0.0 - run.shift[2]}}}},  // no -0
+          {"origin_shift", {0.0 - run.shift[0], 0.0 - run.shift[1], 0.0 - run.shift[2]}},  // no -0
+          {"origin_shift_why", run.shift == snvr::Vec3{0, 0, 0} ? "none"
+                               : run.shift_by_default       ? "float32 output far from the origin (default)"
+                                                            : "--origin center"}}},
         {"outliers", {{"dropped", run.outliers}, {"link", run.outlier_link}, {"file", run.outliers_file}}},
         {"pieces_dropped", {{"count", run.pieces.dropped}, {"volume", run.pieces.dropped_volume}}},
         {"outputs", outputs},

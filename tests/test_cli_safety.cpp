@@ -230,17 +230,35 @@ TEST_CASE("numbers beyond a double's range, and messages in printable text") {
     CHECK(bad.output.find('\x1b') == std::string::npos);
 }
 
-TEST_CASE("far coordinates: refused where float32 cannot hold them, shifted on request") {
+TEST_CASE("far coordinates: a print format shifted by default, refused when kept, shifted on request") {
     TempDir t;
     // A sphere of radius 3.5 m at x = 500000, y = 4000000, as survey data comes.
     const std::string input = t.file("survey.xyz", sphere_points(3.5, 500000, 4000000, 2));
     const std::string o = " -o " + t.out() + " --resolution 64";
-    expect_failure("reconstruct " + input + o, 1, "stores 32-bit floats, which at coordinates up to 4e+06 move", t);
-    const Run r = run("reconstruct " + input + o + " --origin center");
-    CAPTURE(r.output);
-    CHECK(r.code == 0);
-    CHECK(r.output.find("origin           shifted by (-500000, -4000000, -2)") != std::string::npos);
-    CHECK(r.output.find("closed yes, manifold yes, oriented yes\n") != std::string::npos);
+    expect_failure("reconstruct " + input + o + " --origin keep", 1,
+                   "stores 32-bit floats, which at coordinates up to 4e+06 move", t);
+    // PLY is no print format: kept as read, and refused the same way.
+    const std::string ply = (t.path / "survey.ply").string();
+    const Run kept = run("reconstruct " + input + " -o " + ply + " --resolution 64");
+    CHECK(kept.code == 1);
+    CHECK(!fs::exists(ply));
+    for (const std::string origin : {"", " --origin center"}) {
+        const Run r = run("reconstruct " + input + o + origin + " --report " + (t.path / "r.json").string());
+        CAPTURE(r.output);
+        CHECK(r.code == 0);
+        CHECK(r.output.find("origin           shifted by (-500000, -4000000, -2)") != std::string::npos);
+        CHECK((r.output.find("--origin keep keeps the coordinates") != std::string::npos) == origin.empty());
+        CHECK(r.output.find("closed yes, manifold yes, oriented yes\n") != std::string::npos);
+        CHECK(read_bytes((t.path / "r.json").string()).find(origin.empty() ? "far from the origin (default)"
+                                                                         : "\"--origin center\"") != std::string::npos);
+        fs::remove(t.out());
+    }
+    // Near the origin the default keeps the coordinates (no shift, no row).
+    const std::string near = t.file("near.xyz", sphere_points(3.5, 5, 4, 2));
+    const Run n = run("reconstruct " + near + o);
+    CHECK(n.code == 0);
+    CHECK(n.output.find("origin ") == std::string::npos);
+    fs::remove(t.out());
     // OBJ keeps every digit: no shift needed.
     const std::string obj = (t.path / "survey.obj").string();
     const Run exact = run("reconstruct " + input + " -o " + obj + " --resolution 64");

@@ -3,18 +3,11 @@
 // snvr-cl with a small reconstruction. None may crash or hang; every failure is exit 1
 // with one error naming the file, and leaves no output and no temporary.
 #include <doctest/doctest.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <array>
 #include <atomic>
 #include <cctype>
-#include <fcntl.h>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -26,7 +19,9 @@
 #include <thread>
 #include <vector>
 
+#include "bounded_run.hpp"
 #include "temp_dir.hpp"
+#include "test_files.hpp"
 
 namespace fs = std::filesystem;
 
@@ -95,31 +90,10 @@ std::string ply(const char* format) {
 }
 
 std::string las() {
-    const auto pts = sphere(10);
-    std::string s(227, '\0');
-    s.replace(0, 4, "LASF");
-    s[24] = 1;
-    s[25] = 2;
-    std::string h;
-    put(h, std::uint16_t(227));
-    put(h, std::uint32_t(227));
-    s.replace(94, 6, h);
-    s[104] = 1;
-    h.clear();
-    put(h, std::uint16_t(28));
-    put(h, std::uint32_t(pts.size()));
-    s.replace(105, 6, h);
-    h.clear();
-    for (int a = 0; a < 3; ++a) put(h, 0.0001);
-    for (int a = 0; a < 3; ++a) put(h, 1000.0);
-    s.replace(131, 48, h);
-    for (const auto& p : pts) {
-        std::string r;
-        for (double x : p) put(r, std::int32_t(std::lround(x / 0.0001)));
-        r.resize(28, '\x11');
-        s += r;
-    }
-    return s;
+    std::vector<std::array<double, 3>> pts = sphere(10);
+    for (auto& p : pts)
+        for (double& x : p) x += 1000;
+    return snvr::testing::las_file(pts, 0.0001, 1000, '\x11');
 }
 
 // An octahedron, as binary STL and as OBJ with faces (a mesh to thicken).
@@ -144,21 +118,6 @@ std::string obj_mesh() {
     for (const auto& f : kOctaFaces)
         s += "f " + std::to_string(f[0] + 1) + " " + std::to_string(f[1] + 1) + " " + std::to_string(f[2] + 1) + "\n";
     return s;
-}
-
-std::string gzip(const std::string& plain) {
-    uLongf size = compressBound(uLong(plain.size())) + 32;
-    std::string out(size, '\0');
-    z_stream z{};
-    deflateInit2(&z, 6, Z_DEFLATED, 16 + MAX_WBITS, 8, Z_DEFAULT_STRATEGY);
-    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(plain.data()));
-    z.avail_in = uInt(plain.size());
-    z.next_out = reinterpret_cast<Bytef*>(out.data());
-    z.avail_out = uInt(out.size());
-    deflate(&z, Z_FINISH);
-    out.resize(z.total_out);
-    deflateEnd(&z);
-    return out;
 }
 
 struct Format {
@@ -246,33 +205,12 @@ Outcome run_one(const fs::path& dir, const std::string& name, const std::string&
     Outcome o;
     o.file = (dir / name).string();
     std::ofstream(o.file, std::ios::binary) << bytes;
-    const std::string out = (dir / "shell.stl").string(), err = (dir / "stderr.txt").string();
-    const char* argv[] = {SNVR_CLI, "reconstruct", o.file.c_str(), "-o", out.c_str(), "--resolution", "24",
-                          "--device", "openmp", "--quiet", nullptr};
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    pid_t pid = -1;
-    const int failed = posix_spawn(&pid, SNVR_CLI, &actions, nullptr, const_cast<char**>(argv), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (failed) return o;
-    const auto start = std::chrono::steady_clock::now();
-    int status = 0;
-    for (;;) {
-        if (waitpid(pid, &status, WNOHANG) == pid) break;
-        if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > kTimeLimit) {
-            ::kill(pid, SIGKILL);
-            waitpid(pid, &status, 0);
-            o.code = -3;
-            break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    if (o.code != -3) o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream in(err);
-    o.message.assign(std::istreambuf_iterator<char>(in), {});
-    fs::remove(err);
+    const std::string out = (dir / "shell.stl").string();
+    const snvr::testing::BoundedRun r = snvr::testing::run_bounded(
+        {SNVR_CLI, "reconstruct", o.file, "-o", out, "--resolution", "24", "--device", "openmp", "--quiet"}, "",
+        (dir / "stderr.txt").string(), kTimeLimit);
+    o.code = r.code;
+    o.message = r.stderr_text;
     for (const auto& e : fs::directory_iterator(dir)) o.left.push_back(e.path().filename().string());
     return o;
 }
@@ -290,7 +228,7 @@ TEST_CASE("corruption campaign: no crash, no hang, exit 1 naming the file, nothi
         std::mt19937_64 g(seed++);
         for (int i = 0; i < kMutationsPerFormat; ++i) {
             std::string bytes = mutate(f.bytes, g);
-            if (f.gzipped) bytes = i % 2 ? gzip(bytes) : mutate(gzip(f.bytes), g);
+            if (f.gzipped) bytes = i % 2 ? snvr::testing::gzip(bytes) : mutate(snvr::testing::gzip(f.bytes), g);
             jobs.push_back({f.name, std::move(bytes)});
         }
     }

@@ -21,6 +21,7 @@
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
 #include "temp_dir.hpp"
+#include "test_files.hpp"
 
 using snvr::PointSet;
 using snvr::Vec3;
@@ -140,20 +141,6 @@ std::string las(const PointSet& points, double scale, const Vec3& offset, const 
         s += record;
     }
     return s;
-}
-
-std::string gzip(const std::string& plain) {
-    std::string out(compressBound(uLong(plain.size())) + 64, '\0');
-    z_stream z{};
-    REQUIRE(deflateInit2(&z, 6, Z_DEFLATED, 16 + MAX_WBITS, 8, Z_DEFAULT_STRATEGY) == Z_OK);
-    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(plain.data()));
-    z.avail_in = uInt(plain.size());
-    z.next_out = reinterpret_cast<Bytef*>(out.data());
-    z.avail_out = uInt(out.size());
-    REQUIRE(deflate(&z, Z_FINISH) == Z_STREAM_END);
-    out.resize(z.total_out);
-    deflateEnd(&z);
-    return out;
 }
 
 // The message parse_points throws for `data` read as `name`, or "" when it reads.
@@ -520,8 +507,8 @@ TEST_CASE("one cloud, every format: the same points") {
             {"p.obj", obj},
             {"p.off", off},
             {"p.las", las(cloud, 1.0 / 1024, centre, lo, hi)},
-            {"p.xyz.gz", gzip(xyz_text(cloud))},
-            {"be64.ply.gz", gzip(binary_ply(cloud, true, true))}};
+            {"p.xyz.gz", snvr::testing::gzip(xyz_text(cloud))},
+            {"be64.ply.gz", snvr::testing::gzip(binary_ply(cloud, true, true))}};
         for (const auto& [name, bytes] : files) {
             CAPTURE(name);
             write_bytes(dir.file(name), bytes);

@@ -73,6 +73,10 @@ Mesh as_written(Mesh mesh, const std::string& path);
 // 1% of a voxel (float32 far from the origin: at x = 500000 its step is 0.03), giving
 // the distance and the remedies (an exact format, or coordinates shifted to the origin).
 void require_written_precision(const Mesh& mesh, const std::string& path, double voxel);
+// The same rule before a run: whether any coordinate up to `farthest` from the origin,
+// written to path's format, stays within what require_written_precision allows at
+// `voxel`.
+bool holds_faithfully(double farthest, const std::string& path, double voxel);
 
 // Outputs that appear together or not at all: each add_ writes its file in full to a
 // temporary (and throws, naming it, if it cannot), and only commit() renames them onto

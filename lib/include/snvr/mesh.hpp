@@ -63,6 +63,7 @@ MeshReport check_mesh(const Mesh& mesh);
 // dihedral from 3.75 to 3.51 deg, and moved the offset error by 0.002 voxel.
 struct MeshFairing {
     int passes = 2;           // lambda-then-mu pairs; 0 leaves the mesh as it is
+    static constexpr int max_passes = 100;  // far beyond use (two already smooth), within time
     double lambda = 0.5;      // the shrinking step, in (0, 1)
     double pass_band = 0.1;   // k_PB = 1/lambda + 1/mu, in (0, 1)
     void validate() const;    // throws ParameterError naming the bad value

@@ -10,6 +10,22 @@
 
 namespace snvr {
 
+// The ranges Parameters::validate() and plan_domain() hold every value to, derived ones
+// (xi or eps given as a length, dt in normalised units, the steps the flow time makes)
+// included: beyond them a run would not end in reasonable time, or would mean nothing.
+struct ParameterLimits {
+    static constexpr int min_resolution = 16, max_resolution = 16384;
+    static constexpr int max_steps = 100000;
+    // dt / h^2: the default 0.25; the tests run the paper's dt = 1 (4096 h^2 at 64 cells); beyond
+    // 1e9 even double loses the step's identity term.
+    static constexpr double max_dt_cells = 1e9;
+    static constexpr double max_smoothing_cells = 1000;   // T / h^2 (the default 1.5)
+    static constexpr double max_tube_inner = 1, max_tube_outer = 10;  // shares of the offset
+    static constexpr double max_width_cells = 100;        // eps and xi, in cells (defaults 12 and 4)
+    static constexpr double max_tol = 1;
+    static constexpr int max_cycles = 10000;
+};
+
 struct Parameters {
     // Offset l of the shell wall from the points (world units); the shell is 2l thick.
     // Unset: the larger of 2.5 voxels and the points' sampling gap.

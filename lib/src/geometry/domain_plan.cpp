@@ -41,6 +41,9 @@ int choose_levels(int longest) {
 
 int round_up(int n, int m) { return (n + m - 1) / m * m; }
 
+// A length option at most this many times the points' longest extent.
+constexpr double kMaxLengthRatio = 1000;
+
 }  // namespace
 
 DomainPlan plan_domain(const PointSet& points, const Parameters& params) {
@@ -53,6 +56,18 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
     if (points.empty()) throw InputError("the point set is empty");
     const std::array<Vec3, 2> cloud_box = points.box();
     const Box box = params.box ? Box{(*params.box)[0], (*params.box)[1]} : Box{cloud_box[0], cloud_box[1]};
+
+    // Lengths far beyond the points' box mean nothing (a shell around a speck) and their
+    // sums would overflow: each given one is held to kMaxLengthRatio times the box.
+    const double extent = box.longest();
+    for (const auto& [length, name] : {std::pair{params.offset, "the offset (--offset)"},
+                                       {params.thickness, "the thickness (--thickness)"},
+                                       {params.voxel, "the voxel size (--voxel)"}, {params.eps, "eps (--eps)"},
+                                       {params.xi, "xi (--xi)"}})
+        if (length && extent > 0 && !(*length <= kMaxLengthRatio * extent))
+            throw ParameterError(std::string(name) + " " + fmt(*length) + " is more than " + fmt(kMaxLengthRatio) +
+                                 " times the points' extent " + fmt(extent) + ": give a length at most " +
+                                 fmt(kMaxLengthRatio * extent));
 
     DomainPlan plan;
     plan.gap = sampling_gap(points.tree());
@@ -99,7 +114,18 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
         throw ParameterError("offset " + fmt(plan.offset) + " is smaller than one voxel (" + fmt(h) +
                              "): the shell cannot be resolved; raise the offset or the resolution");
 
+    // A width or a time step given in world or normalised units, in cells: held to the
+    // ranges of the same in cells.
+    const auto in_cells = [&](double cells, double most, const char* name, const std::string& value, const char* unit) {
+        if (!(cells > 0 && cells <= most))
+            throw ParameterError(std::string(name) + " " + value + " is " + fmt(cells) + unit + " at voxel " + fmt(h) +
+                                 ": it must be above 0 and at most " + fmt(most) + unit);
+    };
     const double xi_cells = xi_in_cells(h);
+    if (params.xi) in_cells(xi_cells, ParameterLimits::max_width_cells, "xi (--xi)", fmt(*params.xi), " cells");
+    if (params.eps)
+        in_cells(*params.eps / eps_of_cells(1.0, h), ParameterLimits::max_width_cells, "eps (--eps)", fmt(*params.eps),
+                 " cells");
     plan.xi = eps_of_cells(xi_cells, h);
     plan.eps = params.eps ? *params.eps : eps_of_cells(params.eps_cells, h);
 
@@ -112,8 +138,9 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
         if (!(cells < 1e6))
             throw ParameterError("the points span " + fmt(box.extent(a)) + " along " + std::string(1, "xyz"[a]) +
                                  ", which at voxel " + fmt(h) + " (and offset " + fmt(plan.offset) +
-                                 ") would take " + fmt(cells) +
-                                 " cells; give a larger --voxel, or remove the points that stray far");
+                                 ") would take " + fmt(cells) + " cells; give a larger --voxel" +
+                                 (2 * pad_world > box.extent(a) ? " or a smaller --offset"
+                                                                : ", or remove the points that stray far"));
         n[a] = std::max(1, int(std::ceil(cells - 1e-9)));
     }
     d.levels = choose_levels(std::max({n[0], n[1], n[2]}));
@@ -129,8 +156,19 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
 
     const double L = d.length_scale();
     plan.dt = params.dt ? *params.dt : params.dt_cells * (h / L) * (h / L);
-    plan.steps = params.steps ? *params.steps
-                              : int(std::ceil(params.smoothing_cells * (h / L) * (h / L) / plan.dt - 1e-9));
+    const double dt_cells = plan.dt / ((h / L) * (h / L));
+    if (params.dt) in_cells(dt_cells, ParameterLimits::max_dt_cells, "dt (--dt)", fmt(*params.dt), " h^2");
+    if (!params.steps) {
+        const double steps = std::ceil(params.smoothing_cells / dt_cells - 1e-9);
+        if (!(steps <= ParameterLimits::max_steps))
+            throw ParameterError("the flow time (--smoothing) " + fmt(params.smoothing_cells) + " h^2 in steps of " +
+                                 fmt(dt_cells) + " h^2 (--dt-cells or --dt) would take " + fmt(steps) +
+                                 " steps: at most " + std::to_string(ParameterLimits::max_steps) +
+                                 "; give a shorter flow time or a longer step");
+        plan.steps = int(steps);
+    } else {
+        plan.steps = *params.steps;
+    }
     if (params.keep_offset) {
         plan.tube_inner = params.tube_inner * plan.offset;
         plan.tube_outer = params.tube_outer * plan.offset;

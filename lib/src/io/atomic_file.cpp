@@ -178,7 +178,8 @@ void AtomicFile::name_temporary() {
     }
 }
 
-void AtomicFile::commit() {
+void AtomicFile::prepare() {
+    if (prepared_) return;
     finish();
     if (temp_.empty()) name_temporary();
     std::FILE* file = file_;
@@ -186,6 +187,11 @@ void AtomicFile::commit() {
     errno = 0;
     // A failing close (e.g. a full disk on NFS) means the data may be lost.
     if (std::fclose(file) != 0) fail("write", errno);
+    prepared_ = true;
+}
+
+void AtomicFile::commit() {
+    prepare();
     errno = 0;
     if (std::rename(temp_.c_str(), target_.c_str()) != 0) fail("rename temporary file onto", errno);
     unlist_temporary(temp_);

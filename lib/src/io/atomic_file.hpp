@@ -33,7 +33,10 @@ public:
     // to fail; throws IoError on failure (and removes the temporary).
     void finish();
 
-    // finish(), then renames onto the target; throws IoError on failure.
+    // finish(), then the temporary named beside the target and closed: only the rename
+    // is left, which fails only if the folder changes meanwhile. Throws IoError.
+    void prepare();
+    // prepare(), then renames onto the target; throws IoError on failure.
     void commit();
 
     const std::string& target() const { return target_; }
@@ -51,6 +54,7 @@ private:
     std::vector<char> buffer_;
     std::uint64_t bytes_ = 0;
     bool finished_ = false;
+    bool prepared_ = false;
     bool committed_ = false;
 };
 

@@ -24,7 +24,8 @@ constexpr std::uint64_t kMaxRatio = 1032;
 
 }  // namespace
 
-std::string gunzip(std::string_view data, const std::string& path) {
+std::string gunzip(std::string_view data, const std::string& path,
+                   const std::function<void(std::string_view first)>& look_first) {
     const auto fail = [&](const std::string& what, std::uint64_t at) -> InputError {
         return InputError(path + ": " + what + " (compressed byte offset " + std::to_string(at) + ")");
     };
@@ -41,7 +42,12 @@ std::string gunzip(std::string_view data, const std::string& path) {
     std::string out;
     out.resize(std::min<std::uint64_t>(limit, std::max<std::uint64_t>(4 * data.size(), 1 << 16)));
     std::size_t produced = 0;
+    bool looked = !look_first;
     for (;;) {
+        if (!looked && produced >= kFirstLookBytes) {
+            look_first(std::string_view(out.data(), produced));
+            looked = true;
+        }
         if (produced == out.size()) {
             if (out.size() >= limit) throw fail("decompresses beyond deflate's own bound: corrupt data", fed - in.z.avail_in);
             out.resize(std::min<std::uint64_t>(limit, 2 * out.size()));
@@ -69,6 +75,7 @@ std::string gunzip(std::string_view data, const std::string& path) {
             throw fail(std::string("corrupt gzip data") + (in.z.msg ? std::string(": ") + in.z.msg : std::string()), at);
     }
     out.resize(produced);
+    if (!looked) look_first(out);
     return out;
 }
 

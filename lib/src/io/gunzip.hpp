@@ -1,5 +1,6 @@
 // gzip-compressed input (.ply.gz, .xyz.gz, ...), inflated in memory with zlib.
 #pragma once
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -8,6 +9,11 @@ namespace snvr::detail {
 // The concatenated contents of every gzip member in `data`. Throws InputError naming
 // the file and the byte offset when the data is not gzip or is cut short. Deflate
 // cannot expand beyond about 1032:1, so the output is bounded by the input's size.
-std::string gunzip(std::string_view data, const std::string& path);
+// `look_first`, when given, sees the first 64 KiB inflated (or all, if less) before the
+// rest is inflated, and may throw: a file whose content is not what its name says
+// (a bomb of zeros, say) is refused at once, not after inflating gigabytes.
+constexpr std::size_t kFirstLookBytes = 1 << 16;
+std::string gunzip(std::string_view data, const std::string& path,
+                   const std::function<void(std::string_view first)>& look_first = {});
 
 }  // namespace snvr::detail

@@ -2,6 +2,7 @@
 // format 0-10: every record starts with X, Y, Z as int32, scaled and offset by the
 // header's doubles. Compressed LAZ is refused by name. The records are split between
 // threads; the header's box chooses the origin.
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -89,6 +90,11 @@ FloatPoints parse_las(std::string_view data, const std::string& path, const Pars
     for (std::size_t a = 0; a < 3; ++a) {
         records.scale[a] = field<double>(data, kScale + 8 * a);
         records.offset[a] = field<double>(data, kOffset + 8 * a);
+        // Zero, subnormal or non-finite, every coordinate would collapse or overflow.
+        if (!std::isnormal(records.scale[a]) || !std::isfinite(records.offset[a]))
+            throw fail(std::string("the header's ") + "xyz"[a] + " scale " + format_number(records.scale[a]) +
+                       " and offset " + format_number(records.offset[a]) +
+                       " make no coordinates (a scale is a normal number such as 0.001, an offset finite)");
     }
     const std::size_t n = std::size_t(count);
     FloatPoints points;

@@ -35,9 +35,12 @@ std::uint64_t OutputFiles::add_bytes(const std::string& bytes, const std::string
     return files_.back()->bytes();
 }
 
-// Only the renames are left: they fail only if the directory changed under us.
+// Every temporary named beside its target and closed first: any failure there (a
+// folder gone or read-only, a full disk) leaves every target as it was. Only the
+// renames are left then; they fail only if a folder changes between two of them.
 void OutputFiles::commit() {
     std::vector<std::unique_ptr<AtomicFile>> files = std::move(files_);
+    for (auto& file : files) file->prepare();
     for (auto& file : files) file->commit();
 }
 

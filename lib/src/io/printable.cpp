@@ -9,7 +9,8 @@
 namespace snvr {
 namespace {
 
-// Length of the valid UTF-8 sequence at s[i] (0 if none starts there): no overlong
+// Length of the valid UTF-8 sequence at s[i] (0 if none starts there, or one that is a
+// C1 control, U+0080 to U+009F: some terminals act on those as on ESC): no overlong
 // forms, no surrogates, nothing above U+10FFFF.
 std::size_t utf8_length(std::string_view s, std::size_t i) {
     const auto byte = [&](std::size_t k) { return std::uint8_t(s[k]); };
@@ -25,7 +26,7 @@ std::size_t utf8_length(std::string_view s, std::size_t i) {
         if ((byte(i + k) & 0xC0) != 0x80) return 0;
         code = code << 6 | (byte(i + k) & 0x3F);
     }
-    if (code < least || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return 0;
+    if (code < least || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF) || code <= 0x9F) return 0;
     return n;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -40,9 +41,14 @@ InputPoints read_input(const std::string& path, const Parameters& params) {
     }
     const Mesh mesh = detail::parse_mesh(data, path);
     bytes.release();
-    for (const Vec3& v : mesh.vertices)
-        for (double x : v)
-            if (!std::isfinite(x)) throw InputError(path + ": a vertex has a non-finite coordinate");
+    // Its samples become float points, as a point file's do: the same range holds.
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+        for (double x : mesh.vertices[i])
+            if (!(std::abs(x) <= std::numeric_limits<float>::max()))
+                throw InputError(path + ": vertex " + std::to_string(i) + " (" + detail::format_number(mesh.vertices[i][0]) +
+                                 ", " + detail::format_number(mesh.vertices[i][1]) + ", " +
+                                 detail::format_number(mesh.vertices[i][2]) + ") " +
+                                 (std::isfinite(x) ? "lies beyond 32-bit float range" : "has a non-finite coordinate"));
     InputPoints in;
     in.triangles = mesh.triangles.size();
     in.spacing = half_voxel(mesh, params);

@@ -105,7 +105,7 @@ Mesh read_ascii_stl(std::string_view data, const std::string& path) {
     detail::LineScanner lines(data);
     std::string_view line;
     std::vector<std::uint32_t> loop;
-    bool in_loop = false;
+    bool in_loop = false, in_facet = false;
     const auto fail = [&](const std::string& what) -> InputError {
         return InputError(path + ": line " + std::to_string(lines.line_number()) + ": " + what);
     };
@@ -128,11 +128,19 @@ Mesh read_ascii_stl(std::string_view data, const std::string& path) {
             if (loop.size() < 3) throw fail("a facet needs 3 vertices, this one has " + std::to_string(loop.size()));
             for (std::size_t k = 1; k + 1 < loop.size(); ++k) mesh.triangles.push_back({loop[0], loop[k], loop[k + 1]});
             in_loop = false;
-        } else if (word != "solid" && word != "endsolid" && word != "facet" && word != "endfacet" && !word.empty()) {
+        } else if (word == "facet") {
+            if (in_facet) throw fail("'facet' inside another facet (the one before has no 'endfacet')");
+            in_facet = true;
+        } else if (word == "endfacet") {
+            if (!in_facet) throw fail("'endfacet' without 'facet'");
+            if (in_loop) throw fail("'endfacet' inside 'outer loop'");
+            in_facet = false;
+        } else if (word != "solid" && word != "endsolid" && !word.empty()) {
             throw fail("unexpected " + in_quotes(word.substr(0, 40)) + " in ASCII STL");
         }
     }
-    if (in_loop) throw InputError(path + ": file ends inside a facet");
+    // A file cut short mostly ends inside a facet: the last one would be half read.
+    if (in_loop || in_facet) throw InputError(path + ": file ends inside a facet (no 'endfacet'): cut short?");
     require_triangles(mesh, path);
     return mesh;
 }
@@ -191,6 +199,19 @@ struct Element {
     std::vector<Property> properties;
 };
 
+std::size_t type_size(Type type) {
+    static const std::size_t sizes[] = {1, 1, 2, 2, 4, 4, 4, 8};
+    return sizes[int(type)];
+}
+
+// The fewest bytes a record of e can take: its binary words (a list's count alone), or
+// in text a character and a separator per value.
+std::uint64_t least_record_bytes(const Element& e, bool ascii) {
+    std::uint64_t bytes = 0;
+    for (const Property& p : e.properties) bytes += ascii ? 2 : type_size(p.list ? p.count_type : p.type);
+    return std::max<std::uint64_t>(bytes, 1);
+}
+
 // The body's values one at a time, from text tokens or binary words.
 class ValueReader {
 public:
@@ -199,8 +220,7 @@ public:
     // False at the end of the data (or, for text, on a token that is no number).
     bool read(Type type, double& out) {
         if (ascii_) return parse_number(next_token(rest_), out);
-        static const std::size_t sizes[] = {1, 1, 2, 2, 4, 4, 4, 8};
-        const std::size_t size = sizes[int(type)];
+        const std::size_t size = type_size(type);
         if (rest_.size() < size) return false;
         const char* p = rest_.data();
         switch (type) {
@@ -271,9 +291,16 @@ Mesh read_ply(std::string_view data, const std::string& path) {
     if (!have_format) throw InputError(path + ": PLY header has no 'format' line");
 
     Mesh mesh;
-    ValueReader values(data.substr(lines.offset()), ascii, swap);
+    const std::string_view body = data.substr(lines.offset());
+    ValueReader values(body, ascii, swap);
     bool have_vertices = false, have_faces = false;
     for (const Element& e : elements) {
+        // A count the file cannot hold is refused before anything is reserved for it.
+        const std::uint64_t room = (body.size() + 1) / least_record_bytes(e, ascii);
+        if (e.count > room)
+            throw InputError(path + ": the header's element '" + e.name + "' claims " + std::to_string(e.count) +
+                             " records, but the " + std::to_string(body.size()) +
+                             " bytes after the header hold at most " + std::to_string(room));
         const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
         std::array<int, 3> xyz{-1, -1, -1};
         int indices = -1;
@@ -490,8 +517,9 @@ bool detail::has_faces(std::string_view data, const std::string& path) {
             std::string_view rest = detail::strip_comment(line);
             for (std::string_view t = next_token(rest); !t.empty() && n < 4; t = next_token(rest)) tokens[n++] = t;
         }
+        // A count that is not one (-1, garbage) goes to the mesh reader, which names it.
         std::uint64_t faces = 0;
-        return n >= 3 && detail::parse_count(tokens[2], faces) && faces > 0;
+        return n >= 3 && (!detail::parse_count(tokens[2], faces) || faces > 0);
     }
     return false;
 }

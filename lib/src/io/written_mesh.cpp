@@ -69,4 +69,12 @@ void require_written_precision(const Mesh& mesh, const std::string& path, double
                      "(snvr-cl: --origin center)");
 }
 
+bool holds_faithfully(double farthest, const std::string& path, double voxel) {
+    const Holds how = holds(path);
+    if (how == Holds::Exactly) return true;
+    // float32 rounds by at most 2^-24 of the coordinate; six decimals by 5e-7 more.
+    const double move = std::ldexp(std::fabs(farthest), -24) + (how == Holds::Float32SixDecimals ? 5e-7 : 0.0);
+    return move <= kLargestMove * voxel;
+}
+
 }  // namespace snvr

@@ -16,7 +16,9 @@
 namespace snvr {
 
 void MeshFairing::validate() const {
-    if (passes < 0) throw ParameterError("mesh fairing: passes must be >= 0, got " + std::to_string(passes));
+    if (passes < 0 || passes > max_passes)
+        throw ParameterError("mesh fairing (--fairing) must be 0 to " + std::to_string(max_passes) + " passes, got " +
+                             std::to_string(passes));
     if (!(lambda > 0 && lambda < 1))
         throw ParameterError("mesh fairing: lambda must be in (0, 1), got " + std::to_string(lambda));
     if (!(pass_band > 0 && pass_band < 1))

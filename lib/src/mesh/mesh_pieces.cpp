@@ -2,6 +2,7 @@
 // outward component with the cavities it holds, so that no cavity is left without its
 // solid and no solid loses its cavities.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <numeric>
 #include <vector>
@@ -31,7 +32,9 @@ Mesh submesh(const Mesh& m, const std::vector<std::uint32_t>& component, const s
 }  // namespace
 
 void PieceFilter::validate() const {
-    if (!(min_volume >= 0)) throw ParameterError("the smallest piece's volume must be zero or positive");
+    if (!(min_volume >= 0 && std::isfinite(min_volume)))
+        throw ParameterError("the smallest piece's volume (--min-piece-volume) must be zero or a positive finite "
+                             "volume, got " + std::to_string(min_volume));
 }
 
 PieceReport filter_pieces(Mesh& mesh, const PieceFilter& filter) {

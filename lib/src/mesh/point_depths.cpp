@@ -589,10 +589,22 @@ void PointDepths::visit(Group& group, bool every_point, double settle_below, voi
         radius = std::max(radius, PointTree::dist_sq(points_.point(k), centre));
     radius = std::sqrt(radius);
     every_point = every_point || every_point_ || group.sampled;
+    // Copies of one point lie side by side in tree order (a scan may hold thousands):
+    // each takes the one before's distance and side.
+    struct Last {
+        Vec3 p{};
+        double d2 = 0;
+        std::uint32_t triangle = kNone;
+        int side = 0;
+        bool valid = false;
+        bool is(const Vec3& q) const { return valid && q == p; }
+    } last;
     const auto measured = [&](std::uint32_t k, double d2, std::uint32_t triangle) {
         const Vec3 p = points_.point(k);
         const double d = std::sqrt(d2);
-        const bool inside = side(p, triangle) < 0;
+        const int at = last.is(p) && last.side != 0 ? last.side : side(p, triangle);
+        last.side = at;
+        const bool inside = at < 0;
         if (inside) {
             group.shallowest = std::min(group.shallowest, d);
             ++group.inside;
@@ -647,10 +659,13 @@ void PointDepths::visit(Group& group, bool every_point, double settle_below, voi
         const double bound = (s.run_distance + norm(off)) * (1 + 1e-9);
         for (std::uint32_t k = group.begin; k < group.end; ++k) {
             const Vec3 p = points_.point(k);
-            const double own = (bound + norm(sub(p, centre))) * (1 + 1e-9);
-            TriangleGrid::Closest near = grid_.closest(p, own * own + 1e-300);
-            if (near.triangle == TriangleGrid::none) near = grid_.closest(p);
-            measured(k, near.dist_sq, near.triangle);
+            if (!last.is(p)) {
+                const double own = (bound + norm(sub(p, centre))) * (1 + 1e-9);
+                TriangleGrid::Closest near = grid_.closest(p, own * own + 1e-300);
+                if (near.triangle == TriangleGrid::none) near = grid_.closest(p);
+                last = Last{p, near.dist_sq, near.triangle, 0, true};
+            }
+            measured(k, last.d2, last.triangle);
         }
         return;
     }
@@ -658,10 +673,14 @@ void PointDepths::visit(Group& group, bool every_point, double settle_below, voi
     const auto measure_all = [&] {
         start();
         for (std::uint32_t k = group.begin; k < group.end; ++k) {
-            double d2;
-            std::uint32_t t;
-            nearest(points_.point(k), centre, within(k), &s, slack, margin, d2, t);
-            measured(k, d2, t);
+            const Vec3 p = points_.point(k);
+            if (!last.is(p)) {
+                double d2;
+                std::uint32_t t;
+                nearest(p, centre, within(k), &s, slack, margin, d2, t);
+                last = Last{p, d2, t, 0, true};
+            }
+            measured(k, last.d2, last.triangle);
         }
     };
     if (every_point) {
@@ -685,6 +704,7 @@ void PointDepths::visit(Group& group, bool every_point, double settle_below, voi
                 }
         double rest = kInf;
         for (std::uint32_t k = group.begin; k < group.end; ++k) {
+            if (k > group.begin && points_.xyz[k] == points_.xyz[k - 1]) continue;  // a copy: nothing new
             const Vec3 p = points_.point(k), o = sub(p, centre);
             const double low = double(least_tangent_bound(tb, s.packets, float(o[0]), float(o[1]), float(o[2]))) - room;
             if (!(low < below)) {

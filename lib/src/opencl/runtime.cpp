@@ -1,5 +1,7 @@
 #include "opencl/runtime.hpp"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
@@ -48,7 +50,27 @@ std::string error_name(cl_int code) {
     return "OpenCL error " + std::to_string(code);
 }
 
+std::string limits_block_runtime() {
+    // An OpenCL runtime maps large libraries, sizes its device memory from the process's
+    // limits and writes its compiled kernels to files: PoCL aborts the process (SIGABRT)
+    // when the data limit leaves it under about 140 MB, cannot load under an address
+    // space of 400 MB, and its compiler exits the process when a file-size limit stops
+    // a kernel file.
+    constexpr rlim_t kLeastBytes = rlim_t(1) << 30;
+    for (const auto& [resource, what] : {std::pair{RLIMIT_DATA, "data size (ulimit -d)"},
+                                         std::pair{RLIMIT_AS, "address space (ulimit -v)"},
+                                         std::pair{RLIMIT_FSIZE, "file size (ulimit -f)"}}) {
+        rlimit limit{};
+        if (::getrlimit(resource, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY && limit.rlim_cur < kLeastBytes)
+            return std::string("the process's ") + what + " is limited to " + std::to_string(limit.rlim_cur >> 20) +
+                   " MiB, under the 1024 MiB an OpenCL runtime is given to start in (some abort or end the "
+                   "process below their need)";
+    }
+    return "";
+}
+
 std::vector<DeviceEntry> devices() {
+    if (!limits_block_runtime().empty()) return {};  // not even loaded
     std::vector<cl::Platform> platforms;
     // No ICD or no platform: the loader reports an error, which here means "none".
     try {
@@ -92,7 +114,12 @@ std::vector<DeviceEntry> devices() {
 
 DeviceEntry choose_device(const std::string& spec) {
     const std::vector<DeviceEntry> all = devices();
-    if (all.empty()) throw ParameterError("device '" + spec + "': no OpenCL platform is installed on this machine");
+    if (all.empty()) {
+        const std::string limited = limits_block_runtime();
+        throw ParameterError("device '" + spec + "': " +
+                             (limited.empty() ? "no OpenCL platform is installed on this machine"
+                                              : "OpenCL not tried: " + limited));
+    }
     if (spec == "opencl" || spec == "auto") {
         for (const DeviceEntry& e : all)
             if (e.gpu) return e;

@@ -39,7 +39,13 @@ struct DeviceEntry {
     int compute_units = 0;
 };
 
-// Every device of every platform; empty when there is no OpenCL platform at all.
+// Why this process should not load an OpenCL runtime at all (its memory or file-size
+// limits are too low for one to start and build kernels without ending the process),
+// or "" when it may.
+std::string limits_block_runtime();
+
+// Every device of every platform; empty when there is no OpenCL platform at all, or
+// when limits_block_runtime() says not to look.
 std::vector<DeviceEntry> devices();
 
 // The device a --device spec names: "opencl" (first GPU, else first device), "opencl:P:D",

@@ -55,6 +55,8 @@ std::vector<DeviceInfo> list_devices() {
     omp.compute_units = omp_get_max_threads();
     omp.fp64 = true;
     omp.note = "reference and fallback";
+    const std::string limited = opencl::limits_block_runtime();
+    if (!limited.empty()) omp.note += "; OpenCL not tried: " + limited;
     std::vector<DeviceInfo> out{omp};
     for (const opencl::DeviceEntry& e : opencl::devices()) {
         DeviceInfo d;

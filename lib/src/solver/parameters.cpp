@@ -23,8 +23,24 @@ std::string show(double v) {
     return s.str();
 }
 
-void require_positive(const std::optional<double>& v, const char* name) {
-    if (v) require(std::isfinite(*v) && *v > 0, std::string(name) + " must be a positive finite length, got " + show(*v));
+// "<name> (--<option>) must be <range>, got <value>": the field and the command-line
+// option it comes from, the value and the range.
+std::string named(const char* name, const char* option) {
+    return std::string(name) + " (--" + option + ")";
+}
+
+enum Ends { kClosed, kOpenBelow, kOpen };  // [lo, hi], (lo, hi], (lo, hi)
+
+void in_range(double v, double lo, double hi, Ends ends, const char* name, const char* option, const char* unit) {
+    const bool above = ends == kClosed ? v >= lo : v > lo, below = ends == kOpen ? v < hi : v <= hi;
+    require(std::isfinite(v) && above && below, named(name, option) + " must be " +
+                                                    (ends == kClosed ? "at least " : "above ") + show(lo) +
+                                                    (ends == kOpen ? " and below " : " and at most ") + show(hi) +
+                                                    unit + ", got " + show(v));
+}
+
+void require_positive(const std::optional<double>& v, const char* name, const char* option) {
+    if (v) require(std::isfinite(*v) && *v > 0, named(name, option) + " must be a positive finite length, got " + show(*v));
 }
 
 }  // namespace
@@ -38,31 +54,28 @@ void scale_lengths(Parameters& p, double factor) {
 }
 
 void Parameters::validate() const {
+    using L = ParameterLimits;
     require(!(offset && thickness), "give the offset or the thickness, not both");
-    require_positive(offset, "offset");
-    require_positive(thickness, "thickness");
-    require_positive(voxel, "voxel size");
-    require_positive(eps, "eps");
-    require_positive(xi, "xi");
-    require(resolution >= 16 && resolution <= 16384,
-            "resolution must be between 16 and 16384 cells, got " + std::to_string(resolution));
-    if (steps) require(*steps >= 0 && *steps <= 100000, "steps must be between 0 and 100000, got " + std::to_string(*steps));
-    if (dt) require(std::isfinite(*dt) && *dt > 0, "dt must be positive and finite, got " + show(*dt));
-    require(std::isfinite(dt_cells) && dt_cells > 0, "dt-cells must be positive, got " + show(dt_cells));
-    require(std::isfinite(smoothing_cells) && smoothing_cells >= 0 && smoothing_cells <= 1e5,
-            "smoothing must be between 0 and 1e5 cells^2, got " + show(smoothing_cells));
-    require(std::isfinite(tube_inner) && tube_inner > 0 && tube_inner < 1,
-            "the tube's inner side must be a share of the offset in (0, 1), got " + show(tube_inner));
-    require(std::isfinite(tube_outer) && tube_outer > 0 && tube_outer <= 10,
-            "the tube's outer side must be a share of the offset in (0, 10], got " + show(tube_outer));
-    require(std::isfinite(eps_cells) && eps_cells > 0, "eps-cells must be positive, got " + show(eps_cells));
-    require(std::isfinite(xi_cells) && xi_cells > 0, "xi-cells must be positive, got " + show(xi_cells));
-    require(std::isfinite(tol) && tol > 0, "tol must be positive, got " + show(tol));
-    require(max_cycles >= 1 && max_cycles <= 10000, "max-cycles must be between 1 and 10000, got " + std::to_string(max_cycles));
+    require_positive(offset, "the offset", "offset");
+    require_positive(thickness, "the thickness", "thickness");
+    require_positive(voxel, "the voxel size", "voxel");
+    require_positive(eps, "eps", "eps");
+    require_positive(xi, "xi", "xi");
+    in_range(resolution, L::min_resolution, L::max_resolution, kClosed, "the resolution", "resolution", " cells");
+    if (steps) in_range(*steps, 0, L::max_steps, kClosed, "the number of steps", "steps", "");
+    if (dt) require(std::isfinite(*dt) && *dt > 0, named("dt", "dt") + " must be positive and finite, got " + show(*dt));
+    in_range(dt_cells, 0, L::max_dt_cells, kOpenBelow, "dt / h^2", "dt-cells", "");
+    in_range(smoothing_cells, 0, L::max_smoothing_cells, kClosed, "the flow time", "smoothing", " h^2");
+    in_range(tube_inner, 0, L::max_tube_inner, kOpen, "the tube's inner side", "tube-inner", " x offset");
+    in_range(tube_outer, 0, L::max_tube_outer, kOpenBelow, "the tube's outer side", "tube-outer", " x offset");
+    in_range(eps_cells, 0, L::max_width_cells, kOpenBelow, "eps", "eps-cells", " cells");
+    in_range(xi_cells, 0, L::max_width_cells, kOpenBelow, "xi", "xi-cells", " cells");
+    in_range(tol, 0, L::max_tol, kOpen, "the residual tolerance", "tol", "");
+    in_range(max_cycles, 1, L::max_cycles, kClosed, "the V-cycles per step", "max-cycles", "");
     require(pre_smooth >= 0 && post_smooth >= 0 && pre_smooth + post_smooth >= 1,
             "the V-cycle needs at least one smoothing sweep");
     require(std::isfinite(omega) && omega > 0 && omega < 2, "omega must be in (0, 2), got " + show(omega));
-    require(std::isfinite(band_xi) && band_xi >= 4, "band must be at least 4 xi, got " + show(band_xi));
+    require(std::isfinite(band_xi) && band_xi >= 4 && band_xi <= 64, "band must be 4 to 64 xi, got " + show(band_xi));
     if (box) {
         for (int a = 0; a < 3; ++a)
             require(std::isfinite((*box)[0][a]) && std::isfinite((*box)[1][a]) && (*box)[1][a] > (*box)[0][a],
