@@ -81,7 +81,7 @@ TEST_CASE("memory limits: no abort; OpenCL is not loaded and the reason is named
     CHECK(fs::exists(t.out()));
 }
 
-TEST_CASE("a file-size limit or a reader that has gone: a reported failure or a finished run, never a kill") {
+TEST_CASE("file-size and open-file limits, a reader that has gone: a reported failure or a finished run, never a kill") {
     TempDir t;
     const std::string input = t.file("in.xyz", sphere_xyz());
     const std::string cli = SNVR_CLI;
@@ -97,6 +97,14 @@ TEST_CASE("a file-size limit or a reader that has gone: a reported failure or a 
         CHECK(r.output.find("File too large") != std::string::npos);
         CHECK(entries(t.path) == std::set<std::string>{"in.xyz"});
     }
+    // Five open files: the report's cannot be opened; nothing is left.
+    const Run few = run_command("bash -c 'ulimit -n 5; " + cli + " reconstruct " + input + " -o " + t.out() +
+                                " --volume " + (t.path / "v.vti").string() + " --report " + (t.path / "r.json").string() +
+                                " --resolution 32 --quiet; echo rc=$?'");
+    CAPTURE(few.output);
+    CHECK(few.output.find("rc=1\n") != std::string::npos);
+    CHECK(few.output.find("Too many open files") != std::string::npos);
+    CHECK(entries(t.path) == std::set<std::string>{"in.xyz"});
     // Progress to a pipe whose reader has gone: before, SIGPIPE killed the run.
     const Run r = run_command("bash -c '" + cli + " reconstruct " + input + " -o " + t.out() +
                               " --resolution 48 2>&1 | head -c 0; echo rc=${PIPESTATUS[0]}'");

@@ -1,7 +1,9 @@
 // A corruption campaign: generated mutations of every input format (bytes flipped,
-// inserted, deleted, duplicated, cut short, numbers made absurd), each run through
-// snvr-cl with a small reconstruction. None may crash or hang; every failure is exit 1
-// with one error naming the file, and leaves no output and no temporary.
+// inserted, deleted, duplicated, cut short, numbers made absurd; and, one in four, a
+// header field made absurd knowing the format: counts, offsets, record sizes, scales,
+// gzip's trailer), each run through snvr-cl with a small reconstruction. None may crash
+// or hang; every failure is exit 1 with one error naming the file, and leaves no output
+// and no temporary.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -146,6 +148,48 @@ std::vector<Format> formats() {
             {"mesh.obj", obj_mesh()}};
 }
 
+// A field of the header made absurd: the counts, offsets and sizes a reader trusts (LAS
+// and binary STL by their byte offsets; text headers by their numbers; gzip's trailer,
+// which states the inflated size and CRC). Structure-aware, where mutate() is blind.
+std::string mutate_header(std::string s, const std::string& name, std::mt19937_64& g) {
+    const auto pick = [&](std::size_t n) { return n ? std::size_t(g() % n) : 0; };
+    const std::uint64_t absurd[] = {0, 1, 0x7FFFFFFF, 0xFFFFFFFF, s.size(), s.size() + 1, s.size() / 2};
+    const auto poke = [&](std::size_t at, std::size_t bytes) {
+        if (at + bytes > s.size()) return;
+        const std::uint64_t v = absurd[pick(std::size(absurd))];
+        for (std::size_t b = 0; b < bytes; ++b) s[at + b] = char((v >> (8 * b)) & 0xFF);
+    };
+    const std::string ext = name.substr(name.find('.'));
+    if (ext == ".xyz.gz") {  // a trailer that lies about the size or the CRC
+        poke(s.size() - 4 * (1 + pick(2)), 4);
+    } else if (ext == ".las") {
+        const std::size_t fields[][2] = {{94, 2}, {96, 4}, {100, 4}, {104, 1}, {105, 2}, {107, 4}, {131, 8}, {155, 8}};
+        const auto& f = fields[pick(std::size(fields))];
+        if (f[1] == 8) {  // a scale or an offset: a double that makes no coordinates
+            const double d[] = {0.0, 1e-320, 1e308, -1e308, std::nan(""), HUGE_VAL};
+            const double v = d[pick(std::size(d))];
+            if (f[0] + 8 <= s.size()) std::memcpy(&s[f[0]], &v, 8);
+        } else {
+            poke(f[0], f[1]);
+        }
+    } else if (name == "mesh.stl") {
+        poke(80, 4);  // the triangle count
+    } else {  // a number of the text header (PLY up to end_header, else the first lines)
+        const std::size_t end = std::min(s.size(), ext == ".ply" ? s.find("end_header") : std::size_t(64));
+        std::vector<std::size_t> starts;
+        for (std::size_t i = 0; i < end; ++i)
+            if (std::isdigit(static_cast<unsigned char>(s[i])) && (i == 0 || !std::isdigit(static_cast<unsigned char>(s[i - 1]))))
+                starts.push_back(i);
+        if (starts.empty()) return s;
+        const std::size_t at = starts[pick(starts.size())];
+        std::size_t stop = at;
+        while (stop < s.size() && std::isdigit(static_cast<unsigned char>(s[stop]))) ++stop;
+        static const char* const kCounts[] = {"0", "-1", "4294967295", "18446744073709551615", "99999999999", "2"};
+        s.replace(at, stop - at, kCounts[pick(std::size(kCounts))]);
+    }
+    return s;
+}
+
 // One mutation of `s`, chosen and placed by the generator.
 std::string mutate(std::string s, std::mt19937_64& g) {
     const auto pick = [&](std::size_t n) { return n ? std::size_t(g() % n) : 0; };
@@ -227,8 +271,13 @@ TEST_CASE("corruption campaign: no crash, no hang, exit 1 naming the file, nothi
     for (const Format& f : formats()) {
         std::mt19937_64 g(seed++);
         for (int i = 0; i < kMutationsPerFormat; ++i) {
-            std::string bytes = mutate(f.bytes, g);
-            if (f.gzipped) bytes = i % 2 ? snvr::testing::gzip(bytes) : mutate(snvr::testing::gzip(f.bytes), g);
+            std::string bytes;
+            if (i % 4 == 3) {  // every fourth: a header field, knowing the format
+                bytes = f.gzipped ? mutate_header(snvr::testing::gzip(f.bytes), f.name, g) : mutate_header(f.bytes, f.name, g);
+            } else {
+                bytes = mutate(f.bytes, g);
+                if (f.gzipped) bytes = i % 2 ? snvr::testing::gzip(bytes) : mutate(snvr::testing::gzip(f.bytes), g);
+            }
             jobs.push_back({f.name, std::move(bytes)});
         }
     }
