@@ -296,7 +296,7 @@ Mesh read_ply(std::string_view data, const std::string& path) {
     bool have_vertices = false, have_faces = false;
     for (const Element& e : elements) {
         // A count the file cannot hold is refused before anything is reserved for it.
-        const std::uint64_t room = (body.size() + 1) / least_record_bytes(e, ascii);
+        const std::uint64_t room = (body.size() + (ascii ? 1 : 0)) / least_record_bytes(e, ascii);  // text may end unterminated
         if (e.count > room)
             throw InputError(path + ": the header's element '" + e.name + "' claims " + std::to_string(e.count) +
                              " records, but the " + std::to_string(body.size()) +
