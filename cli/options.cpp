@@ -13,6 +13,7 @@
 
 #include "report.hpp"
 #include "snvr/error.hpp"
+#include "snvr/reconstruct.hpp"
 
 namespace cli {
 namespace {
@@ -234,7 +235,8 @@ Command reconstruct_command(ReconstructOptions& o) {
         {"--outliers", "", "FILE",
          "write the points dropped as outliers (.ply or .xyz)", store(o.outliers)},
         {"--keep-outliers", "", "",
-         "use every point: by default points far sparser than the\nsurface, lone points standing off a flat surface, and\nclusters of under 10 points (and under 1%) that the shell\nwould leave apart as loose beads, are dropped",
+         fmt("use every point: by default points far sparser than the\nsurface, lone points standing off a flat surface, and\nclusters of under %zu points (and under 1%%) that the shell\nwould leave apart as loose beads, are dropped",
+             snvr::OutlierSettings{}.min_cluster),
          set_flag(o.keep_outliers)},
         {"--min-piece-volume", "", "V",
          "drop solid pieces (each with its cavities) of less volume,\nin the input's units cubed (default 0: keep all)",
@@ -245,9 +247,12 @@ Command reconstruct_command(ReconstructOptions& o) {
          "center: shift the points by their box centre, rounded\n(shown in the summary), so that far coordinates such as\nsurvey data keep their precision in float32 STL and PLY;\nkeep: coordinates as read (default: keep, but center for\nSTL and 3MF where float32 would move the shell)",
          origin},
         {"--offset", "", "L",
-         "distance of each wall from the points, world units\n"
-         "(default: the larger of 2.5 voxels and the points' sampling gap)",
+         fmt("distance of each wall from the points, world units\n"
+             "(default: the larger of %g voxels and the points' sampling gap)", defaults.offset_cells),
          store(p.offset), "Shell"},
+        {"--offset-cells", "", "M",
+         fmt("the default offset in voxels instead of %g (the sampling gap\nstill wins when larger)", defaults.offset_cells),
+         store(p.offset_cells)},
         {"--thickness", "", "T", "wall-to-wall thickness 2L instead of --offset, world units", store(p.thickness)},
         {"--resolution", "", "N",
          fmt("cells on the longest axis of the padded box (default %d)", defaults.resolution), store(p.resolution),
@@ -296,7 +301,7 @@ Command reconstruct_command(ReconstructOptions& o) {
          "Other"},
         help_option(),
     };
-    c.exclusive = {{"--offset", "--thickness"}, {"--resolution", "--voxel"}, {"--eps-cells", "--eps"},
+    c.exclusive = {{"--offset", "--thickness"}, {"--offset", "--offset-cells"}, {"--thickness", "--offset-cells"}, {"--resolution", "--voxel"}, {"--eps-cells", "--eps"},
                    {"--xi-cells", "--xi"}, {"--dt-cells", "--dt"}, {"--tube-inner", "--free-flow"}, {"--tube-outer", "--free-flow"}};
     c.epilogue = std::string(
                      "Options take '--opt value' or '--opt=value'. Progress, warnings and the summary\n"

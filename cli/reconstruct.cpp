@@ -1,5 +1,7 @@
 // snvr-cl reconstruct: read, reconstruct, mesh, check, write, report.
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +18,7 @@
 #include "snvr/mesh.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/render.hpp"
+#include "snvr/shell.hpp"
 #include "snvr/stopwatch.hpp"
 
 namespace cli {
@@ -80,21 +83,10 @@ void check_outputs(const ReconstructOptions& o) {
     }
 }
 
-// The points as the run takes them: in millimetres, outliers apart, shifted to the
-// origin on request (the outliers with them, so that their file lines up).
-struct PreparedPoints {
-    snvr::PointCloud points;
-    snvr::Parameters params;  // lengths in millimetres too
-    snvr::DroppedOutliers outliers;
-    snvr::Vec3 shift{0, 0, 0};
-    bool shift_by_default = false;  // not asked for: a print format needed it
-    double to_mm = 1;
-};
-
 // Survey scans arrive far from the origin and slicers ignore absolute placement: a
 // print format (STL, 3MF) is centred unless told to keep, where its float32 would
-// otherwise move the shell (the run's voxel taken at its smallest, the points' box
-// over the resolution; the shell reaches an offset beyond the points).
+// otherwise move the shell (decided on the points as read: the run's voxel taken at its
+// smallest, the points' box over the resolution; the shell reaches an offset beyond).
 bool print_format_needs_centring(const std::string& output, const snvr::PointCloud& points,
                                  const snvr::Parameters& params) {
     const std::string ext = lower_extension(output);
@@ -110,24 +102,23 @@ bool print_format_needs_centring(const std::string& output, const snvr::PointClo
     return voxel > 0 && !snvr::holds_faithfully(farthest + offset, output, voxel);
 }
 
-PreparedPoints prepare_points(const ReconstructOptions& o, snvr::PointCloud points) {
-    PreparedPoints in;
-    in.to_mm = o.to_millimetres();
-    in.params = o.params;
-    if (in.to_mm != 1) {
-        points.scale(in.to_mm);
-        snvr::scale_lengths(in.params, in.to_mm);
-    }
-    if (!o.keep_outliers) in.outliers = snvr::drop_outliers(points, in.params);
-    if (o.centre_origin.value_or(false) || (!o.centre_origin && print_format_needs_centring(o.output, points, in.params))) {
-        in.shift = snvr::round_centre(points);
-        in.shift_by_default = !o.centre_origin;
-    }
-    points.translate({-in.shift[0], -in.shift[1], -in.shift[2]});
-    for (snvr::Vec3& p : in.outliers.points)
-        for (int a = 0; a < 3; ++a) p[a] -= in.shift[a];
-    in.points = std::move(points);
-    return in;
+// The library's settings from the options, every length in millimetres (the points
+// are scaled to match).
+snvr::ShellSettings shell_settings(const ReconstructOptions& o, const snvr::PointCloud& points) {
+    const double to_mm = o.to_millimetres();
+    snvr::ShellSettings s;
+    s.params = o.params;
+    snvr::scale_lengths(s.params, to_mm);
+    s.drop_outliers = !o.keep_outliers;
+    s.centre = o.centre_origin.value_or(false) ||
+               (!o.centre_origin && print_format_needs_centring(o.output, points, s.params));
+    s.fairing = o.fairing;
+    s.pieces = o.pieces;
+    s.pieces.min_volume *= to_mm * to_mm * to_mm;
+    s.measure = o.measure;
+    s.written_as = o.output;
+    s.keep_field = !o.volume.empty();
+    return s;
 }
 
 // Errors about the points name the input too (a file's own errors name their file).
@@ -174,28 +165,29 @@ int run_reconstruct(const std::vector<std::string>& args) {
         say("read: " + grouped(input.points.size()) + " points");
     try {
         // From here on every length is in millimetres: the points, the options, the outputs.
-        PreparedPoints prepared = prepare_points(o, std::move(input.points));
-        const snvr::PointCloud& points = prepared.points;
-        const snvr::Parameters& params = prepared.params;
-        const snvr::DroppedOutliers& outliers = prepared.outliers;
-        const snvr::Vec3& shift = prepared.shift;
-        const double to_mm = prepared.to_mm;
-        if (!outliers.points.empty())
-            say(fmt("read: %s outliers dropped (sparse, lone points standing off the surface, or in clusters of under 10 "
-                    "points apart by over 2 x offset, "
-                    "%.3g mm); --keep-outliers keeps them", grouped(outliers.points.size()).c_str(), outliers.link));
-        seconds.outliers = stage.lap();
-
-        snvr::Result result = snvr::reconstruct(points, params, [&o](const snvr::Progress& p) {
-            if (!o.quiet) print_progress(std::cerr, p);
+        snvr::PointCloud points = std::move(input.points);
+        const double to_mm = o.to_millimetres();
+        if (to_mm != 1) points.scale(to_mm);
+        const snvr::ShellSettings settings = shell_settings(o, points);
+        seconds.read += stage.lap();
+        snvr::Shell shell = snvr::make_shell(std::move(points), settings, [&](const snvr::Progress& p) {
+            if (p.stage == "mesh") say("mesh: extracting the zero level set");
+            else if (p.stage == "check") say("check: the shell against the points");
+            else if (p.stage == "outliers" && !p.message.empty())
+                say(fmt("outliers: %s (sparse, lone points standing off the surface, or in clusters of under %zu "
+                        "points apart by over 2 x offset); --keep-outliers keeps them",
+                        p.message.c_str(), settings.outliers.min_cluster));
+            else if (!o.quiet && p.stage != "outliers") print_progress(std::cerr, p);
+            return true;
         });
-        stage.lap();
-        for (const std::string& w : result.warnings) warning(w);
-
-        say("mesh: extracting the zero level set");
-        snvr::DepthGuardReport guard;
-        snvr::Mesh mesh = snvr::shell_mesh(result, points, &guard, o.fairing);
-        seconds.mesh = stage.lap();
+        stage.lap();  // make_shell timed its own stages
+        const snvr::Result& result = shell.run;
+        const snvr::DroppedOutliers& outliers = shell.outliers;
+        const snvr::Vec3& shift = shell.shift;
+        seconds.outliers = shell.seconds.outliers;
+        seconds.mesh = shell.seconds.mesh;
+        seconds.check = shell.seconds.check;
+        const snvr::DepthGuardReport& guard = shell.guard;
         if (guard.moved_vertices) {
             const std::string except =
                 guard.lone_points ? " but " + grouped(guard.lone_points) +
@@ -206,57 +198,37 @@ int run_reconstruct(const std::vector<std::string>& args) {
                     grouped(guard.moved_vertices).c_str(), grouped(guard.near_vertices).c_str(),
                     1 - result.tube_inner / result.offset, except.c_str()));
         }
-        if (guard.shallow_points)
-            warning(fmt("%s points stay shallower than %.3g x offset after %d repair rounds",
-                     grouped(guard.shallow_points).c_str(), 1 - result.tube_inner / result.offset, guard.repair_rounds));
-        snvr::PieceFilter pieces = o.pieces;
-        pieces.min_volume *= to_mm * to_mm * to_mm;
-        const snvr::PieceReport dropped_pieces = snvr::filter_pieces(mesh, pieces);
+        const snvr::PieceReport& dropped_pieces = shell.pieces;
         if (dropped_pieces.dropped)
             say(fmt("mesh: %zu solid piece%s dropped (%.4g mm^3 in all), %zu kept", dropped_pieces.dropped,
                     dropped_pieces.dropped == 1 ? "" : "s", dropped_pieces.dropped_volume, dropped_pieces.kept));
-        if (mesh.triangles.empty() && dropped_pieces.dropped)
-            throw snvr::Error(fmt("every solid piece of the shell (%zu, %.4g mm^3 in all) is smaller than "
-                                  "--min-piece-volume %g: nothing written",
-                                  dropped_pieces.dropped, dropped_pieces.dropped_volume, o.pieces.min_volume));
-        if (mesh.triangles.empty())
-            throw snvr::Error(fmt("the reconstructed shell is empty (no triangles on the %d x %d x %d grid, offset "
-                                  "%.6g, voxel %.6g); try a larger --offset or a finer --resolution. Nothing written",
-                                  result.domain.nx, result.domain.ny, result.domain.nz, result.offset,
-                                  result.domain.h));
-        snvr::require_written_precision(mesh, o.output, result.domain.h);
-        // From here on the mesh is as its file holds it (float32 for STL and PLY), for
-        // the check too; rounding it again when it is written changes nothing.
-        mesh = snvr::as_written(std::move(mesh), o.output);
-
-        // Staged first (whole files, not yet visible), checked, then renamed into place
-        // together: a failure anywhere leaves every output as it was, and a written
-        // output always means exit 0 (the checks only warn).
-        say("write: " + o.output + (o.volume.empty() ? "" : ", " + o.volume));
-        snvr::OutputFiles outputs;
-        const std::uint64_t mesh_bytes = outputs.add_mesh(mesh, o.output);
-        const std::uint64_t volume_bytes = o.volume.empty() ? 0 : outputs.add_field(result.phi, result.domain, o.volume);
-        if (!o.outliers.empty()) outputs.add_points(outliers.points, o.outliers, "outliers dropped by snvr-cl");
-        result.phi = snvr::Field();  // meshed and staged: its memory goes to the check
-        seconds.write = stage.lap();
-
-        say("check: " + grouped(mesh.triangles.size()) + " triangles, " + grouped(points.size()) + " points");
-        // Closed / manifold / oriented, points inside and their depth, walls; roughness on request.
-        const snvr::MeshQuality quality = o.measure ? snvr::measure_quality(mesh, points, result.offset, result.domain.h)
-                                                    : snvr::measure_shell(mesh, points, result.offset, result.domain.h);
-        const std::size_t clusters = snvr::count_point_clusters(points, 2 * result.offset);
-        seconds.check = stage.lap();
-        for (const std::string& w : snvr::shell_warnings(quality, points.size(), clusters, dropped_pieces.dropped)) warning(w);
+        for (const std::string& w : shell.warnings) warning(w);
+        const snvr::Mesh& mesh = shell.mesh;
         const snvr::Vec3 size = mesh_size(mesh);
         if (std::max({size[0], size[1], size[2]}) < 2)
             warning(fmt("the shell is only %.3g mm across: if the points are not in millimetres, give --units (m, cm "
                         "or in)", std::max({size[0], size[1], size[2]})));
-        RunSummary summary{result, quality, seconds, o.output, o.volume, shift, size, o.units, to_mm,
-                           o.input, points.size(), mesh_bytes, volume_bytes, warnings, outliers.points.size(),
+
+        // Staged first (whole files, not yet visible), then renamed into place together:
+        // a failure anywhere leaves every output as it was, and a written output always
+        // means exit 0 (the checks only warn).
+        say("write: " + o.output + (o.volume.empty() ? "" : ", " + o.volume));
+        snvr::OutputFiles outputs;
+        const std::uint64_t mesh_bytes = outputs.add_mesh(mesh, o.output);
+        const std::uint64_t volume_bytes = o.volume.empty() ? 0 : outputs.add_field(result.phi, result.domain, o.volume);
+        if (!o.outliers.empty()) {  // where the kept points went: shifted alike
+            snvr::PointSet dropped = outliers.points;
+            for (snvr::Vec3& p : dropped)
+                for (int a = 0; a < 3; ++a) p[a] -= shift[a];
+            outputs.add_points(dropped, o.outliers, "outliers dropped by snvr-cl");
+        }
+        RunSummary summary{result, shell.quality, seconds, o.output, o.volume, shift, size, o.units, to_mm,
+                           o.input, shell.points, mesh_bytes, volume_bytes, warnings, outliers.points.size(),
                            outliers.link, o.outliers, dropped_pieces};
-        summary.shift_by_default = prepared.shift_by_default;
-        summary.seconds.total = total.lap();
+        summary.shift_by_default = settings.centre && !o.centre_origin;
         if (!o.preview.empty()) outputs.add_bytes(snvr::render::preview_png(mesh, o.preview), o.preview);
+        summary.seconds.write = stage.lap();
+        summary.seconds.total = total.lap();
         if (!o.report.empty()) outputs.add_bytes(report_json(summary), o.report);
         outputs.commit();
         if (!o.quiet) print_summary(std::cerr, summary);

@@ -99,8 +99,9 @@ void print_summary(std::ostream& out, const RunSummary& run) {
     };
     out << "summary:\n";
     if (run.outlier_link > 0)
-        row("outliers", fmt("%s dropped, %s used (sparse, lone points standing off the surface, or in clusters of under 10 points apart by over %.3g mm)%s",
-                            grouped(run.outliers).c_str(), grouped(run.points).c_str(), run.outlier_link,
+        row("outliers", fmt("%s dropped, %s used (sparse, lone points standing off the surface, or in clusters of under %zu points apart by over %.3g mm)%s",
+                            grouped(run.outliers).c_str(), grouped(run.points).c_str(),
+                            snvr::OutlierSettings{}.min_cluster, run.outlier_link,
                             run.outliers_file.empty() ? "" : (": written to " + run.outliers_file).c_str()));
     row("grid", fmt("%d x %d x %d (%s cells), voxel %.6g, %d multigrid levels", d.nx, d.ny, d.nz,
                     grouped(d.cells()).c_str(), d.h, d.levels));

@@ -175,7 +175,7 @@ TEST_CASE("counts, ranges and lengths: each absurd value refused at once, naming
         {"--thickness 1e308", 1, "the thickness (--thickness) 1e+308"},
         {"--dt 1e308", 1, "dt (--dt) 1e+308 is"},
         {"--smoothing 1000 --dt-cells 0.001", 1, "(--smoothing)"},
-        {"--min-piece-volume 1e5", 1, "smaller than --min-piece-volume 100000"},
+        {"--min-piece-volume 1e5", 1, "is smaller than the least volume kept, 100000 (--min-piece-volume)"},
     };
     for (const Refusal& r : refusals) expect_failure("reconstruct " + input + o + " " + r.options, r.code, r.words, t);
     expect_failure("reconstruct -" + o, 2, "standard input", t);

@@ -30,7 +30,7 @@ constexpr double kTimeLimit = 60;  // seconds a run may take (a healthy one take
 
 // The options that take a number or a word, as the help lists them.
 const char* const kOptions[] = {"--units",     "--scale",     "--min-piece-volume", "--keep-largest", "--origin",
-                                "--offset",    "--thickness", "--resolution",       "--voxel",        "--smoothing",
+                                "--offset",    "--offset-cells", "--thickness", "--resolution",       "--voxel",        "--smoothing",
                                 "--dt-cells",  "--dt",        "--steps",            "--tube-inner",   "--tube-outer",
                                 "--eps-cells", "--eps",       "--xi-cells",         "--xi",           "--tol",
                                 "--max-cycles", "--precision", "--device",          "--fairing"};

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "host_measures.hpp"
+#include "snvr/shell.hpp"
 #include "snvr/snvr.hpp"
 #ifdef SNVR_HAVE_OPENVDB
 #include "openvdb_shell.hpp"
@@ -172,19 +173,19 @@ Record measure_quality_run(const QualityRun& run, const std::string& data_dir) {
 
     Mesh mesh;
     if (run.tool == "snvr") {
-        Parameters p;  // the defaults, but for the voxel and the offset
-        p.voxel = in.voxel;
-        p.offset = in.offset;
-        p.device = run.device;
-        warmup(p.device, p.precision == Precision::Single);  // the kernels' build stays out of the timed run
-        Stopwatch clock;
-        const Result res = reconstruct(in.points, p);
-        const double reconstruct_s = clock.lap();
-        mesh = shell_mesh(res, in.points);  // snvr-cl's mesher
-        const double mesh_s = clock.lap();
+        ShellSettings s;  // snvr-cl's job and defaults, but for the voxel and the offset, on every point given
+        s.params.voxel = in.voxel;
+        s.params.offset = in.offset;
+        s.params.device = run.device;
+        s.drop_outliers = false;
+        warmup(s.params.device, s.params.precision == Precision::Single);  // the kernels' build stays out of the timed run
+        const Shell shell = make_shell(in.points, s);
+        mesh = shell.mesh;
+        const Result& res = shell.run;
         rec.set("backend", res.backend).set("grid", std::to_string(res.domain.nx) + "x" + std::to_string(res.domain.ny) + "x" +
                                                         std::to_string(res.domain.nz));
-        rec.set("reconstruct_s", reconstruct_s).set("mesh_s", mesh_s).set("seconds", reconstruct_s + mesh_s);
+        rec.set("reconstruct_s", shell.seconds.reconstruct).set("mesh_s", shell.seconds.mesh);
+        rec.set("seconds", shell.seconds.reconstruct + shell.seconds.mesh);
     } else if (run.tool == "openvdb") {
 #ifdef SNVR_HAVE_OPENVDB
         peers::PeerShell shell = peers::openvdb_shell(in.points, in.voxel, in.offset);

@@ -31,5 +31,9 @@ struct ResourceError : Error {
 struct IoError : Error {
     using Error::Error;
 };
+// The caller's progress callback asked the run to stop.
+struct Cancelled : Error {
+    using Error::Error;
+};
 
 }  // namespace snvr

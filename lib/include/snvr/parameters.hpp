@@ -22,6 +22,7 @@ struct ParameterLimits {
     static constexpr double max_smoothing_cells = 1000;   // T / h^2 (the default 1.5)
     static constexpr double max_tube_inner = 1, max_tube_outer = 10;  // shares of the offset
     static constexpr double max_width_cells = 100;        // eps and xi, in cells (defaults 12 and 4)
+    static constexpr double min_offset_cells = 1, max_offset_cells = 100;
     static constexpr double max_tol = 1;
     static constexpr int max_cycles = 10000;
 };
@@ -32,6 +33,8 @@ struct Parameters {
     std::optional<double> offset;
     // Alternative to offset: the wall-to-wall thickness 2l.
     std::optional<double> thickness;
+    // The unset offset in voxels, unless the sampling gap is larger (the paper's 2.5).
+    double offset_cells = 2.5;
 
     // Fixed grid box (world min and max corners) instead of the points' padded box;
     // the grid then has exactly `resolution` cells on the box's longest side.

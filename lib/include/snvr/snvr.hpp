@@ -9,6 +9,7 @@
 #include "snvr/parameters.hpp"
 #include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"
+#include "snvr/shell.hpp"
 #include "snvr/shapes.hpp"
 #include "snvr/devices.hpp"
 #include "snvr/stopwatch.hpp"

@@ -93,7 +93,7 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
                                  std::to_string(int(2 * pad + 16)));
         const double fixed_l = offset ? *offset : plan.gap;
         h = (E + 2 * fixed_l) / free_cells;
-        if (!offset && plan.gap < 2.5 * h) h = E / (free_cells - 5);
+        if (!offset && plan.gap < params.offset_cells * h) h = E / (free_cells - 2 * params.offset_cells);
         if (!(h > 0))
             throw InputError("all " + std::to_string(points.size()) +
                              " points coincide: give --voxel or --offset to set the scale");
@@ -102,13 +102,15 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
     if (offset) {
         plan.offset = *offset;
         plan.offset_reason = "given";
-    } else if (plan.gap > 2.5 * h) {
+    } else if (plan.gap > params.offset_cells * h) {
         plan.offset = plan.gap;
         plan.offset_reason = "sampling gap (99th percentile of nearest-neighbour distances, " + fmt(plan.gap / h) +
                              " voxels)";
     } else {
-        plan.offset = 2.5 * h;
-        plan.offset_reason = "2.5 voxels (paper default; sampling gap " + fmt(plan.gap / h) + " voxels)";
+        plan.offset = params.offset_cells * h;
+        plan.offset_reason = fmt(params.offset_cells) + " voxels (" +
+                             (params.offset_cells == Parameters{}.offset_cells ? "paper default; " : "") + "sampling gap " +
+                             fmt(plan.gap / h) + " voxels)";
     }
     if (plan.offset < h)
         throw ParameterError("offset " + fmt(plan.offset) + " is smaller than one voxel (" + fmt(h) +

@@ -62,6 +62,8 @@ void Parameters::validate() const {
     require_positive(eps, "eps", "eps");
     require_positive(xi, "xi", "xi");
     in_range(resolution, L::min_resolution, L::max_resolution, kClosed, "the resolution", "resolution", " cells");
+    in_range(offset_cells, L::min_offset_cells, L::max_offset_cells, kClosed, "the default offset", "offset-cells",
+             " voxels");
     if (steps) in_range(*steps, 0, L::max_steps, kClosed, "the number of steps", "steps", "");
     if (dt) require(std::isfinite(*dt) && *dt > 0, named("dt", "dt") + " must be positive and finite, got " + show(*dt));
     in_range(dt_cells, 0, L::max_dt_cells, kOpenBelow, "dt / h^2", "dt-cells", "");

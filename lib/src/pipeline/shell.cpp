@@ -1,0 +1,105 @@
+// make_shell (shell.hpp): the job snvr-cl runs, in the order it runs it. Each stage
+// tells the progress callback first, so that a cancel stops before the next one.
+#include "snvr/shell.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <utility>
+
+#include "snvr/error.hpp"
+#include "snvr/io.hpp"
+#include "snvr/stopwatch.hpp"
+
+namespace snvr {
+namespace {
+
+std::string format(const char* pattern, double a, double b = 0, double c = 0) {
+    char text[256];
+    std::snprintf(text, sizeof text, pattern, a, b, c);
+    return text;
+}
+
+}  // namespace
+
+Shell make_shell(const PointSet& points, const ShellSettings& settings, const ShellProgress& progress) {
+    return make_shell(PointCloud(points), settings, progress);
+}
+
+Shell make_shell(PointCloud points, const ShellSettings& settings, const ShellProgress& progress) {
+    Stopwatch total, stage;
+    Shell shell;
+    const auto enter = [&progress](const char* name) {
+        Progress p;
+        p.stage = name;
+        if (progress && !progress(p)) throw Cancelled(std::string("cancelled before the ") + name + " stage");
+    };
+    settings.params.validate();
+    settings.fairing.validate();
+    settings.pieces.validate();
+    if (points.empty()) throw InputError("the point set is empty");
+
+    enter("outliers");
+    if (settings.drop_outliers) shell.outliers = drop_outliers(points, settings.params, settings.outliers);
+    if (settings.centre) {
+        shell.shift = round_centre(points);
+        points.translate({-shell.shift[0], -shell.shift[1], -shell.shift[2]});
+    }
+    shell.points = points.size();
+    shell.seconds.outliers = stage.lap();
+    if (progress && !shell.outliers.points.empty()) {  // what the stage did, before the long part
+        Progress p;
+        p.stage = "outliers";
+        p.message = std::to_string(shell.outliers.points.size()) + " dropped, " + std::to_string(shell.points) + " kept";
+        if (!progress(p)) throw Cancelled("cancelled after the outliers stage");
+    }
+
+    shell.run = reconstruct(points, settings.params, [&progress](const Progress& p) {
+        if (progress && !progress(p))
+            throw Cancelled(p.stage == "step" ? "cancelled after step " + std::to_string(p.step)
+                                              : "cancelled before the " + p.stage + " stage");
+    });
+    shell.seconds.reconstruct = stage.lap();
+    const Result& run = shell.run;
+    shell.warnings = run.warnings;
+
+    enter("mesh");
+    shell.mesh = shell_mesh(run, points, &shell.guard, settings.fairing);
+    const double depth = 1 - run.tube_inner / run.offset;
+    if (shell.guard.shallow_points)
+        shell.warnings.push_back(std::to_string(shell.guard.shallow_points) + " points stay shallower than " +
+                                 format("%.3g", depth) + " x offset after " +
+                                 std::to_string(shell.guard.repair_rounds) + " repair rounds");
+    shell.pieces = filter_pieces(shell.mesh, settings.pieces);
+    if (shell.mesh.triangles.empty() && shell.pieces.dropped)
+        throw Error("every solid piece of the shell (" + std::to_string(shell.pieces.dropped) +
+                    format(", %.4g in all) is smaller than the least volume kept, %g (--min-piece-volume): nothing "
+                           "to write",
+                           shell.pieces.dropped_volume, settings.pieces.min_volume));
+    if (shell.mesh.triangles.empty())
+        throw Error("the reconstructed shell is empty (no triangles on the " + std::to_string(run.domain.nx) + " x " +
+                    std::to_string(run.domain.ny) + " x " + std::to_string(run.domain.nz) + " grid, " +
+                    format("offset %.6g, voxel %.6g); try a larger --offset or a finer --resolution", run.offset,
+                           run.domain.h));
+    if (!settings.written_as.empty()) {
+        // A bare extension names a file of that format.
+        const std::string as = settings.written_as[0] == '.' ? "shell" + settings.written_as : settings.written_as;
+        require_written_precision(shell.mesh, as, run.domain.h);
+        // As the file holds it, for the check too: writing it again changes nothing.
+        shell.mesh = as_written(std::move(shell.mesh), as);
+    }
+    if (!settings.keep_field) shell.run.phi = Field();  // its memory goes to the check
+    shell.seconds.mesh = stage.lap();
+
+    enter("check");
+    shell.quality = settings.measure ? measure_quality(shell.mesh, points, run.offset, run.domain.h)
+                                     : measure_shell(shell.mesh, points, run.offset, run.domain.h);
+    shell.clusters = count_point_clusters(points, 2 * run.offset);
+    for (std::string& w : shell_warnings(shell.quality, points.size(), shell.clusters, shell.pieces.dropped))
+        shell.warnings.push_back(std::move(w));
+    shell.seconds.check = stage.lap();
+    shell.seconds.total = total.lap();
+    return shell;
+}
+
+}  // namespace snvr

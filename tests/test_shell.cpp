@@ -1,0 +1,105 @@
+// make_shell, the library's whole job: the same bytes as snvr-cl writes, the outliers and
+// the check it reports, its refusals, and a progress callback that cancels.
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "cli_run.hpp"
+#include "snvr/error.hpp"
+#include "snvr/io.hpp"
+#include "snvr/shapes.hpp"
+#include "snvr/shell.hpp"
+
+namespace fs = std::filesystem;
+using namespace cli_testing;
+
+namespace {
+
+std::string bytes_of(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+snvr::ShellSettings small(const std::string& written_as = ".stl") {
+    snvr::ShellSettings s;
+    s.params.resolution = 32;
+    s.params.device = "openmp";
+    s.written_as = written_as;
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("make_shell writes what snvr-cl writes, byte for byte, and reports what it prints") {
+    TempDir t;
+    snvr::PointSet points = snvr::shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.03);
+    const std::size_t surface = points.size();
+    // Two far strays for the outlier rules.
+    points.push_back({3, 3, 3});
+    points.push_back({-2, 0.5, 4});
+    const std::string input = (t.path / "in.ply").string();
+    snvr::write_points(points, input);  // binary float: what both read is the same
+
+    const Run r = run("reconstruct " + input + " -o " + t.out() + " --resolution 32 --device openmp --quiet");
+    REQUIRE(r.code == 0);
+    const snvr::Shell shell = snvr::make_shell(snvr::read_point_cloud(input), small());
+    const std::string mine = (t.path / "mine.stl").string();
+    snvr::write_mesh(shell.mesh, mine);
+    CHECK(bytes_of(mine) == bytes_of(t.out()));
+
+    CHECK(shell.outliers.points.size() == 2);
+    CHECK(shell.points == surface);
+    CHECK(shell.quality.points_inside == surface);
+    CHECK(shell.quality.report.closed());
+    CHECK(shell.clusters == 1);
+    CHECK(shell.run.phi.stored_bricks() == 0);  // freed before the check unless kept
+    CHECK(shell.seconds.total > 0);
+
+    snvr::ShellSettings all = small();
+    all.drop_outliers = false;
+    all.keep_field = true;
+    const snvr::Shell every = snvr::make_shell(points, all);
+    CHECK(every.outliers.points.empty());
+    CHECK(every.points == points.size());
+    CHECK(every.run.phi.stored_bricks() > 0);
+}
+
+TEST_CASE("make_shell: centred on request, refusals named, and a callback that cancels") {
+    snvr::PointSet far = snvr::shapes::sphere({500000.5, 4000000.5, 2.5}, 0.3, 0.03);
+    // Far coordinates in float32 STL: refused as written, centred on request.
+    CHECK_THROWS_AS(snvr::make_shell(far, small()), snvr::IoError);
+    snvr::ShellSettings centred = small();
+    centred.centre = true;
+    const snvr::Shell shell = snvr::make_shell(far, centred);
+    CHECK(shell.shift[0] != 0);
+    CHECK(shell.quality.points_inside == far.size());
+
+    const snvr::PointSet points = snvr::shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.03);
+    snvr::ShellSettings huge = small();
+    huge.pieces.min_volume = 1e9;
+    CHECK_THROWS_WITH_AS(snvr::make_shell(points, huge), doctest::Contains("(--min-piece-volume)"), snvr::Error);
+    CHECK_THROWS_AS(snvr::make_shell(snvr::PointSet{}, small()), snvr::InputError);
+
+    // Cancelled at each kind of stage: the stages seen stop there.
+    for (const std::string stop : {"outliers", "domain", "distance", "init", "step", "mesh", "check"}) {
+        CAPTURE(stop);
+        std::string last;
+        int seen = 0;
+        const auto progress = [&](const snvr::Progress& p) {
+            last = p.stage;
+            ++seen;
+            return !(p.stage == stop && (stop != "step" || p.step == 2));
+        };
+        CHECK_THROWS_AS(snvr::make_shell(points, small(), progress), snvr::Cancelled);
+        CHECK(last == stop);
+    }
+    // And left alone, every stage is seen once (each step once).
+    std::string stages;
+    snvr::make_shell(points, small(), [&](const snvr::Progress& p) {
+        if (stages.empty() || stages.substr(stages.rfind(' ') + 1) != p.stage) stages += " " + p.stage;
+        return true;
+    });
+    CHECK(stages == " outliers domain distance init step mesh check");
+}
