@@ -4,7 +4,7 @@
 set -euo pipefail
 packages=(build-essential cmake libomp-dev ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers
           pocl-opencl-icd libclblast-dev libnanoflann-dev doctest-dev libpng-dev lib3mf-dev
-          nlohmann-json3-dev zlib1g-dev "$@")
+          nlohmann-json3-dev zlib1g-dev pybind11-dev python3-dev python3-numpy python3-pytest "$@")
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -50,6 +50,7 @@ TEST_CASE("make_shell writes what snvr-cl writes, byte for byte, and reports wha
     CHECK(bytes_of(mine) == bytes_of(t.out()));
 
     CHECK(shell.outliers.points.size() == 2);
+    CHECK(shell.outliers.input_indices == std::vector<std::size_t>{surface, surface + 1});
     CHECK(shell.points == surface);
     CHECK(shell.quality.points_inside == surface);
     CHECK(shell.quality.report.closed());

@@ -32,6 +32,10 @@ public:
     // longest side), else round_centre(points). Throws InputError for a non-finite
     // coordinate (naming the point, counted from 0), ResourceError beyond 2^32 - 1 points.
     explicit PointCloud(const PointSet& points);
+    // The same from n points as 3n coordinates x0 y0 z0 x1 ... (a numpy (n, 3) array), read
+    // straight into the cloud.
+    PointCloud(const double* xyz, std::size_t n);
+    PointCloud(const float* xyz, std::size_t n);
     // Takes coordinates about `origin`, as the readers make them; the same errors.
     PointCloud(std::vector<Vec3f> coordinates, const Vec3& origin);
     PointCloud(const PointCloud&);

@@ -110,6 +110,7 @@ struct OutlierSplit {
 };
 struct DroppedOutliers {
     PointSet points;  // the outliers, world units, in input order
+    std::vector<std::size_t> input_indices;  // each one's place in the input (0-based), ascending
     double link = 0;  // as OutlierSplit's
 };
 // Points on a mesh's triangles at most `spacing` apart: every vertex, each edge once

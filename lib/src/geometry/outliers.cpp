@@ -126,7 +126,10 @@ void OutlierSettings::validate() const {
 
 DroppedOutliers drop_outliers(PointCloud& points, const Parameters& params, const OutlierSettings& s) {
     DroppedOutliers d;
-    for (const auto& o : remove_outliers(points, params, s, d.link)) d.points.push_back(o.second);
+    for (const auto& o : remove_outliers(points, params, s, d.link)) {
+        d.points.push_back(o.second);
+        d.input_indices.push_back(o.first);
+    }
     return d;
 }
 

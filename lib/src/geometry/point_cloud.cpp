@@ -1,7 +1,9 @@
 // PointCloud (point_cloud.hpp): the handle on a PointTree; the choice of origin.
 #include "snvr/point_cloud.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -28,50 +30,90 @@ void check_size(std::size_t n) {
 bool finite(const Vec3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
 
 // Points 1e308 and -1e308 apart span more than float coordinates about any origin hold:
-// the two outermost points along the axis are named.
-[[noreturn]] void too_far(const PointSet& points, int a) {
+// the two outermost points along the axis are named. `at(i)` gives point i.
+template <class At>
+[[noreturn]] void too_far(std::size_t n, const At& at, int a) {
     std::size_t lo = 0, hi = 0;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        if (points[i][a] < points[lo][a]) lo = i;
-        if (points[i][a] > points[hi][a]) hi = i;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (at(i)[a] < at(lo)[a]) lo = i;
+        if (at(i)[a] > at(hi)[a]) hi = i;
     }
     const std::string axis(1, "xyz"[a]);
     throw InputError("the points span more than float coordinates can hold along " + axis + ": point " +
-                     std::to_string(lo) + " at " + axis + " = " + detail::format_number(points[lo][a]) + " and point " +
-                     std::to_string(hi) + " at " + axis + " = " + detail::format_number(points[hi][a]) +
+                     std::to_string(lo) + " at " + axis + " = " + detail::format_number(at(lo)[a]) + " and point " +
+                     std::to_string(hi) + " at " + axis + " = " + detail::format_number(at(hi)[a]) +
                      " (points are counted from 0); remove the stray points");
 }
 
 // 0 where float holds the points as they are, or they lie near the world origin;
-// else their round centre, so that floats keep their digits.
-Vec3 choose_origin(const PointSet& points) {
+// else their round centre, so that floats keep their digits. In parallel: a scan's
+// millions of points pass here once.
+template <class At>
+Vec3 choose_origin(std::size_t n, const At& at) {
+    if (n == 0) return {0, 0, 0};
     bool floats = true;
-    for (const Vec3& p : points)
-        for (double x : p) floats = floats && double(float(x)) == x;
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) lo[a] = hi[a] = at(0)[a];
+    const std::ptrdiff_t count = std::ptrdiff_t(n);
+#pragma omp parallel for reduction(&& : floats) reduction(min : lo[:3]) reduction(max : hi[:3]) schedule(static) \
+    if (count > (1 << 16))
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+        const Vec3 p = at(std::size_t(i));
+        for (int a = 0; a < 3; ++a) {
+            floats = floats && double(float(p[a])) == p[a];
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+        }
+    }
     if (floats) return {0, 0, 0};
-    const Bounds box = bounds(points);
+    Bounds box;
+    for (int a = 0; a < 3; ++a) box.lo[a] = lo[a], box.hi[a] = hi[a];
     double far = 0;
     for (int a = 0; a < 3; ++a) far = std::max(far, std::abs(box.lo[a] / 2 + box.hi[a] / 2));
-    return far <= box.longest() ? Vec3{0, 0, 0} : round_centre(points);
+    return far <= box.longest() ? Vec3{0, 0, 0} : round_centre(box);
+}
+
+// The tree of n points, point i being at(i) in world units.
+template <class At>
+std::unique_ptr<detail::PointTree> file_points(std::size_t n, const At& at) {
+    check_size(n);
+    const std::ptrdiff_t count = std::ptrdiff_t(n);
+    std::ptrdiff_t first_bad = count;  // the first non-finite point, named as the serial scan would
+#pragma omp parallel for reduction(min : first_bad) schedule(static) if (count > (1 << 16))
+    for (std::ptrdiff_t i = 0; i < count; ++i)
+        if (!finite(at(std::size_t(i)))) first_bad = std::min(first_bad, i);
+    if (first_bad < count) non_finite(std::size_t(first_bad), at(std::size_t(first_bad)));
+    const Vec3 origin = choose_origin(n, at);
+    std::vector<Vec3f> xyz(n);
+    int beyond = -1;  // an axis some point cannot be held along, about the origin
+#pragma omp parallel for reduction(max : beyond) schedule(static) if (count > (1 << 16))
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+        const Vec3 p = at(std::size_t(i));
+        for (int a = 0; a < 3; ++a) {
+            xyz[std::size_t(i)][a] = float(p[a] - origin[a]);
+            if (!std::isfinite(xyz[std::size_t(i)][a])) beyond = std::max(beyond, a);
+        }
+    }
+    if (beyond >= 0) too_far(n, at, beyond);
+    return std::make_unique<detail::PointTree>(std::move(xyz), std::vector<std::uint32_t>(), origin);
+}
+
+template <class Real>
+std::unique_ptr<detail::PointTree> file_array(const Real* xyz, std::size_t n) {
+    return file_points(n, [xyz](std::size_t i) {
+        return Vec3{double(xyz[3 * i]), double(xyz[3 * i + 1]), double(xyz[3 * i + 2])};
+    });
 }
 
 }  // namespace
 
 PointCloud::PointCloud() : tree_(std::make_unique<detail::PointTree>()) {}
 
-PointCloud::PointCloud(const PointSet& points) {
-    check_size(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i)
-        if (!finite(points[i])) non_finite(i, points[i]);
-    const Vec3 origin = choose_origin(points);
-    std::vector<Vec3f> xyz(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i)
-        for (int a = 0; a < 3; ++a) {
-            xyz[i][a] = float(points[i][a] - origin[a]);
-            if (!std::isfinite(xyz[i][a])) too_far(points, a);
-        }
-    tree_ = std::make_unique<detail::PointTree>(std::move(xyz), std::vector<std::uint32_t>(), origin);
-}
+PointCloud::PointCloud(const PointSet& points)
+    : tree_(file_points(points.size(), [&points](std::size_t i) { return points[i]; })) {}
+
+PointCloud::PointCloud(const double* xyz, std::size_t n) : tree_(file_array(xyz, n)) {}
+PointCloud::PointCloud(const float* xyz, std::size_t n) : tree_(file_array(xyz, n)) {}
 
 PointCloud::PointCloud(std::vector<Vec3f> coordinates, const Vec3& origin) {
     check_size(coordinates.size());

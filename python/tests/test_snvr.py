@@ -1,0 +1,163 @@
+"""The Python module against the CLI: same bytes, same errors, cancel, no leak, no GIL held."""
+import os
+import signal
+import subprocess
+import tempfile
+import threading
+
+import numpy as np
+import pytest
+
+import snvr
+
+CLI = os.environ.get("SNVR_CLI", "snvr-cl")
+
+
+def sphere(spacing=0.03, dtype=np.float32):
+    """Points on a sphere of radius 0.3 about (0.5, 0.5, 0.5), exact in float32."""
+    n = int(np.pi * 0.3 / spacing)
+    rows = []
+    for i in range(n):
+        th = np.pi * (i + 0.5) / n
+        m = max(1, int(2 * n * np.sin(th)))
+        ph = 2 * np.pi * np.arange(m) / m
+        rows.append(np.stack([0.5 + 0.3 * np.sin(th) * np.cos(ph), 0.5 + 0.3 * np.sin(th) * np.sin(ph),
+                              np.full(m, 0.5 + 0.3 * np.cos(th))], axis=1))
+    return np.concatenate(rows).astype(np.float32).astype(dtype)
+
+
+SMALL = dict(resolution=32, device="openmp")
+
+
+def test_dtypes_and_layouts_give_one_mesh():
+    base = sphere()
+    first = snvr.shell(base, **SMALL)
+    assert first.faces.shape[1] == 3 and first.vertices.shape[1] == 3
+    for points in (base.astype(np.float64), np.asfortranarray(base.astype(np.float64)), base.tolist(),
+                   base[::1].copy(order="F")):
+        other = snvr.shell(points, **SMALL)
+        assert np.array_equal(other.vertices, first.vertices)
+        assert np.array_equal(other.faces, first.faces)
+
+
+def test_the_same_bytes_as_the_cli(tmp_path):
+    points = tmp_path / "points.ply"
+    subprocess.run([CLI, "sample", "sphere", "-o", str(points), "--spacing", "0.02"], check=True, capture_output=True)
+    cli_stl = tmp_path / "cli.stl"
+    subprocess.run([CLI, "reconstruct", str(points), "-o", str(cli_stl), "--resolution", "48", "--device", "openmp",
+                    "--quiet"], check=True)
+    mine = tmp_path / "mine.stl"
+    s = snvr.shell(snvr.read_points(str(points)), resolution=48, device="openmp", written_as=".stl")
+    s.write(str(mine))
+    assert mine.read_bytes() == cli_stl.read_bytes()
+    report = s.report
+    assert report["check"]["points_inside"] == len(snvr.read_points(str(points)))
+    assert report["mesh"]["closed"] and report["mesh"]["manifold"] and report["mesh"]["oriented"]
+    for ext in (".ply", ".obj", ".3mf"):
+        s.write(str(tmp_path / ("out" + ext)))
+        assert (tmp_path / ("out" + ext)).stat().st_size > 0
+
+
+def test_outliers_come_back_as_a_mask():
+    points = np.concatenate([sphere(), np.array([[3.0, 3, 3], [-2, 0.5, 4]], np.float32)])
+    s = snvr.shell(points, **SMALL)
+    mask = s.outlier_mask
+    assert mask.dtype == bool and mask.shape == (len(points),)
+    assert mask[-2:].all() and not mask[:-2].any()
+    assert np.allclose(s.outliers, points[-2:])
+    kept = snvr.shell(points, keep_outliers=True, **SMALL)
+    assert not kept.outlier_mask.any()
+
+
+@pytest.mark.parametrize("points, words", [
+    (np.array([[0, 0, 0], [1, np.nan, 1], [0, 1, 0], [1, 1, 1]], float), "point 1 has a non-finite coordinate"),
+    (np.zeros((5, 2)), "(N, 3)"),
+    (np.zeros((0, 3)), "empty"),
+    ([["a", "b", "c"]], "(N, 3) array of numbers"),
+])
+def test_bad_points_clear_errors(points, words):
+    with pytest.raises(ValueError, match=words.replace("(", r"\(").replace(")", r"\)")):
+        snvr.shell(points, **SMALL)
+
+
+def test_bad_options_and_files():
+    with pytest.raises(ValueError, match=r"\(--resolution\)"):
+        snvr.shell(sphere(), resolution=5)
+    with pytest.raises(ValueError, match="origin"):
+        snvr.shell(sphere(), origin="middle")
+    with pytest.raises(OSError, match="missing.ply"):
+        snvr.read_points("/nonexistent/missing.ply")
+    with pytest.raises(ValueError, match="xyz"):
+        with tempfile.NamedTemporaryFile(suffix=".xyz") as f:
+            f.write(b"0 0 0\n1 abc 1\n")
+            f.flush()
+            snvr.read_points(f.name)
+
+
+def test_progress_cancels_and_ctrl_c_interrupts():
+    seen = []
+
+    def stop_at_step_two(stage, step, steps):
+        seen.append(stage)
+        return not (stage == "step" and step == 2)
+
+    with pytest.raises(snvr.Cancelled, match="after step 2"):
+        snvr.shell(sphere(), progress=stop_at_step_two, **SMALL)
+    assert seen[:2] == ["outliers", "domain"] and seen[-1] == "step"
+
+    def ctrl_c(stage, step, steps):
+        if stage == "init":
+            os.kill(os.getpid(), signal.SIGINT)
+
+    with pytest.raises(KeyboardInterrupt):
+        snvr.shell(sphere(), progress=ctrl_c, **SMALL)
+    # The module is still usable after both.
+    assert len(snvr.shell(sphere(), **SMALL).faces) > 0
+
+
+def test_the_gil_is_released_while_the_solver_runs():
+    count = [0]
+    running = threading.Event()
+
+    def spin():
+        running.set()
+        while running.is_set():
+            count[0] += 1
+
+    t = threading.Thread(target=spin)
+    t.start()
+    running.wait()
+    before = count[0]
+    snvr.shell(sphere(0.01), resolution=96, device="openmp")
+    during = count[0] - before
+    running.clear()
+    t.join()
+    assert during > 10000
+
+
+def rss_bytes():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def test_no_leak_over_100_runs():
+    points = sphere()
+    for _ in range(10):
+        snvr.shell(points, **SMALL)
+    start = rss_bytes()
+    for _ in range(100):
+        s = snvr.shell(points, **SMALL)
+        s.vertices, s.faces, s.report
+    assert rss_bytes() - start < 16 << 20
+
+
+def test_round_trips_where_the_libraries_are_installed():
+    s = snvr.shell(sphere(), **SMALL)
+    for name, method, count in (("open3d", "to_open3d", lambda m: len(m.triangles)),
+                                ("trimesh", "to_trimesh", lambda m: len(m.faces)),
+                                ("pyvista", "to_pyvista", lambda m: m.n_cells)):
+        try:
+            __import__(name)
+        except ImportError:
+            continue
+        assert count(getattr(s, method)()) == len(s.faces)
