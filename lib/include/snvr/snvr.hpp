@@ -7,6 +7,8 @@
 #include "snvr/io.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/parameters.hpp"
+#include "snvr/point_cleaning.hpp"
+#include "snvr/point_cloud.hpp"
 #include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shell.hpp"
