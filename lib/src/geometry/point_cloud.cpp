@@ -13,6 +13,7 @@
 #include "geometry/vec3_math.hpp"
 #include "io/io_common.hpp"
 #include "snvr/error.hpp"
+#include "parallel_sizes.hpp"
 
 namespace snvr {
 namespace {
@@ -56,7 +57,7 @@ Vec3 choose_origin(std::size_t n, const At& at) {
     for (int a = 0; a < 3; ++a) lo[a] = hi[a] = at(0)[a];
     const std::ptrdiff_t count = std::ptrdiff_t(n);
 #pragma omp parallel for reduction(&& : floats) reduction(min : lo[:3]) reduction(max : hi[:3]) schedule(static) \
-    if (count > (1 << 16))
+    if (count > detail::kParallelCheapItems)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
         const Vec3 p = at(std::size_t(i));
         for (int a = 0; a < 3; ++a) {
@@ -79,14 +80,14 @@ std::unique_ptr<detail::PointTree> file_points(std::size_t n, const At& at) {
     check_size(n);
     const std::ptrdiff_t count = std::ptrdiff_t(n);
     std::ptrdiff_t first_bad = count;  // the first non-finite point, named as the serial scan would
-#pragma omp parallel for reduction(min : first_bad) schedule(static) if (count > (1 << 16))
+#pragma omp parallel for reduction(min : first_bad) schedule(static) if (count > detail::kParallelCheapItems)
     for (std::ptrdiff_t i = 0; i < count; ++i)
         if (!finite(at(std::size_t(i)))) first_bad = std::min(first_bad, i);
     if (first_bad < count) non_finite(std::size_t(first_bad), at(std::size_t(first_bad)));
     const Vec3 origin = choose_origin(n, at);
     std::vector<Vec3f> xyz(n);
     int beyond = -1;  // an axis some point cannot be held along, about the origin
-#pragma omp parallel for reduction(max : beyond) schedule(static) if (count > (1 << 16))
+#pragma omp parallel for reduction(max : beyond) schedule(static) if (count > detail::kParallelCheapItems)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
         const Vec3 p = at(std::size_t(i));
         for (int a = 0; a < 3; ++a) {

@@ -1,6 +1,7 @@
 // PointTree: the counting sort that files the points, the octree over their Morton
 // order, and the queries every stage shares.
 #include "geometry/point_tree.hpp"
+#include "parallel_sizes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -47,7 +48,7 @@ void float_box(const std::vector<Vec3f>& p, Vec3f& lo, Vec3f& hi) {
     lo = {inf, inf, inf};
     hi = {-inf, -inf, -inf};
     const std::ptrdiff_t n = std::ptrdiff_t(p.size());
-#pragma omp parallel if (n > (1 << 16))
+#pragma omp parallel if (n > kParallelCheapItems)
     {
         Vec3f l = lo, h = hi;
 #pragma omp for schedule(static) nowait
@@ -166,7 +167,7 @@ PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> 
     // Each coarse cell by its points' full keys (ties in input order).
     std::vector<std::uint64_t> keys(n);
     const std::ptrdiff_t ncells = std::ptrdiff_t(cells);
-#pragma omp parallel if (n > (1u << 16))
+#pragma omp parallel if (std::ptrdiff_t(n) > kParallelCheapItems)
     {
         std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted, spare;
         std::vector<Vec3f> p;
@@ -197,7 +198,7 @@ void PointTree::refile() {
     if (xyz.empty()) return;
     std::vector<std::uint64_t> keys(xyz.size());
     const std::ptrdiff_t n = std::ptrdiff_t(xyz.size());
-#pragma omp parallel for schedule(static) if (n > (1 << 16))
+#pragma omp parallel for schedule(static) if (n > kParallelCheapItems)
     for (std::ptrdiff_t i = 0; i < n; ++i) keys[i] = frame_.key(xyz[i]);
     build_nodes(keys);
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "io/float_origin.hpp"
+#include "parallel_sizes.hpp"
 
 namespace snvr::detail {
 
@@ -16,7 +17,7 @@ namespace snvr::detail {
 inline int thread_count(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
 
 // Fewer records than this are converted by one thread: starting more costs more.
-constexpr std::size_t kParallelRecords = 1 << 15;
+
 
 // The box of the first `sample` of `count` records; decode(i) gives record i's point.
 template <class Decode>
@@ -38,7 +39,7 @@ ConvertedRecords convert_records(std::size_t count, const Decode& decode, const 
     out.resize(count);
     ConvertedRecords result{count, {}};
     const std::ptrdiff_t n = std::ptrdiff_t(count);
-#pragma omp parallel num_threads(thread_count(threads)) if (count >= kParallelRecords)
+#pragma omp parallel num_threads(thread_count(threads)) if (count >= std::size_t(kParallelCheapItems))
     {
         std::size_t refused = count;
         const float inf = std::numeric_limits<float>::infinity();

@@ -38,11 +38,11 @@
 #include "mesh/triangle_grid.hpp"  // point_triangle_dist_sq
 #include "geometry/vec3_math.hpp"
 #include "mesh/vertex_lists.hpp"
+#include "parallel_sizes.hpp"
 
 namespace snvr {
 namespace {
 
-using detail::kParallelVertices;
 using detail::VertexLists;
 
 // Vertices are aimed this far (in voxels) beyond the depth: a triangle about a voxel
@@ -57,7 +57,6 @@ constexpr int kUntangleRounds = 16;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Loops whose items cost a few nanoseconds run threaded only above this many: waking
 // threads for less costs more than it saves, the more so on a busy machine.
-constexpr std::ptrdiff_t kParallelLight = 1 << 16;
 
 // Squared distance as the point index measures it (the sum of the squared differences,
 // query minus point, in axis order), so that a test here agrees with the index's.
@@ -149,7 +148,7 @@ public:
     template <class F>
     void for_each_cell(F f, [[maybe_unused]] bool parallel = true) const {
         const std::ptrdiff_t cells = std::ptrdiff_t(start_.size() - 1);
-#pragma omp parallel for schedule(dynamic, 4096) if (parallel && order.size() > std::size_t(kParallelLight))
+#pragma omp parallel for schedule(dynamic, 4096) if (parallel && order.size() > std::size_t(detail::kParallelCheapItems))
         for (std::ptrdiff_t c = 0; c < cells; ++c)
             if (start_[c] != start_[c + 1]) f(rank_[c], start_[c], start_[c + 1]);
     }
@@ -261,7 +260,7 @@ std::vector<std::uint32_t> spread(const Mesh& mesh, const VertexLists& rings, co
         grow(mesh, fans, region, in);
         std::sort(region.begin(), region.end());
         const std::ptrdiff_t n = std::ptrdiff_t(region.size());
-#pragma omp parallel for schedule(static) if (n > kParallelLight)
+#pragma omp parallel for schedule(static) if (n > detail::kParallelCheapItems)
         for (std::ptrdiff_t i = 0; i < n; ++i) {
             const std::uint32_t v = region[i];
             double m = in_values[v];
@@ -324,11 +323,11 @@ public:
     // triangles now turned over (facing against where they faced), ascending.
     std::vector<std::uint32_t> place() {
         const std::ptrdiff_t na = std::ptrdiff_t(vertices.size()), nt = std::ptrdiff_t(triangles.size());
-#pragma omp parallel for schedule(static) if (na > kParallelLight)
+#pragma omp parallel for schedule(static) if (na > detail::kParallelCheapItems)
         for (std::ptrdiff_t i = 0; i < na; ++i)
             for (int d = 0; d < 3; ++d) mesh_.vertices[vertices[i]][d] = start[i][d] + shift[i][d];
         turned_.assign(triangles.size(), 0);
-#pragma omp parallel for schedule(static) if (nt > kParallelLight)
+#pragma omp parallel for schedule(static) if (nt > detail::kParallelCheapItems)
         for (std::ptrdiff_t i = 0; i < nt; ++i)
             turned_[i] = dot(faces[i], faces[i]) > 0 && dot(face_vector(mesh_, mesh_.triangles[triangles[i]]), faces[i]) <= 0;
         std::vector<std::uint32_t> turned;
@@ -454,7 +453,7 @@ public:
         grid_ = std::make_unique<CellGrid>(frame.lo, frame.hi, cell, 2 * std::size_t(n) + 4096);
         cell_of_.resize(std::size_t(n));
         Vec3 extent{0, 0, 0};
-#pragma omp parallel if (n > kParallelLight)
+#pragma omp parallel if (n > detail::kParallelCheapItems)
         {
             Vec3 my_extent{0, 0, 0};
 #pragma omp for schedule(static)
@@ -661,7 +660,7 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, d
     // The points the promise covers: those with another point within `lone`.
     std::vector<std::uint8_t> kept(points.size(), 1);
     if (std::isfinite(lone)) {
-#pragma omp parallel for schedule(dynamic, 1024) if (np > kParallelVertices)
+#pragma omp parallel for schedule(dynamic, 1024) if (np > detail::kParallelItems)
         for (std::ptrdiff_t p = 0; p < np; ++p) kept[p] = index.nearest_other(std::size_t(p)) <= lone;
         for (std::uint8_t k : kept) report.lone_points += !k;
     }
@@ -720,7 +719,7 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, d
     }
     std::vector<double> lift(mesh.vertices.size(), 0.0);
     const std::ptrdiff_t na = std::ptrdiff_t(asking.size());
-#pragma omp parallel for schedule(dynamic, 64) if (na > kParallelVertices)
+#pragma omp parallel for schedule(dynamic, 64) if (na > detail::kParallelItems)
     for (std::ptrdiff_t i = 0; i < na; ++i) {
         const std::uint32_t v = asking[i];
         const PointTree::Hit hit = index.nearest(mesh.vertices[v], aim * aim);
@@ -743,7 +742,7 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, d
         order.erase(std::unique(order.begin(), order.end()), order.end());
         std::vector<Vec3> shift(order.size());
         const std::ptrdiff_t nr = std::ptrdiff_t(order.size());
-#pragma omp parallel for schedule(static) if (nr > kParallelVertices)
+#pragma omp parallel for schedule(static) if (nr > detail::kParallelItems)
         for (std::ptrdiff_t i = 0; i < nr; ++i) {
             const Vec3 n = vertex_normal(fans, order[i], start_face);
             for (int d = 0; d < 3; ++d) shift[i][d] = n[d] * lift[order[i]];

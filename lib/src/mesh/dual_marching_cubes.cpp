@@ -49,6 +49,7 @@
 #include "mesh/isosurface_grid.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
+#include "parallel_sizes.hpp"
 
 namespace snvr {
 namespace {
@@ -59,7 +60,6 @@ using contour::Grid;
 using contour::SignBits;
 using Tri = std::array<std::uint32_t, 3>;
 
-constexpr std::size_t kParallelSamples = 1 << 16;  // below this, waking threads costs more than it saves
 constexpr int kSlabRun = 8;                        // slabs of cubes a thread takes at once
 constexpr int kNone = 15;                          // patch id of an edge without a crossing
 
@@ -324,7 +324,7 @@ Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double is
     const Tables& tab = tables();
     const bool unfolded = interpolation == Interpolation::PhaseField;
     const double iso_g = unfolded ? contour::unfold(iso) : iso;
-    const bool parallel = field.size() >= kParallelSamples;
+    const bool parallel = field.size() >= std::size_t(detail::kParallelCheapItems);
     const SignBits sb(g, field, iso, parallel);
     const int cx = g.nx - 1, cy = g.ny - 1, cz = g.nz - 1;  // cubes per axis
     const auto cube_values = [&](int i, int j, int k, double value[8]) {

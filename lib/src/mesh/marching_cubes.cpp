@@ -35,6 +35,7 @@
 #include "mesh/isosurface_grid.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
+#include "parallel_sizes.hpp"
 
 namespace snvr {
 namespace {
@@ -44,7 +45,6 @@ using Tri = std::array<std::uint32_t, 3>;
 constexpr int kDirs = 7;       // edge directions per sample: axis bit sets 1..7
 constexpr int kPlaneDirs = 3;  // the ones without a z step: 1 (x), 2 (y), 3 (xy)
 constexpr int kCubeEdges = 19;  // 12 cube edges, 6 face diagonals, 1 body diagonal
-constexpr std::size_t kParallelSamples = 1 << 16;  // below this, waking threads costs more than it saves
 
 // Cube corners and edge directions are bit sets: bit 0 = +x, bit 1 = +y, bit 2 = +z.
 struct CubeEdge {
@@ -194,7 +194,7 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso, In
 
     const Grid g{field.nx, field.ny, field.nz, (field.nx + 63) / 64};
     const Tables& tab = tables();
-    const bool parallel = field.size() >= kParallelSamples;
+    const bool parallel = field.size() >= std::size_t(detail::kParallelCheapItems);
     const SignBits sb(g, field, iso, parallel);
 
     // Pass 1: the sign-changing edges of each plane fix the vertex numbering.

@@ -18,6 +18,7 @@
 #include "mesh/mesh_adjacency.hpp"
 #include "mesh/threads_here.hpp"
 #include "snvr/mesh.hpp"
+#include "parallel_sizes.hpp"
 
 namespace snvr {
 namespace {
@@ -30,7 +31,6 @@ using detail::threads_here;
 using Tri = std::array<std::uint32_t, 3>;
 
 // Below these sizes, waking threads costs more than it saves.
-constexpr std::size_t kParallelTriangles = 1 << 15, kParallelPoints = 1 << 10;
 
 bool degenerate(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
 
@@ -272,7 +272,7 @@ namespace detail {
 void vertex_fans(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<std::uint32_t>& tri) {
     const auto& T = mesh.triangles;
     Buckets<std::uint32_t> b = bucket_items<std::uint32_t>(
-        mesh.vertices.size(), T.size(), T.size() >= kParallelTriangles, [&](std::size_t t, const auto& emit) {
+        mesh.vertices.size(), T.size(), T.size() >= std::size_t(detail::kParallelCheapItems), [&](std::size_t t, const auto& emit) {
             if (!degenerate(T[t]))
                 for (std::uint32_t v : T[t]) emit(v, std::uint32_t(t));
         });
@@ -285,7 +285,7 @@ void vertex_fans(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<
 // triangle on an edge {v, x}, x > v, sorted, so that a run of one x is one edge.
 void lower_edges(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<std::uint64_t>& items) {
     const auto& T = mesh.triangles;
-    const bool parallel = T.size() >= kParallelTriangles;
+    const bool parallel = T.size() >= std::size_t(detail::kParallelCheapItems);
     Buckets<std::uint64_t> b = bucket_items<std::uint64_t>(
         mesh.vertices.size(), T.size(), parallel, [&](std::size_t t, const auto& emit) {
             if (degenerate(T[t])) return;
@@ -309,7 +309,7 @@ MeshReport check_mesh_unchecked(const Mesh& mesh, const std::vector<std::size_t>
     MeshReport r;
     r.vertices = nv;
     r.triangles = nt;
-    const bool parallel = nt >= kParallelTriangles;
+    const bool parallel = nt >= std::size_t(detail::kParallelCheapItems);
     std::size_t repeated = 0, zero = 0;
 #pragma omp parallel for reduction(+ : repeated, zero) if (parallel)
     for (std::size_t t = 0; t < nt; ++t) {
@@ -509,7 +509,7 @@ std::size_t count_points_inside(const Mesh& mesh, const PointSet& points) {
     check_indices(mesh, "count_points_inside");
     const auto& V = mesh.vertices;
     const auto& T = mesh.triangles;
-    const bool parallel = points.size() >= kParallelPoints || T.size() >= kParallelTriangles;
+    const bool parallel = points.size() >= std::size_t(detail::kParallelCostlyItems) || T.size() >= std::size_t(detail::kParallelCheapItems);
     if (points.empty() || T.empty()) return 0;
     // Triangle by triangle over a grid of the points (far fewer than the triangles
     // here), rather than point by point over a grid of the triangles: only the

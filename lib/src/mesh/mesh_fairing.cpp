@@ -12,6 +12,7 @@
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 #include "mesh/vertex_lists.hpp"
+#include "parallel_sizes.hpp"
 
 namespace snvr {
 
@@ -41,7 +42,7 @@ void detail::fair_mesh(Mesh& mesh, const MeshFairing& fairing, const VertexLists
     for (int step = 0; step < 2 * fairing.passes; ++step) {
         const double f = step % 2 == 0 ? fairing.lambda : mu;
         const std::vector<Vec3>& x = mesh.vertices;
-#pragma omp parallel for schedule(static) if (nv > detail::kParallelVertices)
+#pragma omp parallel for schedule(static) if (nv > detail::kParallelItems)
         for (std::ptrdiff_t v = 0; v < nv; ++v) {
             const std::size_t b = ring.start[std::size_t(v)], e = ring.start[std::size_t(v) + 1];
             const Vec3& here = x[std::size_t(v)];

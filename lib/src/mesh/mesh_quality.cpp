@@ -25,6 +25,7 @@
 #include "mesh/triangle_grid.hpp"
 #include "geometry/point_tree.hpp"
 #include "geometry/vec3_math.hpp"
+#include "parallel_sizes.hpp"
 
 namespace snvr {
 
@@ -38,7 +39,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDegrees = 180 / 3.14159265358979323846;
 // Below this many items a loop is not worth waking threads for.
-constexpr std::ptrdiff_t kParallel = 4096;
 
 // Robust for nearly parallel vectors, unlike acos of the dot product.
 double angle(const Vec3& a, const Vec3& b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
@@ -62,7 +62,7 @@ std::vector<Vec3> unit_normals(const Mesh& m) {
     const auto& T = m.triangles;
     const std::size_t nv = m.vertices.size();
     std::vector<Vec3> n(nv, Vec3{0, 0, 0});
-    const bool parallel = std::ptrdiff_t(T.size()) > kParallel;
+    const bool parallel = std::ptrdiff_t(T.size()) > detail::kParallelItems;
     const int parts = parallel ? std::max(1, threads_here()) : 1;
 #pragma omp parallel for schedule(static, 1) if (parts > 1)
     for (int k = 0; k < parts; ++k) {
@@ -217,7 +217,7 @@ void measure_dihedral(const Mesh& m, const EdgeBuckets& edges, MeshQuality& q) {
     double sum = 0, weight = 0;
     std::size_t interior = 0;
     ordered_chunks<std::array<double, 2>>(
-        nv, std::ptrdiff_t(nv) > kParallel,
+        nv, std::ptrdiff_t(nv) > detail::kParallelItems,
         [&](std::size_t first_v, std::size_t last_v, std::vector<std::array<double, 2>>& terms) {
             for (std::size_t v = first_v; v < last_v; ++v) {
                 const std::uint64_t* it = edges.items.data() + edges.start[v];
@@ -263,7 +263,7 @@ void measure_normal_noise(const std::vector<Vec3>& normals, const EdgeBuckets& e
     // Angles in parallel, summed in vertex order: the same figure for any number
     // of threads (and no waiting on each other, as ordered chunks would).
     std::vector<double> theta_sq(nv, -1.0);  // -1: no angle at this vertex
-#pragma omp parallel for schedule(static) if (std::ptrdiff_t(nv) > kParallel)
+#pragma omp parallel for schedule(static) if (std::ptrdiff_t(nv) > detail::kParallelItems)
     for (std::ptrdiff_t v = 0; v < std::ptrdiff_t(nv); ++v) {
         if (dot(normals[v], normals[v]) == 0 || dot(ring[v], ring[v]) == 0) continue;
         const double theta = angle(normals[v], ring[v]) * kDegrees;
@@ -295,7 +295,7 @@ void measure_offset(const Mesh& m, const PointTree& points, const std::vector<st
     constexpr std::size_t kRun = 2048;
     const std::ptrdiff_t runs = std::ptrdiff_t((nv + kRun - 1) / kRun);
     const auto& T = m.triangles;
-#pragma omp parallel for schedule(dynamic, 1) if (std::ptrdiff_t(nv) > kParallel)
+#pragma omp parallel for schedule(dynamic, 1) if (std::ptrdiff_t(nv) > detail::kParallelItems)
     for (std::ptrdiff_t r = 0; r < runs; ++r) {
         const std::size_t first = std::size_t(r) * kRun, last = std::min(nv, std::size_t(r + 1) * kRun);
         for (std::size_t v = first; v < last; ++v) {
@@ -360,7 +360,7 @@ void measure_walls(std::vector<double>& wall, MeshQuality& q) {
 void measure_exact(const Mesh& m, const std::function<double(const Vec3&)>& exact, MeshQuality& q) {
     const std::ptrdiff_t nv = std::ptrdiff_t(m.vertices.size());
     std::vector<double> error(m.vertices.size());
-#pragma omp parallel for schedule(dynamic, 1024) if (nv > kParallel)
+#pragma omp parallel for schedule(dynamic, 1024) if (nv > detail::kParallelItems)
     for (std::ptrdiff_t v = 0; v < nv; ++v) error[v] = std::fabs(exact(m.vertices[v])) / q.voxel;
     // Summed in vertex order: the same figures for any number of threads.
     double sum_sq = 0, max_abs = 0;
@@ -517,7 +517,7 @@ double thinnest_wall(const Mesh& mesh) {
     const double eps = wall_epsilon(mesh);
     const std::size_t nv = mesh.vertices.size();
     std::vector<double> wall(nv, kInf);
-#pragma omp parallel for schedule(dynamic, 1) if (std::ptrdiff_t(nv) > kParallel)
+#pragma omp parallel for schedule(dynamic, 1) if (std::ptrdiff_t(nv) > detail::kParallelItems)
     for (std::ptrdiff_t c = 0; c < std::ptrdiff_t((nv + kWallChunk - 1) / kWallChunk); ++c)
         wall_thickness(mesh, grid, normals, eps, std::size_t(c) * kWallChunk,
                        std::min(nv, std::size_t(c + 1) * kWallChunk), wall);

@@ -17,6 +17,7 @@
 #include "snvr/reconstruct.hpp"
 #include "geometry/point_tree.hpp"
 #include "mesh/vertex_lists.hpp"
+#include "parallel_sizes.hpp"
 
 namespace snvr {
 namespace {
@@ -28,7 +29,7 @@ void rings_and_fans(const Mesh& m, detail::VertexLists& ring, detail::VertexList
     const std::size_t nv = m.vertices.size(), nt = m.triangles.size();
     int parts = 1;
 #ifdef _OPENMP
-    if (std::ptrdiff_t(nt) > 16 * detail::kParallelVertices) parts = std::min(4, omp_get_max_threads());
+    if (std::ptrdiff_t(nt) > 16 * detail::kParallelItems) parts = std::min(4, omp_get_max_threads());
 #endif
     const auto first = [&](int part) { return nt * std::size_t(part) / std::size_t(parts); };
     std::vector<std::vector<std::size_t>> at(std::size_t(parts), std::vector<std::size_t>(nv, 0));

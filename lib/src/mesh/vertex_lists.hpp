@@ -7,16 +7,13 @@
 
 #include "snvr/geometry.hpp"
 #include "snvr/mesh.hpp"
+#include "parallel_sizes.hpp"
 
 namespace snvr::detail {
 class PointTree;
 }
 
 namespace snvr::detail {
-
-// Per-vertex loops of the mesh passes run threaded above this many items: below it,
-// waking threads costs more than it saves.
-constexpr std::ptrdiff_t kParallelVertices = 4096;
 
 // item(triangle index, corner) for every corner of every triangle, filed under that
 // corner's vertex, in triangle order.
