@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -139,18 +140,26 @@ bool measure_ours(const PointsOptions& o, const PointsPrograms& p, const std::st
     return true;
 }
 
-// The distance + marching cubes peer at our voxel and offset: its stages from the JSON
-// line it prints last.
-void measure_distance_peer(const PointsPrograms& p, const std::string& cloud, const Lengths& l, const std::string& dir, Record& r) {
-    const ProgramRun run =
-        run_program({p.distance_mc_peer, cloud, "-o", dir + "/distance_mc.stl", "--voxel", exact(l.voxel), "--offset", exact(l.offset)});
-    r.set("distance_mc_process_s", run.seconds).set("distance_mc_cpu_s", run.cpu_seconds).set("distance_mc_peak_mib", run.peak_mib);
+// A peer at our voxel and offset (`name` prefixes its figures: process seconds, CPU
+// seconds, peak memory, or the error); the run when it succeeded.
+std::optional<ProgramRun> run_peer(const std::string& name, const std::string& program, const std::string& cloud,
+                                   const Lengths& l, const std::string& dir, Record& r) {
+    ProgramRun run = run_program({program, cloud, "-o", dir + "/" + name + ".stl", "--voxel", exact(l.voxel), "--offset",
+                                  exact(l.offset)});
+    r.set(name + "_process_s", run.seconds).set(name + "_cpu_s", run.cpu_seconds).set(name + "_peak_mib", run.peak_mib);
     if (!run.ok()) {
-        r.set("distance_mc_error", run.why());
-        return;
+        r.set(name + "_error", run.why());
+        return std::nullopt;
     }
+    return run;
+}
+
+// The distance + marching cubes peer: its stages from the JSON line it prints last.
+void measure_distance_peer(const PointsPrograms& p, const std::string& cloud, const Lengths& l, const std::string& dir, Record& r) {
+    const std::optional<ProgramRun> run = run_peer("distance_mc", p.distance_mc_peer, cloud, l, dir, r);
+    if (!run) return;
     try {
-        const json line = json::parse(run.output.substr(run.output.rfind('{', run.output.rfind("\"points\""))));
+        const json line = json::parse(run->output.substr(run->output.rfind('{', run->output.rfind("\"points\""))));
         for (const char* stage : {"read", "index", "band", "distance", "mesh", "write", "total"})
             r.set(std::string("distance_mc_") + stage + "_s", line.at("seconds").at(stage).get<double>());
         r.set("distance_mc_band_cells", line.at("band_cells").get<double>()).set("distance_mc_triangles", line.at("triangles").get<double>());
@@ -164,15 +173,10 @@ void measure_openvdb_peer(const PointsPrograms& p, const std::string& cloud, con
         r.set("openvdb_note", "not built (needs libopenvdb-dev and libboost-dev at configure time)");
         return;
     }
-    const ProgramRun run =
-        run_program({p.openvdb_peer, cloud, "-o", dir + "/openvdb.stl", "--voxel", exact(l.voxel), "--offset", exact(l.offset)});
-    r.set("openvdb_process_s", run.seconds).set("openvdb_cpu_s", run.cpu_seconds).set("openvdb_peak_mib", run.peak_mib);
-    if (!run.ok()) {
-        r.set("openvdb_error", run.why());
-        return;
-    }
-    const std::size_t at = run.output.find("triangles ");
-    if (at != std::string::npos) r.set("openvdb_triangles", std::atof(run.output.c_str() + at + 10));
+    const std::optional<ProgramRun> run = run_peer("openvdb", p.openvdb_peer, cloud, l, dir, r);
+    if (!run) return;
+    const std::size_t at = run->output.find("triangles ");
+    if (at != std::string::npos) r.set("openvdb_triangles", std::atof(run->output.c_str() + at + 10));
 }
 
 // Short runs are the noisiest on a shared machine, and the smallest clouds are the base
