@@ -83,35 +83,17 @@ void check_outputs(const ReconstructOptions& o) {
     }
 }
 
-// Survey scans arrive far from the origin and slicers ignore absolute placement: a
-// print format (STL, 3MF) is centred unless told to keep, where its float32 would
-// otherwise move the shell (decided on the points as read: the run's voxel taken at its
-// smallest, the points' box over the resolution; the shell reaches an offset beyond).
-bool print_format_needs_centring(const std::string& output, const snvr::PointCloud& points,
-                                 const snvr::Parameters& params) {
-    const std::string ext = lower_extension(output);
-    if ((ext != ".stl" && ext != ".3mf") || points.empty()) return false;
-    const std::array<snvr::Vec3, 2> box = points.box();
-    double longest = 0, farthest = 0;
-    for (int a = 0; a < 3; ++a) {
-        longest = std::max(longest, box[1][a] - box[0][a]);
-        farthest = std::max({farthest, std::abs(box[0][a]), std::abs(box[1][a])});
-    }
-    const double voxel = params.voxel ? *params.voxel : longest / params.resolution;
-    const double offset = params.offset ? *params.offset : params.thickness ? *params.thickness / 2 : 3 * voxel;
-    return voxel > 0 && !snvr::holds_faithfully(farthest + offset, output, voxel);
-}
-
 // The library's settings from the options, every length in millimetres (the points
 // are scaled to match).
-snvr::ShellSettings shell_settings(const ReconstructOptions& o, const snvr::PointCloud& points) {
+snvr::ShellSettings shell_settings(const ReconstructOptions& o) {
     const double to_mm = o.to_millimetres();
     snvr::ShellSettings s;
     s.params = o.params;
     snvr::scale_lengths(s.params, to_mm);
     s.drop_outliers = !o.keep_outliers;
-    s.centre = o.centre_origin.value_or(false) ||
-               (!o.centre_origin && print_format_needs_centring(o.output, points, s.params));
+    s.origin = !o.centre_origin ? snvr::ShellOrigin::Auto
+               : *o.centre_origin ? snvr::ShellOrigin::Centre
+                                  : snvr::ShellOrigin::Keep;
     s.fairing = o.fairing;
     s.pieces = o.pieces;
     s.pieces.min_volume *= to_mm * to_mm * to_mm;
@@ -168,7 +150,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
         snvr::PointCloud points = std::move(input.points);
         const double to_mm = o.to_millimetres();
         if (to_mm != 1) points.scale(to_mm);
-        const snvr::ShellSettings settings = shell_settings(o, points);
+        const snvr::ShellSettings settings = shell_settings(o);
         seconds.read += stage.lap();
         snvr::Shell shell = snvr::make_shell(std::move(points), settings, [&](const snvr::Progress& p) {
             if (p.stage == "mesh") say("mesh: extracting the zero level set");
@@ -225,7 +207,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
         RunSummary summary{result, shell.quality, seconds, o.output, o.volume, shift, size, o.units, to_mm,
                            o.input, shell.points, mesh_bytes, volume_bytes, warnings, outliers.points.size(),
                            outliers.link, o.outliers, dropped_pieces};
-        summary.shift_by_default = settings.centre && !o.centre_origin;
+        summary.shift_by_default = shell.shift_by_default;
         if (!o.preview.empty()) outputs.add_bytes(snvr::render::preview_png(mesh, o.preview), o.preview);
         summary.seconds.write = stage.lap();
         summary.seconds.total = total.lap();

@@ -38,7 +38,7 @@ def shell(
     thickness: Optional[float] = None,
     offset_cells: Optional[float] = None,
     keep_outliers: bool = False,
-    origin: str = "keep",
+    origin: str = "auto",
     fairing: int = 2,
     min_piece_volume: float = 0.0,
     keep_largest: int = 0,
@@ -60,4 +60,4 @@ def shell(
     progress: Optional[Callable[[str, int, int], Optional[bool]]] = None,
 ) -> Shell: ...
 
-def read_points(path: str) -> npt.NDArray[np.float64]: ...
+def read_points(path: str) -> npt.NDArray[np.float32] | npt.NDArray[np.float64]: ...

@@ -119,6 +119,9 @@ py::dict report_of(const snvr::Shell& s) {
     out["check"] = check;
     out["outliers"] = outliers;
     out["origin_shift"] = py::make_tuple(s.shift[0], s.shift[1], s.shift[2]);
+    out["origin_shift_why"] = s.shift == snvr::Vec3{0, 0, 0} ? "none"
+                              : s.shift_by_default ? "float32 output far from the origin (default)"
+                                                   : "origin='center'";
     out["warnings"] = s.warnings;
     out["seconds"] = seconds;
     return out;
@@ -180,8 +183,10 @@ PyShell shell(const py::handle& points, std::optional<int> resolution, std::opti
     else if (precision == "float") p.precision = snvr::Precision::Single;
     else throw py::value_error("precision must be 'float' or 'double', got '" + precision + "'");
     p.device = device;
-    if (origin != "keep" && origin != "center") throw py::value_error("origin must be 'keep' or 'center', got '" + origin + "'");
-    s.centre = origin == "center";
+    if (origin == "auto") s.origin = snvr::ShellOrigin::Auto;
+    else if (origin == "keep") s.origin = snvr::ShellOrigin::Keep;
+    else if (origin == "center") s.origin = snvr::ShellOrigin::Centre;
+    else throw py::value_error("origin must be 'auto', 'keep' or 'center', got '" + origin + "'");
     s.drop_outliers = !keep_outliers;
     s.fairing.passes = fairing;
     s.pieces.min_volume = min_piece_volume;
@@ -247,7 +252,8 @@ PYBIND11_MODULE(snvr, m) {
                                "(K, 3) float64: the points dropped, where they were given")
         .def_property_readonly("shift", [](const PyShell& s) {
             return py::make_tuple(s.shell.shift[0], s.shell.shift[1], s.shell.shift[2]);
-        }, "what was subtracted from the points (origin='center'): add it back to place the shell")
+        }, "what was subtracted from the points (origin='center', or 'auto' where written_as is STL or 3MF and "
+           "float32 would move the shell): add it back to place the shell")
         .def_property_readonly("warnings", [](const PyShell& s) { return s.shell.warnings; })
         .def_property_readonly("report", [](const PyShell& s) { return report_of(s.shell); },
                                "the summary snvr-cl prints, as a dict")
@@ -279,7 +285,7 @@ PYBIND11_MODULE(snvr, m) {
 
     m.def("shell", &shell, py::arg("points"), py::kw_only(), py::arg("resolution") = py::none(),
           py::arg("voxel") = py::none(), py::arg("offset") = py::none(), py::arg("thickness") = py::none(),
-          py::arg("offset_cells") = py::none(), py::arg("keep_outliers") = false, py::arg("origin") = "keep",
+          py::arg("offset_cells") = py::none(), py::arg("keep_outliers") = false, py::arg("origin") = "auto",
           py::arg("fairing") = snvr::MeshFairing{}.passes, py::arg("min_piece_volume") = 0.0,
           py::arg("keep_largest") = 0, py::arg("measure") = false, py::arg("smoothing") = py::none(),
           py::arg("dt_cells") = py::none(), py::arg("steps") = py::none(), py::arg("tube_inner") = py::none(),
@@ -293,14 +299,22 @@ PYBIND11_MODULE(snvr, m) {
           "tube_inner, tube_outer, free_flow, eps_cells, xi_cells, tol, max_cycles, precision, device); "
           "written_as: the format the mesh is meant for ('.stl': float32). progress(stage, step, steps) may "
           "return False to cancel (snvr.Cancelled); Ctrl-C cancels too (KeyboardInterrupt).");
-    m.def("read_points", [](const std::string& path) {
+    m.def("read_points", [](const std::string& path) -> py::array {
         snvr::detail::FloatPoints points;
         {
             py::gil_scoped_release unlocked;
             points = snvr::detail::read_float_points(path);
         }
-        // Straight into the array, in world units (no PointSet between).
-        py::array_t<double> out({py::ssize_t(points.xyz.size()), py::ssize_t(3)});
+        const py::ssize_t n = py::ssize_t(points.xyz.size());
+        if (points.origin == snvr::Vec3{0, 0, 0}) {
+            // The file's floats as they are: the reader's own buffer becomes the array (no
+            // copy), and shell() files it exactly as snvr-cl files the file.
+            auto* held = new std::vector<snvr::Vec3f>(std::move(points.xyz));
+            const py::capsule owner(held, [](void* v) { delete static_cast<std::vector<snvr::Vec3f>*>(v); });
+            return py::array_t<float>({n, py::ssize_t(3)}, held->empty() ? nullptr : held->front().data(), owner);
+        }
+        // Far from the world origin: float64 in world units (no PointSet between).
+        py::array_t<double> out({n, py::ssize_t(3)});
         double* to = out.mutable_data();
         {
             py::gil_scoped_release unlocked;
@@ -308,5 +322,6 @@ PYBIND11_MODULE(snvr, m) {
                 for (int a = 0; a < 3; ++a) to[3 * i + std::size_t(a)] = points.origin[std::size_t(a)] + double(points.xyz[i][std::size_t(a)]);
         }
         return out;
-    }, py::arg("path"), "The points of a file snvr-cl reads (.ply, .las, .xyz, .obj, .off, ... and .gz), (N, 3) float64.");
+    }, py::arg("path"), "The points of a file snvr-cl reads (.ply, .las, .xyz, .obj, .off, ... and .gz), (N, 3): float32 where "
+          "float holds them as they are (no copy), else float64 in world units.");
 }

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "mesh/point_depths.hpp"
+#include "check/point_depths.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/point_cloud.hpp"

@@ -70,11 +70,24 @@ TEST_CASE("make_shell writes what snvr-cl writes, byte for byte, and reports wha
 TEST_CASE("make_shell: centred on request, refusals named, and a callback that cancels") {
     snvr::PointSet far = snvr::shapes::sphere({500000.5, 4000000.5, 2.5}, 0.3, 0.03);
     // Far coordinates in float32 STL: refused as written, centred on request.
-    CHECK_THROWS_AS(snvr::make_shell(far, small()), snvr::IoError);
+    snvr::ShellSettings kept = small();
+    kept.origin = snvr::ShellOrigin::Keep;
+    CHECK_THROWS_AS(snvr::make_shell(far, kept), snvr::IoError);
     snvr::ShellSettings centred = small();
-    centred.centre = true;
+    centred.origin = snvr::ShellOrigin::Centre;
     const snvr::Shell shell = snvr::make_shell(far, centred);
     CHECK(shell.shift[0] != 0);
+    CHECK(!shell.shift_by_default);
+    // Auto (the default): centred for STL as snvr-cl centres it, kept for an exact format.
+    const snvr::Shell by_default = snvr::make_shell(far, small());
+    CHECK(by_default.shift == shell.shift);
+    CHECK(by_default.shift_by_default);
+    CHECK(by_default.mesh.vertices == shell.mesh.vertices);
+    snvr::ShellSettings exact = small();
+    exact.written_as = ".obj";
+    CHECK(snvr::make_shell(far, exact).shift == snvr::Vec3{0, 0, 0});
+    const snvr::PointSet near = snvr::shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.03);
+    CHECK(!snvr::make_shell(near, small()).shift_by_default);
     CHECK(shell.quality.points_inside == far.size());
 
     const snvr::PointSet points = snvr::shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.03);

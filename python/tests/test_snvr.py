@@ -161,3 +161,24 @@ def test_round_trips_where_the_libraries_are_installed():
         except ImportError:
             continue
         assert count(getattr(s, method)()) == len(s.faces)
+
+
+def test_read_points_keeps_the_files_floats_and_far_scans_centre_as_the_cli(tmp_path):
+    points = tmp_path / "points.ply"
+    subprocess.run([CLI, "sample", "sphere", "-o", str(points), "--spacing", "0.05"], check=True, capture_output=True)
+    near = snvr.read_points(str(points))
+    assert near.dtype == np.float32 and not near.flags["OWNDATA"]  # the reader's buffer, not a copy
+    # A survey scan's coordinates: float32 STL would move the shell, so it is centred by
+    # default (as snvr-cl does), and the bytes are snvr-cl's.
+    far = tmp_path / "far.xyz"
+    np.savetxt(far, near.astype(np.float64) * 10 + [512345.25, 4234567.5, 120.125], fmt="%.6f")
+    cli_stl = tmp_path / "cli.stl"
+    subprocess.run([CLI, "reconstruct", str(far), "-o", str(cli_stl), "--resolution", "32", "--device", "openmp",
+                    "--quiet"], check=True)
+    s = snvr.shell(str(far), resolution=32, device="openmp")
+    assert s.report["origin_shift_why"].endswith("(default)") and s.shift[1] != 0
+    s.write(str(tmp_path / "mine.stl"))
+    assert (tmp_path / "mine.stl").read_bytes() == cli_stl.read_bytes()
+    with pytest.raises(OSError, match="float"):
+        snvr.shell(str(far), resolution=32, device="openmp", origin="keep")
+    assert snvr.read_points(str(far)).dtype == np.float64

@@ -34,15 +34,22 @@ struct StageSeconds {
     double total = 0;
 };
 
-struct Result {
+// The grid reconstruct() would use, and the offset and gap it would choose.
+struct DomainPlan {
     Domain domain;
-    Field phi;                    // phi^{Nt} in the band's bricks (+-1 beyond); the shell is where phi > 0
-    double offset = 0;            // l used, world units
-    std::string offset_reason;    // why this offset (given, 2.5 voxels, sampling gap)
-    double gap = 0;               // estimated sampling gap of the points (world)
+    double offset = 0;
+    std::string offset_reason;
+    double gap = 0;
     double eps = 0, xi = 0;       // world units
     double dt = 0;                // normalised
-    double tube_inner = 0, tube_outer = 0;  // the tube's sides, world units from the offset (0: free flow)
+    int planned_steps = 0;        // the time steps the flow takes
+    double tube_inner = 0, tube_outer = 0;  // world units from the offset; 0: free flow
+    std::size_t estimated_bytes = 0;  // what follows the box: brick tables, the mesher's sign bits (the band's fields come later)
+};
+
+// What reconstruct() ran (the plan it fitted to the points) and what it found.
+struct Result : DomainPlan {
+    Field phi;                    // phi^{Nt} in the band's bricks (+-1 beyond); the shell is where phi > 0
     std::string backend;          // which backend ran
     std::size_t active_cells = 0; // cells with g > 0
     std::size_t active_bricks = 0, total_bricks = 0;
@@ -76,18 +83,6 @@ Mesh shell_mesh(const Result& result, const PointCloud& points, DepthGuardReport
 Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* guard = nullptr,
                 const MeshFairing& fairing = {});  // makes a PointCloud
 
-// The grid reconstruct() would use, and the offset and gap it would choose.
-struct DomainPlan {
-    Domain domain;
-    double offset = 0;
-    std::string offset_reason;
-    double gap = 0;
-    double eps = 0, xi = 0;       // world units
-    double dt = 0;                // normalised
-    int steps = 0;
-    double tube_inner = 0, tube_outer = 0;  // world units from the offset; 0: free flow
-    std::size_t estimated_bytes = 0;  // what follows the box: brick tables, the mesher's sign bits (the band's fields come later)
-};
 DomainPlan plan_domain(const PointCloud& points, const Parameters& params);
 DomainPlan plan_domain(const PointSet& points, const Parameters& params);  // makes a PointCloud
 

@@ -14,11 +14,17 @@
 
 namespace snvr {
 
+// Where the shell is made: about the points as given, about their round centre (far
+// coordinates), or (Auto, snvr-cl's default) about the centre only where written_as is a
+// print format (STL, 3MF) whose float32 would otherwise move the shell by more than 1% of
+// a voxel (decided on the points as given, at the smallest voxel the run can have).
+enum class ShellOrigin { Auto, Keep, Centre };
+
 struct ShellSettings {
     Parameters params;           // lengths in the points' units
     bool drop_outliers = true;   // the outlier rules (false: every point is used)
     OutlierSettings outliers;
-    bool centre = false;         // shift the kept points by round_centre before the run (far coordinates)
+    ShellOrigin origin = ShellOrigin::Auto;  // Centre: the kept points shifted by round_centre before the run
     MeshFairing fairing;
     PieceFilter pieces;          // min_volume in the points' units cubed
     bool measure = false;        // the check measures the surface too (measure_quality)
@@ -37,7 +43,8 @@ struct Shell {
     Mesh mesh;                  // shifted by -shift; as written_as holds it
     Result run;                 // the reconstruction; phi only when keep_field
     DroppedOutliers outliers;   // the points dropped, where they were given
-    Vec3 shift{0, 0, 0};        // subtracted from the kept points before the run (centre)
+    Vec3 shift{0, 0, 0};        // subtracted from the kept points before the run (origin)
+    bool shift_by_default = false;  // shifted by ShellOrigin::Auto's rule, not on request
     std::size_t points = 0;     // the points the shell was made around
     DepthGuardReport guard;
     PieceReport pieces;

@@ -6,7 +6,6 @@
 #include <limits>
 #include <utility>
 
-#include "solver/hierarchy.hpp"
 
 namespace snvr {
 
@@ -15,7 +14,7 @@ namespace {
 // Level-0 bricks whose cell centres come within `radius` (world) of some point: each
 // leaf's box rules out the bricks beyond it, and its points are looked at one by one only
 // for a brick no point has marked yet.
-std::vector<std::uint8_t> bricks_near_points(const detail::PointTree& tree, const Domain& d, const Level& lv,
+std::vector<std::uint8_t> bricks_near_points(const detail::PointTree& tree, const Domain& d, const BrickTiling& lv,
                                              double radius) {
     std::vector<std::uint8_t> near(lv.brick_count(), 0);
     const int nb[3] = {lv.bx, lv.by, lv.bz};
@@ -434,8 +433,7 @@ BandDistance<Real> band_distance(const detail::PointTree& tree, const Domain& d,
     const double rr = radius * radius;  // cells whose nearest point is not closer are far
     const Real far = Real(band.offset + 2 * band.cut);
 
-    const Hierarchy shapes = make_levels(Domain{d.origin, d.h, d.nx, d.ny, d.nz, 1});
-    const Level& lv = shapes.levels[0];
+    const BrickTiling lv = BrickTiling::of(d.nx, d.ny, d.nz);
     std::vector<std::uint8_t> near = bricks_near_points(tree, d, lv, radius);
     std::vector<std::uint32_t> todo;
     for (std::uint32_t b = 0; b < near.size(); ++b)
@@ -505,8 +503,7 @@ BandDistance<Real> band_distance(const detail::PointTree& tree, const Domain& d,
 
 template <class Real>
 void classify_band(BandDistance<Real>& bd, const Domain& d, const Band& band) {
-    const Hierarchy shapes = make_levels(Domain{d.origin, d.h, d.nx, d.ny, d.nz, 1});
-    const Level& lv = shapes.levels[0];
+    const BrickTiling lv = BrickTiling::of(d.nx, d.ny, d.nz);
     const Real l = Real(band.offset), cut = Real(band.cut);
     bd.brick_mask.assign(lv.brick_count(), 0);
     bd.inside_bricks.assign(lv.brick_count(), 0);
@@ -530,8 +527,7 @@ void classify_band(BandDistance<Real>& bd, const Domain& d, const Band& band) {
 
 template <class Real>
 std::vector<Real> BandDistance<Real>::dense(const Domain& d) const {
-    const Hierarchy shapes = make_levels(Domain{d.origin, d.h, d.nx, d.ny, d.nz, 1});
-    const Level& lv = shapes.levels[0];
+    const BrickTiling lv = BrickTiling::of(d.nx, d.ny, d.nz);
     std::vector<Real> out(d.cells(), far);
     for (std::size_t t = 0; t < near_bricks.size(); ++t) {
         const CellRange r = lv.range(near_bricks[t]);

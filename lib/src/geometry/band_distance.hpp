@@ -8,7 +8,7 @@
 #include <functional>
 #include <vector>
 
-#include "solver/hierarchy.hpp"
+#include "grid/brick_tiling.hpp"
 #include "geometry/point_tree.hpp"
 #include "snvr/domain.hpp"
 #include "snvr/reconstruct.hpp"

@@ -11,7 +11,7 @@
 
 #include "geometry/point_tree.hpp"
 #include "geometry/vec3_math.hpp"
-#include "io/io_common.hpp"
+#include "number_text.hpp"
 #include "snvr/error.hpp"
 #include "parallel_sizes.hpp"
 

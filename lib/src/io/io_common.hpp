@@ -1,5 +1,5 @@
 // Small encoding helpers shared by the point readers and the mesh/field
-// writers: byte order, exact number formatting and extension matching.
+// writers: byte order, exact number formatting (number_text.hpp) and extension matching.
 #pragma once
 #include <algorithm>
 #include <cctype>
@@ -8,6 +8,8 @@
 #include <cstring>
 #include <filesystem>
 #include <string>
+
+#include "number_text.hpp"
 
 namespace snvr::detail {
 
@@ -37,18 +39,6 @@ void store_le(T value, char* p) {
     if (!host_is_little_endian()) std::reverse(p, p + sizeof(T));
 }
 
-// Appends the shortest text that reads back as exactly the same double.
-inline void append_number(std::string& out, double value) {
-    char buf[32];
-    const auto result = std::to_chars(buf, buf + sizeof buf, value);
-    out.append(buf, result.ptr);
-}
-
-inline std::string format_number(double value) {
-    std::string text;
-    append_number(text, value);
-    return text;
-}
 
 // ".PLY" and ".ply" select the same format.
 inline std::string lower_extension(const std::string& path) {

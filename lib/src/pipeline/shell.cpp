@@ -2,6 +2,8 @@
 // tells the progress callback first, so that a cancel stops before the next one.
 #include "snvr/shell.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -10,6 +12,7 @@
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
 #include "snvr/stopwatch.hpp"
+#include "io/io_common.hpp"
 
 namespace snvr {
 namespace {
@@ -18,6 +21,25 @@ std::string format(const char* pattern, double a, double b = 0, double c = 0) {
     char text[256];
     std::snprintf(text, sizeof text, pattern, a, b, c);
     return text;
+}
+
+// Survey scans arrive far from the origin and slicers ignore absolute placement: a print
+// format (STL, 3MF) is centred where its float32 would otherwise move the shell (the
+// run's voxel taken at its smallest, the points' box over the resolution; the shell
+// reaches an offset beyond the points). PLY is not a print format and is kept.
+bool print_format_needs_centring(const std::string& written_as, const PointCloud& points, const Parameters& params) {
+    const std::string as = written_as.empty() || written_as[0] != '.' ? written_as : "shell" + written_as;
+    const std::string ext = detail::lower_extension(as);
+    if ((ext != ".stl" && ext != ".3mf") || points.empty()) return false;
+    const std::array<Vec3, 2> box = points.box();
+    double longest = 0, farthest = 0;
+    for (int a = 0; a < 3; ++a) {
+        longest = std::max(longest, box[1][a] - box[0][a]);
+        farthest = std::max({farthest, std::abs(box[0][a]), std::abs(box[1][a])});
+    }
+    const double voxel = params.voxel ? *params.voxel : longest / params.resolution;
+    const double offset = params.offset ? *params.offset : params.thickness ? *params.thickness / 2 : 3 * voxel;
+    return voxel > 0 && !holds_faithfully(farthest + offset, as, voxel);
 }
 
 }  // namespace
@@ -38,10 +60,15 @@ Shell make_shell(PointCloud points, const ShellSettings& settings, const ShellPr
     settings.fairing.validate();
     settings.pieces.validate();
     if (points.empty()) throw InputError("the point set is empty");
+    // Decided on the points as given, before any is dropped.
+    const bool centre = settings.origin == ShellOrigin::Centre ||
+                        (settings.origin == ShellOrigin::Auto &&
+                         print_format_needs_centring(settings.written_as, points, settings.params));
+    shell.shift_by_default = centre && settings.origin == ShellOrigin::Auto;
 
     enter("outliers");
     if (settings.drop_outliers) shell.outliers = drop_outliers(points, settings.params, settings.outliers);
-    if (settings.centre) {
+    if (centre) {
         shell.shift = round_centre(points);
         points.translate({-shell.shift[0], -shell.shift[1], -shell.shift[2]});
     }

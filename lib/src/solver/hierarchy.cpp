@@ -4,25 +4,12 @@
 
 namespace snvr {
 
-CellRange Level::range(std::uint32_t brick) const {
-    const int bi = int(brick % std::uint32_t(bx));
-    const int bj = int(brick / std::uint32_t(bx) % std::uint32_t(by));
-    const int bk = int(brick / (std::uint32_t(bx) * std::uint32_t(by)));
-    return {bi * kBrick, std::min(nx, (bi + 1) * kBrick), bj * kBrick, std::min(ny, (bj + 1) * kBrick),
-            bk * kBrick, std::min(nz, (bk + 1) * kBrick)};
-}
-
 Hierarchy make_levels(const Domain& domain) {
     Hierarchy hier;
     const int longest = std::max({domain.nx, domain.ny, domain.nz});
     for (int l = 0; l < domain.levels; ++l) {
         Level lv;
-        lv.nx = domain.nx >> l;
-        lv.ny = domain.ny >> l;
-        lv.nz = domain.nz >> l;
-        lv.bx = (lv.nx + kBrick - 1) / kBrick;
-        lv.by = (lv.ny + kBrick - 1) / kBrick;
-        lv.bz = (lv.nz + kBrick - 1) / kBrick;
+        static_cast<BrickTiling&>(lv) = BrickTiling::of(domain.nx >> l, domain.ny >> l, domain.nz >> l);
         lv.h = double(1 << l) / longest;
         hier.levels.push_back(lv);
     }

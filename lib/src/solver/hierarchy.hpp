@@ -7,26 +7,15 @@
 #include <cstdint>
 #include <vector>
 
+#include "grid/brick_tiling.hpp"
 #include "snvr/domain.hpp"
 
 namespace snvr {
 
-constexpr int kBrick = 8;
-
-struct CellRange {
-    int i0, i1, j0, j1, k0, k1;  // half-open
-};
-
-struct Level {
-    int nx = 0, ny = 0, nz = 0;
-    int bx = 0, by = 0, bz = 0;          // bricks per axis (the last ones may be partial)
+struct Level : BrickTiling {
     double h = 0;                        // normalised cell size
     std::vector<std::uint32_t> bricks;   // active brick ids, ascending
     std::size_t brick_cells = 0;         // cells inside the active bricks
-
-    std::size_t cells() const { return std::size_t(nx) * std::size_t(ny) * std::size_t(nz); }
-    std::size_t brick_count() const { return std::size_t(bx) * std::size_t(by) * std::size_t(bz); }
-    CellRange range(std::uint32_t brick) const;
 };
 
 struct Hierarchy {

@@ -29,7 +29,7 @@ Problem make_problem(const DomainPlan& plan, const Parameters& params) {
     const double L = plan.domain.length_scale();
     p.band = band_of(plan, params.band_xi);
     p.profile_slope = 1 / (std::sqrt(2.0) * plan.xi / L);
-    p.steps = plan.steps;
+    p.steps = plan.planned_steps;
     const double eps = plan.eps / L;
     p.nonlinear_rate = 2 * plan.dt / (eps * eps);
     p.multigrid = multigrid_settings(params, plan.dt);

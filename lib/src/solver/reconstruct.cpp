@@ -20,15 +20,7 @@ void run(const PointCloud& points, const Parameters& params, const ProgressCallb
     const Problem& problem = session.problem();
     const DomainPlan& plan = problem.plan;
     const SessionFacts& facts = session.facts();
-    res.domain = plan.domain;
-    res.offset = plan.offset;
-    res.offset_reason = plan.offset_reason;
-    res.gap = plan.gap;
-    res.eps = plan.eps;
-    res.xi = plan.xi;
-    res.dt = plan.dt;
-    res.tube_inner = plan.tube_inner;
-    res.tube_outer = plan.tube_outer;
+    static_cast<DomainPlan&>(res) = plan;
     res.backend = facts.backend;
     res.warnings = facts.notes;
     res.active_cells = facts.active_cells;

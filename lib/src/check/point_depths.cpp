@@ -3,7 +3,7 @@
 // reconstruction. A group of points shares one search and its list of candidate
 // triangles; a lower bound for the whole group settles most groups without a look at
 // their single points.
-#include "mesh/point_depths.hpp"
+#include "check/point_depths.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -167,9 +167,9 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
                                  fmt(dt_cells) + " h^2 (--dt-cells or --dt) would take " + fmt(steps) +
                                  " steps: at most " + std::to_string(ParameterLimits::max_steps) +
                                  "; give a shorter flow time or a longer step");
-        plan.steps = int(steps);
+        plan.planned_steps = int(steps);
     } else {
-        plan.steps = *params.steps;
+        plan.planned_steps = *params.steps;
     }
     if (params.keep_offset) {
         plan.tube_inner = params.tube_inner * plan.offset;

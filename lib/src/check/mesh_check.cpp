@@ -15,7 +15,7 @@
 #include "geometry/disjoint_sets.hpp"
 #include "snvr/error.hpp"
 #include "mesh/float_rounding.hpp"
-#include "mesh/mesh_adjacency.hpp"
+#include "check/mesh_adjacency.hpp"
 #include "mesh/threads_here.hpp"
 #include "snvr/mesh.hpp"
 #include "parallel_sizes.hpp"
