@@ -46,9 +46,9 @@ ALWAYS_INLINE bool in_grid(LEVEL_PARAMS, int i, int j, int k) {
     return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz;
 }
 
-// Row kernels: one work-item per row of 8 cells along x (64 per brick, one brick per
-// work-group of 64), the row as one vector, so CPUs get whole SIMD registers and GPUs
-// contiguous 64-byte accesses per work-item.
+// Row kernels: one work-item per row of 8 cells along x (64 per brick; their first
+// argument is the number of rows, the last group padded), the row as one vector, so
+// CPUs get whole SIMD registers and GPUs contiguous 64-byte accesses per work-item.
 #ifdef SNVR_DOUBLE
 typedef double8 row_t;
 typedef long8 row_mask;      // select() needs an integer vector of the same width
@@ -90,13 +90,28 @@ ALWAYS_INLINE row_mask row_in_grid(Row w, int nx) {
     return (row_mask)(0, 1, 2, 3, 4, 5, 6, 7) < (row_mask)(nx - w.i0);
 }
 
-// Plane kernels: one work-item per plane (lk) of a brick, 8 per brick and 64 (8 bricks)
-// per work-group, walking the plane's rows along y with the y neighbours carried in
-// registers: the brick's place and neighbours are found once per plane, not per row,
-// and no row just written is read back (PoCL: sweeps 1.4x faster than an item per row).
-// Their first argument is the number of planes (8 per active brick): the last group is
-// padded.
+// Plane kernels: one work-item per plane (lk) of a brick, 8 per brick and
+// PLANES_PER_GROUP (a multiple of 8, set by the host from the device's limits: 64 unless
+// they allow less or SNVR_OPENCL_WORK_GROUP asks) per work-group, walking the plane's
+// rows along y with the y neighbours carried in registers: the brick's place and
+// neighbours are found once per plane, not per row, and no row just written is read
+// back (PoCL: sweeps 1.4x faster than an item per row). Their first argument is the
+// number of planes (8 per active brick): the last group is padded.
+#ifndef PLANES_PER_GROUP
 #define PLANES_PER_GROUP 64
+#endif
+#ifndef REDUCE_GROUP
+#define REDUCE_GROUP 256
+#endif
+
+// The same operations with a work-item per row (64 per brick, neighbouring work-items on
+// neighbouring rows, so a GPU's warp reads contiguous memory): the variant the host
+// builds for GPUs (-DSNVR_ROW_KERNELS: each operation's file defines one variant of its
+// kernel, under the same name). ROWS_PER_GROUP: a multiple of 64 (whole bricks).
+#ifndef ROWS_PER_GROUP
+#define ROWS_PER_GROUP 256
+#endif
+#define BRICKS_PER_ROW_GROUP (ROWS_PER_GROUP / ROWS_PER_BRICK)
 
 // A brick's place and where its six neighbours are stored (its own storage where a
 // neighbour lies outside the grid; the has_ flags say which).
@@ -135,25 +150,71 @@ ALWAYS_INLINE BrickSite brick_site(global const uint* slot, LEVEL_PARAMS, uint b
 // A walk along y through plane lk of a brick: row lj and its y neighbours. Kernels that
 // write a row may carry the values loaded before the write: they read only lanes of
 // the neighbour rows that no work of the launch changes.
+//
+// A kernel that writes some lanes of its rows while others read them (the red-black
+// sweep, color >= 0) loads of the rows other work-items own ("foreign": those of other
+// bricks when a work-item has a whole brick, every other row when it has one row) only
+// the lanes of the other colour, the ones it needs and no one writes: no work-item reads
+// what another writes in the same launch. color < 0: whole rows (read-only kernels).
 typedef struct {
     int lj, lk;
+    int color;          // the sweep's colour, or -1
+    bool one_row;       // the work-item owns this row only (else its whole brick)
     size_t at;          // storage index of row lj
     row_t ym, p, yp;    // rows lj - 1, lj, lj + 1 (0 outside the grid)
 } PlaneWalk;
 
-ALWAYS_INLINE row_t row_after(global const real* p, BrickSite s, int lj, int lk) {
-    const size_t at = s.at + (size_t)(BRICK * (lj + BRICK * lk));
-    return lj + 1 < s.nj ? load_row(p, at + BRICK) : s.has_yp ? load_row(p, s.yp + (size_t)(BRICK * BRICK * lk)) : (row_t)0;
+// Which lanes of row (lj, lk) have the sweep's colour (bricks start at even
+// coordinates): the odd ones (1) or the even ones (0); -1 for every lane.
+ALWAYS_INLINE int colour_lanes(BrickSite s, int lj, int lk, int color) {
+    return color < 0 ? -1 : (s.j0 + lj + s.k0 + lk + color) & 1;
 }
 
-ALWAYS_INLINE PlaneWalk plane_walk(global const real* p, BrickSite s, int lk) {
+// A foreign row: whole, or only the lanes of parity `lanes` (0 in the others).
+ALWAYS_INLINE row_t load_foreign(global const real* p, size_t at, int lanes) {
+    if (lanes < 0) return load_row(p, at);
+    global const real* q = p + at + lanes;
+    const real a = q[0], b = q[2], c = q[4], d = q[6];
+    return lanes ? (row_t)((real)0, a, (real)0, b, (real)0, c, (real)0, d)
+                 : (row_t)(a, (real)0, b, (real)0, c, (real)0, d, (real)0);
+}
+
+ALWAYS_INLINE row_t row_after(global const real* p, BrickSite s, int lj, int lk, int color, bool one_row) {
+    const size_t at = s.at + (size_t)(BRICK * (lj + BRICK * lk));
+    const int lanes = colour_lanes(s, lj, lk, color);
+    return lj + 1 < s.nj ? (one_row ? load_foreign(p, at + BRICK, lanes) : load_row(p, at + BRICK))
+           : s.has_yp    ? load_foreign(p, s.yp + (size_t)(BRICK * BRICK * lk), lanes)
+                         : (row_t)0;
+}
+
+// Row (lj, lk) alone, for kernels with a work-item per row.
+ALWAYS_INLINE PlaneWalk row_walk(global const real* p, BrickSite s, int lj, int lk, int color) {
+    PlaneWalk w;
+    w.lj = lj;
+    w.lk = lk;
+    w.color = color;
+    w.one_row = true;
+    w.at = s.at + (size_t)(BRICK * (lj + BRICK * lk));
+    const int lanes = colour_lanes(s, lj, lk, color);
+    w.ym = lj > 0      ? load_foreign(p, w.at - BRICK, lanes)
+           : s.has_ym ? load_foreign(p, s.ym + (size_t)(BRICK * (BRICK - 1 + BRICK * lk)), lanes)
+                      : (row_t)0;
+    w.p = load_row(p, w.at);
+    w.yp = row_after(p, s, lj, lk, color, true);
+    return w;
+}
+
+ALWAYS_INLINE PlaneWalk plane_walk(global const real* p, BrickSite s, int lk, int color) {
     PlaneWalk w;
     w.lj = 0;
     w.lk = lk;
+    w.color = color;
+    w.one_row = false;
     w.at = s.at + (size_t)(BRICK * BRICK * lk);
-    w.ym = s.has_ym ? load_row(p, s.ym + (size_t)(BRICK * (BRICK - 1 + BRICK * lk))) : (row_t)0;
+    w.ym = s.has_ym ? load_foreign(p, s.ym + (size_t)(BRICK * (BRICK - 1 + BRICK * lk)), colour_lanes(s, 0, lk, color))
+                    : (row_t)0;
     w.p = load_row(p, w.at);
-    w.yp = row_after(p, s, 0, lk);
+    w.yp = row_after(p, s, 0, lk, color, false);
     return w;
 }
 
@@ -162,17 +223,24 @@ ALWAYS_INLINE PlaneWalk plane_step(global const real* p, BrickSite s, PlaneWalk 
     w.p = w.yp;
     ++w.lj;
     w.at += BRICK;
-    if (w.lj < s.nj) w.yp = row_after(p, s, w.lj, w.lk);
+    if (w.lj < s.nj) w.yp = row_after(p, s, w.lj, w.lk, w.color, false);
     return w;
 }
 
 // The neighbour sum and count of the walk's row.
 ALWAYS_INLINE RowNeighbours plane_neighbours(global const real* p, LEVEL_PARAMS, BrickSite s, PlaneWalk w) {
     const size_t in_brick = (size_t)(BRICK * (w.lj + BRICK * w.lk));
-    const real xm = s.has_xm ? p[s.xm + in_brick + (BRICK - 1)] : (real)0;
-    const real xp = s.has_xp ? p[s.xp + in_brick] : (real)0;
-    const row_t zm = w.lk > 0 ? load_row(p, w.at - BRICK * BRICK) : s.has_zm ? load_row(p, s.zm + (size_t)(BRICK * (w.lj + BRICK * (BRICK - 1)))) : (row_t)0;
-    const row_t zp = w.lk + 1 < s.nk ? load_row(p, w.at + BRICK * BRICK) : s.has_zp ? load_row(p, s.zp + (size_t)(BRICK * w.lj)) : (row_t)0;
+    const int lanes = colour_lanes(s, w.lj, w.lk, w.color);
+    // The x neighbours beyond the row: read where lane 0 (7) is wanted.
+    const real xm = s.has_xm && lanes <= 0 ? p[s.xm + in_brick + (BRICK - 1)] : (real)0;
+    const real xp = s.has_xp && lanes != 0 ? p[s.xp + in_brick] : (real)0;
+    const int inner = w.one_row ? lanes : -1;  // the lanes to load of this brick's other rows
+    const row_t zm = w.lk > 0 ? load_foreign(p, w.at - BRICK * BRICK, inner)
+                     : s.has_zm ? load_foreign(p, s.zm + (size_t)(BRICK * (w.lj + BRICK * (BRICK - 1))), lanes)
+                                : (row_t)0;
+    const row_t zp = w.lk + 1 < s.nk ? load_foreign(p, w.at + BRICK * BRICK, inner)
+                     : s.has_zp      ? load_foreign(p, s.zp + (size_t)(BRICK * w.lj), lanes)
+                                     : (row_t)0;
     const row_t left = (row_t)(xm, w.p.s0123, w.p.s456);
     const row_t right = (row_t)(w.p.s1234, w.p.s567, xp);
     RowNeighbours n;

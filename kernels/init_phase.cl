@@ -1,10 +1,12 @@
 // Level 0, active bricks: phi = tanh((l - d) s), g = 1 - phi^2 (eqs. 4-5), and
 // phi = sign(l - d), g = 0 beyond the cut. `distance` is packed like the fields; tanh is
-// common.cl's. One work-item per row, 64 per brick; cells outside the grid keep their 0.
-kernel void init_phase(global const real* distance, global real* phi, global real* g,
+// common.cl's. A row kernel (common.cl); cells outside the grid keep their 0.
+kernel void init_phase(uint rows, global const real* distance, global real* phi, global real* g,
                        global const uint* bricks, global const uint* slot, LEVEL_PARAMS,
                        real offset, real s, real cut) {
-    const Row w = brick_row(slot, bx, by, bricks[get_group_id(0)], (int)get_local_id(0));
+    const uint item = (uint)get_global_id(0);
+    if (item >= rows) return;
+    const Row w = brick_row(slot, bx, by, bricks[item / ROWS_PER_BRICK], (int)(item % ROWS_PER_BRICK));
     if (w.j >= ny || w.k >= nz) return;
     const row_t diff = offset - load_row(distance, w.at);
     const row_t p = tanh_of(diff * s);

@@ -19,8 +19,9 @@ if [[ "${1:-}" == "--sanitize" ]]; then
   ctest --test-dir build-sanitize --output-on-failure --timeout 1500
   exit
 fi
-# Open3D only for the Python tests' round trip: the module never needs it.
-bash scripts/setup.sh python3-open3d
+# Open3D only for the Python tests' round trip: the module never needs it. Oclgrind
+# checks the kernels (tests/oclgrind_check.sh).
+bash scripts/setup.sh python3-open3d oclgrind
 bash scripts/build.sh
 # PoCL caches compiled kernels; keep its cache somewhere writable even without a home.
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <random>
 #include <string>
@@ -16,6 +17,7 @@
 #include "solver/coarse_inverse.hpp"
 #include "solver/hierarchy.hpp"
 #include "opencl/opencl_backend.hpp"
+#include "opencl/work_groups.hpp"
 #include "openmp/openmp_backend.hpp"
 
 using namespace snvr;
@@ -103,6 +105,12 @@ const Case kCases[] = {
 template <class Real>
 void compare_operations() {
     const char* type = sizeof(Real) == 8 ? "double" : "float";
+    const opencl::DeviceEntry device = opencl::choose_device("opencl");
+    const opencl::WorkGroups w = opencl::work_groups(device, sizeof(Real));
+    std::printf("%s on %s: %s; work-groups of %zu planes, %zu brick rows, %zu rows, %zu bricks, %zu cells, %zu in the "
+                "reduction\n",
+                type, device.name.c_str(), w.shape == opencl::KernelShape::Rows ? "row kernels" : "plane kernels", w.planes,
+                w.brick_rows, w.rows, w.bricks, w.cells, w.reduce);
     int coarse_solves = 0;
     for (const Case& c : kCases) {
         CAPTURE(c.nx);
@@ -212,3 +220,63 @@ void compare_operations() {
 TEST_CASE("every operation on the OpenCL backend matches the reference, double") { compare_operations<double>(); }
 
 TEST_CASE("every operation on the OpenCL backend matches the reference, float") { compare_operations<float>(); }
+
+TEST_CASE("work-group sizes: asked, then fitted to the device's limits") {
+    // The suite may run under either variable (tests/CMakeLists.txt): put them back after.
+    struct Restore {
+        std::string name, value;
+        bool had;
+        explicit Restore(const char* n) : name(n), had(std::getenv(n) != nullptr) {
+            if (had) value = std::getenv(n);
+        }
+        ~Restore() {
+            if (had) setenv(name.c_str(), value.c_str(), 1);
+            else unsetenv(name.c_str());
+        }
+    } kernels("SNVR_OPENCL_KERNELS"), group("SNVR_OPENCL_WORK_GROUP");
+    unsetenv("SNVR_OPENCL_KERNELS");
+    opencl::DeviceEntry d;
+    d.name = "small";
+    d.max_group = 1024;
+    d.local_memory = 48 * 1024;  // a GPU's
+    unsetenv("SNVR_OPENCL_WORK_GROUP");
+    opencl::WorkGroups w = opencl::work_groups(d, sizeof(double));
+    CHECK(w.planes == 64);  // 32 KiB of residuals
+    CHECK(w.reduce == 256);
+    CHECK(w.build_options() == "-DPLANES_PER_GROUP=64 -DROWS_PER_GROUP=256 -DREDUCE_GROUP=256");
+    CHECK(w.shape == opencl::KernelShape::Planes);  // not a GPU
+    d.gpu = true;
+    CHECK(opencl::work_groups(d, sizeof(double)).shape == opencl::KernelShape::Rows);
+    setenv("SNVR_OPENCL_KERNELS", "planes", 1);
+    CHECK(opencl::work_groups(d, sizeof(double)).shape == opencl::KernelShape::Planes);
+    setenv("SNVR_OPENCL_KERNELS", "cells", 1);
+    CHECK_THROWS_WITH_AS(opencl::work_groups(d, sizeof(double)), doctest::Contains("SNVR_OPENCL_KERNELS"), ParameterError);
+    setenv("SNVR_OPENCL_KERNELS", "rows", 1);
+    d.local_memory = 12 * 1024;
+    CHECK(opencl::work_groups(d, sizeof(double)).brick_rows == 128);  // 4 KiB of residuals per 64 rows
+    d.local_memory = 48 * 1024;
+    setenv("SNVR_OPENCL_WORK_GROUP", "256", 1);
+    w = opencl::work_groups(d, sizeof(double));
+    CHECK(w.rows == 256);
+    CHECK(w.cells == 256);
+    CHECK(w.planes == 64);  // 256 planes would need 128 KiB of local memory
+    CHECK(opencl::work_groups(d, sizeof(float)).planes == 128);  // 32 KiB of float residuals
+    setenv("SNVR_OPENCL_WORK_GROUP", "32", 1);
+    CHECK(opencl::work_groups(d, sizeof(float)).brick_rows == 64);  // a brick's rows at least
+    d.max_group = 16;  // below the ask: the device's limit
+    w = opencl::work_groups(d, sizeof(float));
+    CHECK(w.rows == 16);
+    CHECK(w.planes == 16);
+    CHECK(w.reduce == 16);
+    CHECK(w.shape == opencl::KernelShape::Planes);  // no group holds a brick's 64 rows
+    unsetenv("SNVR_OPENCL_KERNELS");
+    d.local_memory = 1024;  // too little for 8 planes of doubles (4 KiB)
+    CHECK_THROWS_WITH_AS(opencl::work_groups(d, sizeof(double)), doctest::Contains("local memory"), ResourceError);
+    for (const char* bad : {"12", "4", "2048", "64x", "-8"}) {
+        setenv("SNVR_OPENCL_WORK_GROUP", bad, 1);
+        CHECK_THROWS_WITH_AS(opencl::work_groups(d, sizeof(float)), doctest::Contains("SNVR_OPENCL_WORK_GROUP"), ParameterError);
+    }
+    unsetenv("SNVR_OPENCL_WORK_GROUP");
+    CHECK(opencl::fit_group(100, 1000) == 64);
+    CHECK(opencl::fit_group(256, 200) == 128);
+}

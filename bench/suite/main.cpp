@@ -46,6 +46,7 @@ struct Options {
     int repeat = 3;
     std::vector<int> table2{128, 256, 512};  // 512^3 where memory allows (else "not measured")
     std::vector<int> scaling{128, 256, 384, 512};
+    int roofline = 256;  // the roofline's grid (a GPU needs more cells than launches to be measured)
     std::string data = SNVR_DATA_DIR, out = "snvr-bench-results";
     std::vector<int> quality_resolutions{128, 256, 512};
     std::vector<std::string> quality_cases;  // empty: all (--quick: bunny and sheets)
@@ -72,7 +73,7 @@ int usage(const char* why) {
     std::fprintf(stderr,
                  "snvr-bench: %s\nusage: snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality,points] [--devices D1,D2]\n"
                  "                  [--precisions double,float] [--repeat N] [--table2 128,256,512] [--scaling 128,256,384,512]\n"
-                 "                  [--data DIR] [--out DIR]\n"
+                 "                  [--roofline-resolution 256] [--data DIR] [--out DIR]\n"
                  "                  [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]\n"
                  "                  [--points-clouds noisy-sphere,torus,helicoid,bunny,...] [--points-max N (7000000)]\n"
                  "                  [--points-grids 256,512] [--points-scratch DIR ($TMPDIR/snvr-bench-points-PID)]\n",
@@ -135,7 +136,7 @@ Plan plan_cases(const Options& o) {
             plan.runs.push_back(run("scaling", "bunny", scan("bunny.ply"), n, q ? 2 : 6));
     if (o.sections.count("roofline")) {
         plan.roofline.push_back({"bunny", scan("bunny.ply")});
-        plan.roofline_resolution = q ? 96 : 256;
+        plan.roofline_resolution = q ? 96 : o.roofline;
     }
     return plan;
 }
@@ -244,6 +245,7 @@ int main(int argc, char** argv) {
         else if (opt == "--precisions") o.precisions = split(val);
         else if (opt == "--repeat") o.repeat = std::atoi(val.c_str());
         else if (opt == "--scaling") o.scaling = resolutions(val);
+        else if (opt == "--roofline-resolution") o.roofline = std::atoi(val.c_str());
         else if (opt == "--data") o.data = val;
         else if (opt == "--table2") o.table2 = resolutions(val);
         else if (opt == "--out") o.out = val;
@@ -283,6 +285,11 @@ int main(int argc, char** argv) {
         if (wanted) devices.push_back({r.text("device"), r.text("fp64") == "yes"});
     }
     if (devices.empty()) return usage("none of the --devices is available; see snvr-cl devices");
+    for (const std::string& d : o.devices) {  // each one asked for is measured, or named here
+        bool listed = false;
+        for (const auto& entry : devices) listed |= entry.first == d;
+        if (!listed) return usage(("no device '" + d + "' (IDs as snvr-cl devices lists them, e.g. opencl:0:0)").c_str());
+    }
 
     mkdir(o.out.c_str(), 0755);
     const Plan plan = plan_cases(o);

@@ -1,10 +1,14 @@
 #include "opencl/opencl_backend.hpp"
 
+#include <algorithm>
+#include <initializer_list>
+#include <tuple>
 #include <type_traits>
 #include <vector>
 
 #include "solver/brick_grid.hpp"
 #include "opencl/runtime.hpp"
+#include "opencl/work_groups.hpp"
 
 namespace snvr {
 
@@ -12,10 +16,12 @@ namespace {
 
 using opencl::guarded;
 
-// Work shapes (kernels/): row kernels run one work-group of 64 per brick, one work-item
-// per row; plane kernels one work-item per plane of a brick in groups of 64 (8 bricks,
-// common.cl's PLANES_PER_GROUP); cell kernels one work-item per cell in groups of 256.
-constexpr std::size_t kRows = 64, kPlanes = 8, kPlaneGroup = 64, kCellGroup = 256, kReduceGroup = 256;
+// Work shapes (kernels/common.cl): row kernels one work-item per row of a brick (64);
+// the brick kernels (sweep, residual, restriction, prolongation) in the variant
+// work_groups() chose: on CPUs one work-item per plane (8), the sweep one per brick, on
+// GPUs one per row; restrict_coefficient one per coarse cell; in groups of the sizes
+// work_groups() chose for the device.
+constexpr std::size_t kRows = 64, kPlanes = 8;
 
 // The five ints kernels take as LEVEL_PARAMS.
 struct Shape {
@@ -33,8 +39,11 @@ struct LevelBuffers {
 template <class Real>
 class OpenCLBackend final : public Backend<Real> {
 public:
-    explicit OpenCLBackend(const std::string& spec)
-        : rt_(opencl::choose_device(spec), std::is_same_v<Real, double> ? "double" : "float"),
+    explicit OpenCLBackend(const std::string& spec) : OpenCLBackend(opencl::choose_device(spec)) {}
+
+    explicit OpenCLBackend(const opencl::DeviceEntry& device)
+        : groups_(opencl::work_groups(device, sizeof(Real))),
+          rt_(device, std::is_same_v<Real, double> ? "double" : "float", groups_.build_options()),
           init_(rt_.kernel("init_phase")),
           restrict_coefficient_(rt_.kernel("restrict_coefficient")),
           smooth_(rt_.kernel("smooth")),
@@ -44,11 +53,35 @@ public:
           prolong_(rt_.kernel("prolong_correct")),
           nonlinear_(rt_.kernel("nonlinear")),
           copy_(rt_.kernel("copy_bricks")),
-          coarse_solve_(rt_.kernel("coarse_solve")) {}
+          coarse_solve_(rt_.kernel("coarse_solve")) {
+        // A kernel may allow less than the device (registers): the sizes not compiled in
+        // shrink to fit; the compiled ones must fit as they are.
+        const auto limit = [&](std::initializer_list<const cl::Kernel*> ks) {
+            std::size_t n = rt_.device().max_group;
+            for (const cl::Kernel* k : ks) n = std::min(n, rt_.kernel_group_limit(*k));
+            return n;
+        };
+        groups_.rows = opencl::fit_group(groups_.rows, limit({&init_, &nonlinear_, &copy_, &coarse_solve_}));
+        groups_.bricks = opencl::fit_group(groups_.bricks, limit({&smooth_}));
+        groups_.cells = opencl::fit_group(groups_.cells, limit({&restrict_coefficient_}));
+        const std::size_t brick_group = rows_variant() ? groups_.brick_rows : groups_.planes;
+        for (const auto& [k, name, size] : {std::tuple{&residual_norm_, "residual_norm", brick_group},
+                                            std::tuple{&restrict_residual_, "restrict_residual", brick_group},
+                                            std::tuple{&prolong_, "prolong_correct", brick_group},
+                                            std::tuple{&sum_partials_, "sum_partials", groups_.reduce}})
+            if (rt_.kernel_group_limit(*k) < size)
+                throw ResourceError(std::string("OpenCL device '") + rt_.device().name + "' runs kernel " + name +
+                                    " in work-groups of at most " + std::to_string(rt_.kernel_group_limit(*k)) +
+                                    " work-items, under the " + std::to_string(size) +
+                                    " it was built for; set SNVR_OPENCL_WORK_GROUP to a smaller power of two");
+    }
+
+    const opencl::WorkGroups& work_groups() const { return groups_; }
 
     std::string name() const override {
         const opencl::DeviceEntry& d = rt_.device();
-        return "opencl:" + std::to_string(d.platform) + ":" + std::to_string(d.index) + " (" + d.name + ", " + d.platform_name + ")";
+        return "opencl:" + std::to_string(d.platform) + ":" + std::to_string(d.index) + " (" + d.name + ", " + d.platform_name +
+               "; " + groups_.describe() + ")";
     }
 
     void setup(const BrickLayout& layout) override {
@@ -102,7 +135,8 @@ public:
             LevelBuffers& b = levels_[0];
             if (b.active > 0) {
                 rt_.queue().enqueueWriteBuffer(b.distance, CL_TRUE, 0, b.cells * sizeof(Real), d.data());
-                launch(init_, b.active * kRows, kRows, b.distance, b.phi, b.g, b.bricks, b.slot, shape(0), offset, s, cut);
+                launch_items(init_, b.active * kRows, groups_.rows, b.distance, b.phi, b.g, b.bricks, b.slot, shape(0), offset,
+                             s, cut);
                 rt_.queue().finish();
             }
             std::vector<Real>().swap(d);
@@ -113,8 +147,8 @@ public:
     void restrict_coefficient(int level) override {
         guarded("restrict_coefficient", [&] {
             const LevelBuffers &f = levels_[std::size_t(level)], &c = levels_[std::size_t(level) + 1];
-            launch(restrict_coefficient_, c.active * kBrickCells, kCellGroup, f.g, f.slot, shape(level), c.g, c.bricks, c.slot,
-                   shape(level + 1));
+            launch_items(restrict_coefficient_, c.active * kBrickCells, groups_.cells, f.g, f.slot, shape(level), c.g,
+                         c.bricks, c.slot, shape(level + 1));
         });
     }
 
@@ -122,14 +156,19 @@ public:
         guarded("load_rhs", [&] {
             const LevelBuffers& b = levels_[0];
             // A kernel over the active bricks: PoCL's clEnqueueCopyBuffer copied at half the rate.
-            launch(copy_, b.active * kRows, kRows, b.phi, b.rhs, b.bricks, b.slot);
+            launch_items(copy_, b.active * kRows, groups_.rows, b.phi, b.rhs, b.bricks, b.slot);
         });
     }
 
     void smooth(int level, int color, Real c, Real omega) override {
         guarded("smooth", [&] {
             const LevelBuffers& b = levels_[std::size_t(level)];
-            launch_planes(smooth_, b.active, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level), cl_int(color), c, omega);
+            if (rows_variant())
+                launch_items(smooth_, b.active * kRows, groups_.rows, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level),
+                             cl_int(color), c, omega);
+            else
+                launch_items(smooth_, b.active, groups_.bricks, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level),
+                             cl_int(color), c, omega);
         });
     }
 
@@ -137,8 +176,8 @@ public:
         return guarded("residual_sum_squares", [&] {
             const LevelBuffers& b = levels_[std::size_t(level)];
             if (b.active == 0) return 0.0;
-            launch_planes(residual_norm_, b.active, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level), c, partial_);
-            launch(sum_partials_, kReduceGroup, kReduceGroup, partial_, cl_uint(b.active), total_);
+            launch_bricks(residual_norm_, b.active, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level), c, partial_);
+            launch(sum_partials_, groups_.reduce, groups_.reduce, partial_, cl_uint(b.active), total_);
             if (rt_.double_accumulator()) return read_scalar<double>();
             return double(read_scalar<float>());
         });
@@ -148,7 +187,7 @@ public:
         guarded("restrict_residual", [&] {
             const LevelBuffers &f = levels_[std::size_t(level)], &cb = levels_[std::size_t(level) + 1];
             const Shape cs = shape(level + 1);
-            launch_planes(restrict_residual_, f.active, f.phi, f.rhs, f.g, f.bricks, f.slot, shape(level), c, cb.phi, cb.rhs,
+            launch_bricks(restrict_residual_, f.active, f.phi, f.rhs, f.g, f.bricks, f.slot, shape(level), c, cb.phi, cb.rhs,
                           cb.g, cb.slot, cs.bx, cs.by);
         });
     }
@@ -156,7 +195,7 @@ public:
     void prolong_correct(int level, bool trilinear) override {
         guarded("prolong_correct", [&] {
             const LevelBuffers &f = levels_[std::size_t(level)], &cb = levels_[std::size_t(level) + 1];
-            launch_planes(prolong_, f.active, f.phi, f.g, f.bricks, f.slot, shape(level), cb.phi, cb.slot, shape(level + 1),
+            launch_bricks(prolong_, f.active, f.phi, f.g, f.bricks, f.slot, shape(level), cb.phi, cb.slot, shape(level + 1),
                           cl_int(trilinear));
         });
     }
@@ -177,7 +216,7 @@ public:
     void coarse_solve(int level) override {
         guarded("coarse_solve", [&] {
             const LevelBuffers& b = levels_[std::size_t(level)];
-            launch(coarse_solve_, (coarse_n_ + kRows - 1) / kRows * kRows, kRows, coarse_matrix_, coarse_cells_,
+            launch(coarse_solve_, padded(coarse_n_, groups_.rows), groups_.rows, coarse_matrix_, coarse_cells_,
                    cl_uint(coarse_n_), b.rhs, b.phi);
         });
     }
@@ -185,8 +224,8 @@ public:
     void nonlinear(Real k, const Tube<Real>& tube) override {
         guarded("nonlinear", [&] {
             const LevelBuffers& b = levels_[0];
-            launch(nonlinear_, b.active * kRows, kRows, b.phi, b.g, b.distance, b.bricks, b.slot, k, tube.inner,
-                   tube.outer, tube.s);
+            launch_items(nonlinear_, b.active * kRows, groups_.rows, b.phi, b.g, b.distance, b.bricks, b.slot, k,
+                         tube.inner, tube.outer, tube.s);
         });
     }
 
@@ -285,13 +324,25 @@ private:
         rt_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(local));
     }
 
-    // A plane kernel over `active` bricks: its plane count first, then args; whole groups.
+    static std::size_t padded(std::size_t n, std::size_t group) { return (n + group - 1) / group * group; }
+
+    // A kernel of `items` work-items (its first argument) in groups of `group`, the last padded.
     template <class... Args>
-    void launch_planes(cl::Kernel& k, std::size_t active, const Args&... args) {
-        const std::size_t planes = active * kPlanes;
-        launch(k, (planes + kPlaneGroup - 1) / kPlaneGroup * kPlaneGroup, kPlaneGroup, cl_uint(planes), args...);
+    void launch_items(cl::Kernel& k, std::size_t items, std::size_t group, const Args&... args) {
+        launch(k, padded(items, group), group, cl_uint(items), args...);
     }
 
+    bool rows_variant() const { return groups_.shape == opencl::KernelShape::Rows; }
+
+    // A brick kernel over `active` bricks, in the device's variant: a work-item per plane
+    // or per row.
+    template <class... Args>
+    void launch_bricks(cl::Kernel& k, std::size_t active, const Args&... args) {
+        if (rows_variant()) launch_items(k, active * kRows, groups_.brick_rows, args...);
+        else launch_items(k, active * kPlanes, groups_.planes, args...);
+    }
+
+    opencl::WorkGroups groups_;
     opencl::Runtime rt_;
     cl::Kernel init_, restrict_coefficient_, smooth_, residual_norm_, sum_partials_, restrict_residual_, prolong_, nonlinear_, copy_,
         coarse_solve_;

@@ -101,6 +101,9 @@ std::vector<DeviceEntry> devices() {
                 e.memory = std::size_t(devs[d].getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>());
                 e.max_alloc = std::size_t(devs[d].getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>());
                 e.max_group = devs[d].getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+                const std::vector<std::size_t> items = devs[d].getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
+                if (!items.empty()) e.max_group = std::min(e.max_group, items[0]);
+                e.local_memory = std::size_t(devs[d].getInfo<CL_DEVICE_LOCAL_MEM_SIZE>());
                 e.compute_units = int(devs[d].getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
             });
             // Strings from drivers often end in NULs or blanks.
@@ -185,13 +188,12 @@ BuiltProgram build_program(const DeviceEntry& device, const std::string& options
 
 std::size_t program_builds() { return program_cache().builds; }
 
-Runtime::Runtime(DeviceEntry device, const std::string& real_type) : device_(std::move(device)) {
+Runtime::Runtime(DeviceEntry device, const std::string& real_type, const std::string& extra)
+    : device_(std::move(device)) {
     if (real_type == "double" && !device_.fp64)
         throw ParameterError("OpenCL device '" + device_.name + "' has no double precision (fp64); use --precision float");
-    if (device_.max_group < 256)
-        throw ResourceError("OpenCL device '" + device_.name + "' allows work-groups of " + std::to_string(device_.max_group) +
-                            " work-items; the kernels need 256");
     std::string options = "-cl-std=CL1.2 -DREAL=" + real_type + (real_type == "double" ? " -DSNVR_DOUBLE" : "") + (device_.fp64 ? " -DSNVR_FP64 -DACC=double" : " -DACC=float");
+    if (!extra.empty()) options += " " + extra;
     // Float division and sqrt are correctly rounded in C++; ask the same of the device.
     const cl_device_fp_config single = guarded("device query", [&] { return device_.device.getInfo<CL_DEVICE_SINGLE_FP_CONFIG>(); });
     if (single & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) options += " -cl-fp32-correctly-rounded-divide-sqrt";
@@ -214,6 +216,10 @@ Runtime::Runtime(DeviceEntry device, const std::string& real_type) : device_(std
 
 cl::Kernel Runtime::kernel(const char* name) const {
     return guarded("kernel", [&] { return cl::Kernel(program_, name); });
+}
+
+std::size_t Runtime::kernel_group_limit(const cl::Kernel& kernel) const {
+    return guarded("kernel query", [&] { return kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device_.device); });
 }
 
 cl::Buffer Runtime::buffer(std::size_t bytes, const char* what) {

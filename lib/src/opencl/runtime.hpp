@@ -35,7 +35,9 @@ struct DeviceEntry {
     std::string platform_name, name, vendor, version;
     cl::Device device;
     bool gpu = false, fp64 = false;
-    std::size_t memory = 0, max_alloc = 0, max_group = 0;
+    std::size_t memory = 0, max_alloc = 0;
+    std::size_t max_group = 0;     // the largest work-group along the first dimension
+    std::size_t local_memory = 0;  // bytes of local memory a work-group may use
     int compute_units = 0;
 };
 
@@ -60,14 +62,18 @@ std::size_t program_builds();
 // process and shared by every Runtime after (building costs 0.2-0.5 s under PoCL).
 class Runtime {
 public:
-    // real_type: "double" or "float". Throws ResourceError with the build log on failure,
-    // ParameterError when double is asked of a device without fp64.
-    Runtime(DeviceEntry device, const std::string& real_type);
+    // real_type: "double" or "float"; options: more build options (the work-group sizes).
+    // Throws ResourceError with the build log on failure, ParameterError when double is
+    // asked of a device without fp64.
+    Runtime(DeviceEntry device, const std::string& real_type, const std::string& options = "");
 
     const DeviceEntry& device() const { return device_; }
     cl::Context& context() { return context_; }
     cl::CommandQueue& queue() { return queue_; }
     cl::Kernel kernel(const char* name) const;
+    // The largest work-group this device runs `kernel` in (its registers may allow less
+    // than the device's limit).
+    std::size_t kernel_group_limit(const cl::Kernel& kernel) const;
     bool double_accumulator() const { return device_.fp64; }
 
     // A device buffer of `bytes`, checked against the device's allocation limit first.
