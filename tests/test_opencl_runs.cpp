@@ -2,6 +2,7 @@
 // the half sphere (open input) and a real scan, in double and in float.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -29,7 +30,22 @@ std::vector<Case> cases() {
             {"bunny", read_points(std::string(SNVR_DATA_DIR) + "/bunny.ply"), 128, 4}};
 }
 
+// Whether the device the runs use has double precision (SNVR_OPENCL_NO_FP64=1 hides it:
+// tests/CMakeLists.txt runs this suite so too).
+bool device_fp64() { return opencl::choose_device("opencl").fp64; }
+
 void compare_runs(Precision precision) {
+    const bool fp64 = device_fp64();
+    if (precision == Precision::Double && !fp64) {
+        // Refused, naming the device and the remedy.
+        Parameters p;
+        p.resolution = 32;
+        p.precision = precision;
+        p.device = "opencl";
+        CHECK_THROWS_WITH_AS(reconstruct(shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.02), p),
+                             doctest::Contains("no double precision (fp64); use --precision float"), ParameterError);
+        return;
+    }
     for (const Case& c : cases()) {
         Parameters p;
         p.resolution = c.resolution;
@@ -60,8 +76,11 @@ void compare_runs(Precision precision) {
                     mr.triangles, md.triangles, mr.components, md.components);
         CHECK(diff == 0);
         CHECK(cycles_ref == cycles_dev);
+        // Without fp64 the device sums the residual norm in float: the norm (which only
+        // decides when to stop cycling) differs in its last digits, the field not at all.
         for (std::size_t s = 0; s < ref.steps.size() && s < dev.steps.size(); ++s)
-            CHECK(ref.steps[s].residual == dev.steps[s].residual);
+            if (fp64) CHECK(ref.steps[s].residual == dev.steps[s].residual);
+            else CHECK(std::abs(ref.steps[s].residual - dev.steps[s].residual) <= 1e-5 * ref.steps[s].residual);
         // The same mesh, and printable.
         CHECK(ref_mesh.triangles == dev_mesh.triangles);
         CHECK(ref_mesh.vertices == dev_mesh.vertices);
@@ -80,6 +99,7 @@ TEST_CASE("whole runs on OpenCL give the reference's bits: float") { compare_run
 
 TEST_CASE("the OpenCL program is built once per device and precision in a process") {
     for (bool single : {false, true}) {
+        if (!single && !device_fp64()) continue;
         warmup("opencl", single);
         const std::size_t builds = opencl::program_builds();
         Parameters p;

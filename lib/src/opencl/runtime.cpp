@@ -97,7 +97,9 @@ std::vector<DeviceEntry> devices() {
                 e.vendor = devs[d].getInfo<CL_DEVICE_VENDOR>();
                 e.version = devs[d].getInfo<CL_DEVICE_VERSION>();
                 e.gpu = (devs[d].getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) != 0;
-                e.fp64 = devs[d].getInfo<CL_DEVICE_DOUBLE_FP_CONFIG>() != 0;
+                // SNVR_OPENCL_NO_FP64=1: every device as one without double precision (tests).
+                const char* no_fp64 = std::getenv("SNVR_OPENCL_NO_FP64");
+                e.fp64 = devs[d].getInfo<CL_DEVICE_DOUBLE_FP_CONFIG>() != 0 && !(no_fp64 && std::string(no_fp64) == "1");
                 e.memory = std::size_t(devs[d].getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>());
                 e.max_alloc = std::size_t(devs[d].getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>());
                 e.max_group = devs[d].getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
