@@ -1,3 +1,6 @@
+// The backends behind the solver's interface (solver/backend.hpp): make_backend picks one for
+// --device, list_devices (snvr/devices.hpp) says what this machine can run. Above the
+// solver and both backends, which know nothing of each other.
 #include <omp.h>
 
 #include "solver/backend.hpp"
