@@ -76,8 +76,6 @@ public:
                                     " it was built for; set SNVR_OPENCL_WORK_GROUP to a smaller power of two");
     }
 
-    const opencl::WorkGroups& work_groups() const { return groups_; }
-
     std::string name() const override {
         const opencl::DeviceEntry& d = rt_.device();
         return "opencl:" + std::to_string(d.platform) + ":" + std::to_string(d.index) + " (" + d.name + ", " + d.platform_name +
@@ -163,12 +161,10 @@ public:
     void smooth(int level, int color, Real c, Real omega) override {
         guarded("smooth", [&] {
             const LevelBuffers& b = levels_[std::size_t(level)];
-            if (rows_variant())
-                launch_items(smooth_, b.active * kRows, groups_.rows, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level),
-                             cl_int(color), c, omega);
-            else
-                launch_items(smooth_, b.active, groups_.bricks, b.phi, b.rhs, b.g, b.bricks, b.slot, shape(level),
-                             cl_int(color), c, omega);
+            // A work-item per row on GPUs, per brick on CPUs (kernels/smooth.cl).
+            const std::size_t items = rows_variant() ? b.active * kRows : b.active;
+            launch_items(smooth_, items, rows_variant() ? groups_.rows : groups_.bricks, b.phi, b.rhs, b.g, b.bricks, b.slot,
+                         shape(level), cl_int(color), c, omega);
         });
     }
 

@@ -61,6 +61,19 @@ std::size_t fit_group(std::size_t wanted, std::size_t limit) {
     return n;
 }
 
+namespace {
+
+// fit_group, then halved while the group's local memory (`bytes(n)`) exceeds the
+// device's; below `least` when no group of `least` fits.
+template <class Bytes>
+std::size_t fit_local(std::size_t wanted, std::size_t least, const DeviceEntry& device, const Bytes& bytes) {
+    std::size_t n = fit_group(std::max(wanted, least), device.max_group);
+    while (n >= least && bytes(n) > device.local_memory) n /= 2;
+    return n;
+}
+
+}  // namespace
+
 WorkGroups work_groups(const DeviceEntry& device, std::size_t real_bytes) {
     WorkGroups w;
     const std::size_t asked = asked_size();
@@ -70,8 +83,8 @@ WorkGroups work_groups(const DeviceEntry& device, std::size_t real_bytes) {
     w.bricks = fit_group(w.bricks, most);
     w.cells = fit_group(w.cells, most);
     w.reduce = fit_group(std::min<std::size_t>(w.reduce, 256), most);
-    std::size_t planes = fit_group(w.planes, most);
-    while (planes >= 8 && plane_group_local_bytes(planes, real_bytes) > device.local_memory) planes /= 2;
+    const std::size_t planes =
+        fit_local(w.planes, 8, device, [&](std::size_t n) { return plane_group_local_bytes(n, real_bytes); });
     if (planes < 8)
         throw ResourceError("OpenCL device '" + device.name + "' allows work-groups of " + std::to_string(most) +
                             " work-items and " + std::to_string(device.local_memory) +
@@ -79,10 +92,10 @@ WorkGroups work_groups(const DeviceEntry& device, std::size_t real_bytes) {
                             std::to_string(plane_group_local_bytes(8, real_bytes)) + " bytes");
     w.planes = planes;
     w.shape = asked_shape(device);
-    std::size_t rows = fit_group(std::max<std::size_t>(asked ? asked : w.brick_rows, 64), most);
-    while (rows >= 64 && row_group_local_bytes(rows, real_bytes) > device.local_memory) rows /= 2;
-    if (rows < 64) rows = 64, w.shape = KernelShape::Planes;  // not even one brick's rows: planes
-    w.brick_rows = rows;
+    const std::size_t rows = fit_local(asked ? asked : w.brick_rows, 64, device,
+                                       [&](std::size_t n) { return row_group_local_bytes(n, real_bytes); });
+    if (rows < 64) w.shape = KernelShape::Planes;  // not even one brick's rows: planes
+    w.brick_rows = std::max<std::size_t>(rows, 64);
     return w;
 }
 

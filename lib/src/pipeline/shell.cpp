@@ -23,12 +23,17 @@ std::string format(const char* pattern, double a, double b = 0, double c = 0) {
     return text;
 }
 
+// The file name written_as stands for: a bare extension names a file of that format.
+std::string written_file(const std::string& written_as) {
+    return !written_as.empty() && written_as[0] == '.' ? "shell" + written_as : written_as;
+}
+
 // Survey scans arrive far from the origin and slicers ignore absolute placement: a print
 // format (STL, 3MF) is centred where its float32 would otherwise move the shell (the
 // run's voxel taken at its smallest, the points' box over the resolution; the shell
 // reaches an offset beyond the points). PLY is not a print format and is kept.
 bool print_format_needs_centring(const std::string& written_as, const PointCloud& points, const Parameters& params) {
-    const std::string as = written_as.empty() || written_as[0] != '.' ? written_as : "shell" + written_as;
+    const std::string as = written_file(written_as);
     const std::string ext = detail::lower_extension(as);
     if ((ext != ".stl" && ext != ".3mf") || points.empty()) return false;
     const std::array<Vec3, 2> box = points.box();
@@ -109,8 +114,7 @@ Shell make_shell(PointCloud points, const ShellSettings& settings, const ShellPr
                     format("offset %.6g, voxel %.6g); try a larger --offset or a finer --resolution", run.offset,
                            run.domain.h));
     if (!settings.written_as.empty()) {
-        // A bare extension names a file of that format.
-        const std::string as = settings.written_as[0] == '.' ? "shell" + settings.written_as : settings.written_as;
+        const std::string as = written_file(settings.written_as);
         require_written_precision(shell.mesh, as, run.domain.h);
         // As the file holds it, for the check too: writing it again changes nothing.
         shell.mesh = as_written(std::move(shell.mesh), as);
