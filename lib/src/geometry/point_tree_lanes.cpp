@@ -39,10 +39,14 @@ struct Lanes {
 };
 
 // (Inlined into each clone of walk: out of line they would be built without AVX.)
+// By halves folded with OR (three shuffles), not lane by lane: GCC takes a loop over the
+// lanes one extraction at a time, and `any` runs once for each point the walk files.
+typedef std::int32_t I4 __attribute__((vector_size(16)));
 [[gnu::always_inline]] inline bool any(const I8& m) {
-    std::int32_t o = 0;
-    for (int i = 0; i < kLanes; ++i) o |= m[i];
-    return o != 0;
+    I4 o = __builtin_shufflevector(m, m, 0, 1, 2, 3) | __builtin_shufflevector(m, m, 4, 5, 6, 7);
+    o |= __builtin_shufflevector(o, o, 2, 3, 0, 1);
+    o |= __builtin_shufflevector(o, o, 1, 0, 3, 2);
+    return o[0] != 0;
 }
 [[gnu::always_inline]] inline float least_of(const F8& v) {
     float m = v[0];
@@ -76,11 +80,22 @@ template <class Settle>
 [[gnu::always_inline]] inline void file_points(const PointTree& tree, Lanes& s, std::uint32_t begin,
                                                std::uint32_t end, const Settle& settle) {
     const F8 limit = s.least + s.err2;
-    for (std::uint32_t k = begin; k < end; ++k)
-        if (any(point_dist_sq(s, tree.xyz[k]) <= limit)) {
-            if (s.count == kFiled) settle(s);
-            s.filed[s.count++] = k;
-        }
+    const auto file = [&](std::uint32_t k) {
+        if (s.count == kFiled) settle(s);
+        s.filed[s.count++] = k;
+    };
+    std::uint32_t k = begin;
+    // Four points' masks at once: few points are filed, so most quadruples need one test.
+    for (; k + 4 <= end; k += 4) {
+        const I8 m0 = point_dist_sq(s, tree.xyz[k]) <= limit, m1 = point_dist_sq(s, tree.xyz[k + 1]) <= limit;
+        const I8 m2 = point_dist_sq(s, tree.xyz[k + 2]) <= limit, m3 = point_dist_sq(s, tree.xyz[k + 3]) <= limit;
+        if (!any((m0 | m1) | (m2 | m3))) continue;
+        const I8 m[4] = {m0, m1, m2, m3};
+        for (std::uint32_t j = 0; j < 4; ++j)
+            if (any(m[j])) file(k + j);
+    }
+    for (; k < end; ++k)
+        if (any(point_dist_sq(s, tree.xyz[k]) <= limit)) file(k);
 }
 
 template <class Settle>
