@@ -66,6 +66,61 @@ double brute_nearest_sq(const PointTree& t, const Vec3& q, double bound) {
 
 }  // namespace
 
+TEST_CASE("PointTree: the nodes split their points in order and hold them in their boxes, threaded build included") {
+    // Past 2^16 points the tree's lower levels are built by tasks and copied into place.
+    PointSet dense = shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.0015);
+    std::mt19937 rng(11);
+    std::normal_distribution<double> gauss(0.0, 1e-3);
+    for (Vec3& p : dense)
+        for (double& x : p) x += gauss(rng);
+    REQUIRE(dense.size() > (std::size_t(1) << 17));
+    for (const PointSet& points : {dense, awkward_clouds()[2].points}) {
+        const PointCloud cloud(points);
+        const PointTree& t = cloud.tree();
+        REQUIRE(t.size() == points.size());
+        std::vector<std::uint8_t> seen(points.size(), 0);
+        std::size_t bad = 0, leaves = 0;
+        std::vector<std::uint32_t> reached(t.nodes.size(), 0);
+        reached[0] = 1;
+        for (std::size_t i = 0; i < t.nodes.size(); ++i) {
+            const PointTree::Node& n = t.nodes[i];
+            bad += reached[i] != 1 || n.begin >= n.end;
+            for (std::uint32_t k = n.begin; k < n.end; ++k)
+                for (int a = 0; a < 3; ++a) bad += t.xyz[k][a] < n.lo[a] || t.xyz[k][a] > n.hi[a];
+            if (n.leaf()) {
+                ++leaves;
+                // More points only when they share one finest cell (2^-21 of the box).
+                const PointTree::Node& root = t.nodes[0];
+                float span = 0, cell = 0;
+                for (int a = 0; a < 3; ++a) {
+                    span = std::max(span, n.hi[a] - n.lo[a]);
+                    cell = std::max(cell, (root.hi[a] - root.lo[a]) * 0x1p-20f);
+                }
+                bad += n.count() > PointTree::kLeafSize && span > cell;
+                for (std::uint32_t k = n.begin; k < n.end; ++k) bad += seen[t.input[k]]++ != 0;
+                continue;
+            }
+            // Children after their parent, side by side, splitting its range in order.
+            std::uint32_t at = n.begin;
+            for (std::uint32_t c = 0; c < n.children; ++c) {
+                const PointTree::Node& kid = t.nodes[n.child + c];
+                bad += n.child + c <= i || kid.begin != at;
+                at = kid.end;
+                ++reached[n.child + c];
+            }
+            bad += at != n.end;
+        }
+        CHECK(bad == 0);
+        CHECK(std::count(seen.begin(), seen.end(), 1) == std::ptrdiff_t(points.size()));
+        CHECK(leaves > 0);
+        // Each point where the input had it, in float about the origin.
+        std::size_t moved = 0;
+        for (std::size_t k = 0; k < t.size(); ++k)
+            for (int a = 0; a < 3; ++a) moved += std::abs(t.point(k)[a] - points[t.input[k]][a]) > 1e-6;
+        CHECK(moved == 0);
+    }
+}
+
 TEST_CASE("nearest_lanes: eight queries at once give nearest()'s distances, and brute force's") {
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> unit(0, 1);

@@ -5,10 +5,12 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include "cli_run.hpp"
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
+#include "snvr/point_cleaning.hpp"
 #include "snvr/shapes.hpp"
 #include "snvr/shell.hpp"
 
@@ -65,6 +67,37 @@ TEST_CASE("make_shell writes what snvr-cl writes, byte for byte, and reports wha
     CHECK(every.outliers.points.empty());
     CHECK(every.points == points.size());
     CHECK(every.run.phi.stored_bricks() > 0);
+}
+
+TEST_CASE("make_shell: the clusters it reports are the kept points' own count, taken over from the outlier rules") {
+    using snvr::shapes::sphere;
+    // One piece; two pieces far apart; a sphere with 5% random outliers; a blob beside a
+    // sphere. Each with the outlier rules (the count taken over) and without.
+    snvr::PointSet two = sphere({0.3, 0.5, 0.5}, 0.15, 0.02);
+    for (const snvr::Vec3& p : sphere({0.8, 0.5, 0.5}, 0.12, 0.02)) two.push_back(p);
+    snvr::PointSet blob = sphere({0.5, 0.5, 0.5}, 0.3, 0.03);
+    for (const snvr::Vec3& p : sphere({0.95, 0.5, 0.5}, 0.04, 0.01)) blob.push_back(p);
+    const snvr::PointSet clouds[] = {sphere({0.5, 0.5, 0.5}, 0.3, 0.03), two,
+                                     snvr::shapes::with_outliers(snvr::shapes::noisy_sphere({0.5, 0.5, 0.5}, 0.3, 0.02, 0.002), 0.05),
+                                     blob};
+    std::size_t taken_over = 0;
+    for (const snvr::PointSet& points : clouds) {
+        for (bool drop : {true, false}) {
+            snvr::ShellSettings s = small();
+            s.params.resolution = 64;  // a link short of the gaps between the pieces
+            s.drop_outliers = drop;
+            const snvr::Shell shell = snvr::make_shell(points, s);
+            std::vector<std::uint8_t> dropped(points.size(), 0);
+            for (std::size_t i : shell.outliers.input_indices) dropped[i] = 1;
+            snvr::PointSet kept;
+            for (std::size_t i = 0; i < points.size(); ++i)
+                if (!dropped[i]) kept.push_back(points[i]);
+            CHECK(shell.clusters == snvr::count_point_clusters(snvr::PointCloud(kept), 2 * shell.run.offset));
+            taken_over += shell.outliers.clusters != 0;
+            if (!drop) CHECK(shell.outliers.clusters == 0);
+        }
+    }
+    CHECK(taken_over == 4);
 }
 
 TEST_CASE("make_shell: centred on request, refusals named, and a callback that cancels") {

@@ -48,6 +48,9 @@ struct DroppedOutliers {
     PointSet points;  // the outliers, world units, in input order
     std::vector<std::size_t> input_indices;  // each one's place in the input (0-based), ascending
     double link = 0;  // as OutlierSplit's
+    // The kept points' clusters at `link` (count_point_clusters), found on the way; 0 when
+    // the rules did not end on a count of the points as kept.
+    std::size_t clusters = 0;
 };
 // Points on a mesh's triangles at most `spacing` apart: every vertex, each edge once
 // (in equal parts), and each triangle's inside on the barycentric grid of its longest

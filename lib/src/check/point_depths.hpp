@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "geometry/point_tree.hpp"
+#include "large_array.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "snvr/geometry.hpp"
 
@@ -93,7 +94,7 @@ private:
     std::vector<Group> groups_;
     // Triangle t's frame, as the lanes take it, made on first use (by one thread).
     const TriangleFrame& frame(std::uint32_t t) const;
-    mutable std::unique_ptr<TriangleFrame[]> frames_;
+    mutable LargeArray<TriangleFrame> frames_;
     mutable std::unique_ptr<std::atomic<std::uint8_t>[]> frame_state_;
     Vec3 lo_{0, 0, 0}, hi_{0, 0, 0};  // the mesh's box, for the rays' directions
 };

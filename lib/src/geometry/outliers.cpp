@@ -75,12 +75,15 @@ bool take(PointCloud& cloud, const std::vector<std::uint8_t>& flagged, std::vect
     return any;
 }
 
-// Both rules on the cloud, in place; the outliers by input index.
+// Both rules on the cloud, in place; the outliers by input index, and the kept points'
+// clusters at `link` when the last round counted them (else 0).
 std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, const Parameters& params,
-                                                          const OutlierSettings& s, double& link) {
+                                                          const OutlierSettings& s, double& link,
+                                                          std::size_t& clusters) {
     s.validate();
     std::vector<std::pair<std::size_t, Vec3>> out;
     link = 0;
+    clusters = 0;
     const std::size_t total = cloud.size();
     if (total < 2) return out;
     const std::vector<std::uint8_t> sparse = sparse_points(cloud.tree(), s);
@@ -107,11 +110,16 @@ std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, con
         std::vector<std::uint32_t> members(root.size(), 0);
         for (std::uint32_t r : root) ++members[r];
         std::vector<std::uint8_t> small(root.size());
+        std::size_t roots = 0;
         for (std::size_t k = 0; k < root.size(); ++k) {
             const std::uint32_t m = members[root[k]];
             small[k] = m < s.min_cluster && double(m) < 0.01 * double(total);
+            roots += root[k] == k;
         }
-        if (!take(cloud, small, out)) break;
+        if (!take(cloud, small, out)) {
+            clusters = roots;  // nothing dropped: these are the kept points' clusters
+            break;
+        }
     }
     std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     return out;
@@ -126,7 +134,7 @@ void OutlierSettings::validate() const {
 
 DroppedOutliers drop_outliers(PointCloud& points, const Parameters& params, const OutlierSettings& s) {
     DroppedOutliers d;
-    for (const auto& o : remove_outliers(points, params, s, d.link)) {
+    for (const auto& o : remove_outliers(points, params, s, d.link, d.clusters)) {
         d.points.push_back(o.second);
         d.input_indices.push_back(o.first);
     }
@@ -138,7 +146,8 @@ OutlierSplit split_outliers(const PointSet& points, const Parameters& params, co
     OutlierSplit split;
     PointCloud cloud(points);
     std::vector<std::uint8_t> out(points.size(), 0);
-    for (const auto& o : remove_outliers(cloud, params, s, split.link)) out[o.first] = 1;
+    std::size_t clusters = 0;
+    for (const auto& o : remove_outliers(cloud, params, s, split.link, clusters)) out[o.first] = 1;
     // The caller's own coordinates, not the cloud's floats.
     for (std::size_t i = 0; i < points.size(); ++i) (out[i] ? split.outliers : split.kept).push_back(points[i]);
     return split;

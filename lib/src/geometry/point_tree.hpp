@@ -128,7 +128,7 @@ private:
         double scale;
         std::uint64_t key(const Vec3f& p) const;
     };
-    void build_nodes(const std::vector<std::uint64_t>& keys);
+    void build_nodes(const std::uint64_t* keys);  // n sorted keys
 
     Frame frame_{{0, 0, 0}, 1};
 };
