@@ -144,6 +144,16 @@ struct LaneTriangles {
 typedef float F8 __attribute__((vector_size(32)));
 typedef std::int32_t I8 __attribute__((vector_size(32)));
 
+// A packet's fields in lanes, as lane_offset's get() takes them.
+struct PacketFields {
+    const float* fields;
+    __attribute__((always_inline)) F8 operator()(int field) const {
+        F8 v;
+        std::memcpy(&v, fields + 8 * field, sizeof v);
+        return v;
+    }
+};
+
 // The offset from a triangle's nearest point to (x, y, z), in the triangle's frame (du
 // along u, dv along v, dn along n), in float, branch-free (selects, and `&` rather than
 // `&&`), for one triangle (T = float) or eight (T = F8): in its plane, none where the
@@ -225,12 +235,7 @@ __attribute__((target_clones("avx2", "default"))) std::size_t tangents_over_tria
     F8 least = F8{} + std::numeric_limits<float>::infinity();
     I8 first = I8{};  // the packet of each lane's least, the first where they tie
     for (std::size_t p = 0; p < t.packets(); ++p) {
-        const float* fields = t.packet(p);
-        const auto get = [&](int field) {
-            F8 v;
-            std::memcpy(&v, fields + 8 * field, sizeof v);
-            return v;
-        };
+        const PacketFields get{t.packet(p)};
         F8 du, dv, dn;
         lane_offset(px, py, pz, get, du, dv, dn);
         const F8 d2 = du * du + dv * dv + dn * dn;
@@ -321,12 +326,7 @@ __attribute__((target_clones("avx2", "default"))) Least nearest_over_triangles(c
             for (int l = 1; l < 8; ++l) least_low = std::min(least_low, low[l]);
             if (least_low >= best + margin) continue;
         }
-        const float* fields = t.packet(p);
-        const auto get = [&](int field) {
-            F8 v;
-            std::memcpy(&v, fields + 8 * field, sizeof v);
-            return v;
-        };
+        const PacketFields get{t.packet(p)};
         const F8 d = lane_dist_sq(px, py, pz, get);
         I8 id;
         std::memcpy(&id, t.id.data() + 8 * p, sizeof id);
@@ -365,12 +365,7 @@ __attribute__((target_clones("avx2", "default"))) float least_over_triangles(con
     const F8 px = F8{} + x, py = F8{} + y, pz = F8{} + z;
     F8 least = F8{} + std::numeric_limits<float>::infinity();
     for (std::size_t p = 0; p < t.packets(); ++p) {
-        const float* fields = t.packet(p);
-        const auto get = [&](int field) {
-            F8 v;
-            std::memcpy(&v, fields + 8 * field, sizeof v);
-            return v;
-        };
+        const PacketFields get{t.packet(p)};
         const F8 d = lane_dist_sq(px, py, pz, get);
         least = d < least ? d : least;
     }
