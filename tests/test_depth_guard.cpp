@@ -404,6 +404,23 @@ TEST_CASE("the depth guard moves the vertices exactly as it did before it search
     MESSAGE(repaired << " of 12 balls needed repairs");
     CHECK(repaired > 0);
 
+    // Far from the origin, as survey scans arrive: the points' float coordinates about
+    // their own origin and the cells' double ones must still agree on every pair.
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<double> u(-1, 1);
+        const double h = 0.1, r0 = 0.25;
+        const Vec3 c{512345.678 + 0.013 * seed, 4012345.25, 101.5};
+        const Mesh m = coarse_sphere(c, r0, h);
+        PointSet points;
+        while (points.size() < 200) {
+            const Vec3 p{c[0] + r0 * u(rng), c[1] + r0 * u(rng), c[2] + r0 * u(rng)};
+            if (dist(p, c) < r0 - 0.04) points.push_back(p);
+        }
+        const DepthGuardReport r = check_against_reference(m, points, 0.12, h);
+        CHECK(r.near_vertices > 0);
+    }
+
     // A real shell: a LiDAR-like scan reconstructed with a thin wall, at 64 cells, and its
     // points with a `lone` distance below their spacing.
     Parameters p;

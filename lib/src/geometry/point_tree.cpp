@@ -198,7 +198,7 @@ PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> 
 void PointTree::refile() {
     nodes.clear();
     if (xyz.empty()) return;
-    std::vector<std::uint64_t> keys(xyz.size());
+    UnsetVector<std::uint64_t> keys(xyz.size());
     const std::ptrdiff_t n = std::ptrdiff_t(xyz.size());
 #pragma omp parallel for schedule(static) if (n > kParallelCheapItems)
     for (std::ptrdiff_t i = 0; i < n; ++i) keys[i] = frame_.key(xyz[i]);

@@ -11,6 +11,7 @@
 #include <limits>
 #include <vector>
 
+#include "large_array.hpp"
 #include "snvr/point_cloud.hpp"
 
 namespace snvr::detail {
@@ -40,8 +41,8 @@ public:
     PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> input, const Vec3& origin);
 
     Vec3 origin{0, 0, 0};
-    std::vector<Vec3f> xyz;           // by tree order
-    std::vector<std::uint32_t> input; // input index of each
+    UnsetVector<Vec3f> xyz;            // by tree order
+    UnsetVector<std::uint32_t> input;  // input index of each
     std::vector<Node> nodes;          // nodes[0] is the root (none when there are no points)
 
     std::size_t size() const { return xyz.size(); }

@@ -206,6 +206,70 @@ struct Bound {
     }
 };
 
+// A cell's Bound::may_reach widened into the point tree's own float coordinates (about
+// its origin): what it rejects, may_reach rejects too, so a point's exact test runs only
+// when this lets it through. Bounds are rounded outwards, and the room covers the float
+// projection's rounding (a few 2^-24 of the coordinates) and the double one's many times.
+struct FloatReach {
+    float lo[3], hi[3], n[3], n_lo, n_hi;
+    bool slab;
+    bool may_reach(const Vec3f& q) const {
+        for (int d = 0; d < 3; ++d)
+            if (!(q[d] >= lo[d] && q[d] <= hi[d])) return false;
+        if (!slab) return true;
+        const float s = n[0] * q[0] + n[1] * q[1] + n[2] * q[2];
+        return s >= n_lo && s <= n_hi;
+    }
+};
+
+class FloatFrame {
+public:
+    FloatFrame(const detail::PointTree& tree, double r, double slab_extent) : origin_(tree.origin) {
+        double m = 0;  // the largest coordinate of a point about the origin
+        if (!tree.nodes.empty())
+            for (int d = 0; d < 3; ++d)
+                m = std::max({m, std::fabs(double(tree.nodes[0].lo[d])), std::fabs(double(tree.nodes[0].hi[d]))});
+        const double far = largest_coordinate(origin_);
+        room_ = 1e-5 * (m + r + slab_extent) + 1e-9 * far;
+        box_r_ = r * (1 + 1e-6) + room_;
+        slab_r_ = r * (1 + 1e-6) + 1e-6 * slab_extent + room_;
+    }
+    FloatReach reach(const Bound& cb) const {
+        FloatReach f{};
+        for (int d = 0; d < 3; ++d) {
+            f.lo[d] = down(cb.lo[d] - origin_[d] - box_r_);
+            f.hi[d] = up(cb.hi[d] - origin_[d] + box_r_);
+            f.n[d] = float(cb.n[d]);
+        }
+        f.slab = !(cb.n[0] == 0 && cb.n[1] == 0 && cb.n[2] == 0);
+        if (f.slab) {
+            const double at = dot(cb.n, origin_);
+            f.n_lo = down(cb.n_lo - at - slab_r_);
+            f.n_hi = up(cb.n_hi - at + slab_r_);
+        }
+        // A cell beyond the floats' range lets everything through.
+        if (!(std::isfinite(f.lo[0]) && std::isfinite(f.lo[1]) && std::isfinite(f.lo[2]) && std::isfinite(f.hi[0]) &&
+              std::isfinite(f.hi[1]) && std::isfinite(f.hi[2]) && (!f.slab || (std::isfinite(f.n_lo) && std::isfinite(f.n_hi))))) {
+            for (int d = 0; d < 3; ++d) f.lo[d] = -std::numeric_limits<float>::infinity(), f.hi[d] = -f.lo[d];
+            f.slab = false;
+        }
+        return f;
+    }
+
+private:
+    static float down(double v) {
+        const float f = float(v);
+        return double(f) > v ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+    }
+    static float up(double v) {
+        const float f = float(v);
+        return double(f) < v ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+    }
+
+    Vec3 origin_;
+    double room_ = 0, box_r_ = 0, slab_r_ = 0;
+};
+
 bool inside(const Vec3& q, const Vec3& a, const Vec3& b) {
     return q[0] >= a[0] && q[0] <= b[0] && q[1] >= a[1] && q[1] <= b[1] && q[2] >= a[2] && q[2] <= b[2];
 }
@@ -515,53 +579,87 @@ public:
 
     // The same pairs as near(x, q, r, f) for every point q of `tree`, found from the cells:
     // calls f(k, t, box) for each point k and triangle t that near(x, point k, r) would
-    // hand over, from the team's threads. Whole nodes of the tree are passed by when their
-    // box is beyond a cell's bound: the cost follows the points near the mesh.
+    // hand over, from the team's threads. A pair is handed over when the point passes
+    // its cell's exact test (Bound::may_reach) and the triangle's box test; a node of the
+    // tree is passed by when its box is beyond a cell's bound, and a point when its float
+    // coordinates are (FloatReach): the cost follows the points near the mesh.
     template <class X, class F>
     void near_points(const X& x, const detail::PointTree& tree, double r, F f) const {
         using Node = detail::PointTree::Node;
         const double slab_extent = std::sqrt(longest_sq_);
-        grid_->for_each_cell([&](std::uint32_t c, std::uint32_t b, std::uint32_t e) {
+        const FloatFrame frame(tree, r, slab_extent);
+        // Whether any point of node n may come within r of cell c's bound.
+        const auto node_may_reach = [&](const Bound& cb, const Vec3& lo, const Vec3& hi, const Vec3& big) {
+            const double r_box = slack(r * (1 + 1e-9), big);
+            double gap = 0;
+            for (int d = 0; d < 3; ++d) {
+                const double g = std::max({0.0, cb.lo[d] - hi[d], lo[d] - cb.hi[d]});
+                gap += g * g;
+            }
+            if (!(gap < r_box * r_box)) return false;
+            if (cb.n[0] == 0 && cb.n[1] == 0 && cb.n[2] == 0) return true;
+            double s_lo = 0, s_hi = 0;
+            for (int d = 0; d < 3; ++d) {
+                s_lo += std::min(cb.n[d] * lo[d], cb.n[d] * hi[d]);
+                s_hi += std::max(cb.n[d] * lo[d], cb.n[d] * hi[d]);
+            }
+            const double slab_r = slab_radius(r, slab_extent, big) + 64 * DBL_EPSILON * largest_coordinate(big);
+            return !(s_hi < cb.n_lo - slab_r || s_lo > cb.n_hi + slab_r);
+        };
+        const auto points_of = [&](const Node& n, std::uint32_t c, std::uint32_t b, std::uint32_t e,
+                                   const FloatReach& reach) {
             const Bound& cb = cell_[c];
-            const bool slab = !(cb.n[0] == 0 && cb.n[1] == 0 && cb.n[2] == 0);
-            tree.for_each_leaf(
-                [&](const Node& n) {
-                    // The loosest slacks any point of the node gets, and the least it can
-                    // come to the cell's box and slab.
-                    const Vec3 lo = tree.lo(n), hi = tree.hi(n);
-                    const Vec3 big{std::max(std::fabs(lo[0]), std::fabs(hi[0])), std::max(std::fabs(lo[1]), std::fabs(hi[1])),
-                                   std::max(std::fabs(lo[2]), std::fabs(hi[2]))};
-                    const double r_box = slack(r * (1 + 1e-9), big);
-                    double gap = 0;
-                    for (int d = 0; d < 3; ++d) {
-                        const double g = std::max({0.0, cb.lo[d] - hi[d], lo[d] - cb.hi[d]});
-                        gap += g * g;
-                    }
-                    if (!(gap < r_box * r_box)) return false;
-                    if (!slab) return true;
-                    double s_lo = 0, s_hi = 0;
-                    for (int d = 0; d < 3; ++d) {
-                        s_lo += std::min(cb.n[d] * lo[d], cb.n[d] * hi[d]);
-                        s_hi += std::max(cb.n[d] * lo[d], cb.n[d] * hi[d]);
-                    }
-                    const double slab_r = slab_radius(r, slab_extent, big) + 64 * DBL_EPSILON * largest_coordinate(big);
-                    return !(s_hi < cb.n_lo - slab_r || s_lo > cb.n_hi + slab_r);
-                },
-                [&](const Node& n) {
-                    for (std::uint32_t k = n.begin; k < n.end; ++k) {
-                        const Vec3 q = tree.point(k);
-                        const double r_box = slack(r * (1 + 1e-9), q), r_box_sq = r_box * r_box;
-                        if (!cb.may_reach(q, r_box_sq, slab_radius(r, slab_extent, q))) continue;
-                        for (std::uint32_t s = b; s < e; ++s) {
-                            const std::uint32_t t = id(grid_->order[s]);
-                            Bound tb;
-                            for (std::uint32_t v : mesh_.triangles[t]) tb.add_to_box(x[v]);
-                            const double box = box_dist_sq(q, tb.lo, tb.hi);
-                            if (box < r_box_sq) f(k, t, box);
-                        }
-                    }
-                });
-        });
+            for (std::uint32_t k = n.begin; k < n.end; ++k) {
+                if (!reach.may_reach(tree.xyz[k])) continue;  // nearly every point of a dense scan
+                const Vec3 q = tree.point(k);
+                const double r_box = slack(r * (1 + 1e-9), q), r_box_sq = r_box * r_box;
+                if (!cb.may_reach(q, r_box_sq, slab_radius(r, slab_extent, q))) continue;
+                for (std::uint32_t s = b; s < e; ++s) {
+                    const std::uint32_t t = id(grid_->order[s]);
+                    Bound tb;
+                    for (std::uint32_t v : mesh_.triangles[t]) tb.add_to_box(x[v]);
+                    const double box = box_dist_sq(q, tb.lo, tb.hi);
+                    if (box < r_box_sq) f(k, t, box);
+                }
+            }
+        };
+        const auto corners = [&](const Node& n, Vec3& lo, Vec3& hi, Vec3& big) {
+            lo = tree.lo(n), hi = tree.hi(n);
+            for (int d = 0; d < 3; ++d) big[d] = std::max(std::fabs(lo[d]), std::fabs(hi[d]));
+        };
+        std::vector<const Node*> leaves;
+        tree.for_each_leaf([](const Node&) { return true; }, [&](const Node& n) { leaves.push_back(&n); });
+        if (grid_->used_cells() < leaves.size() / 8) {
+            // Few cells (a repair's): each walks the tree down to the leaves it may reach.
+            grid_->for_each_cell([&](std::uint32_t c, std::uint32_t b, std::uint32_t e) {
+                const FloatReach reach = frame.reach(cell_[c]);
+                tree.for_each_leaf(
+                    [&](const Node& n) {
+                        Vec3 lo, hi, big;
+                        corners(n, lo, hi, big);
+                        return node_may_reach(cell_[c], lo, hi, big);
+                    },
+                    [&](const Node& n) { points_of(n, c, b, e, reach); });
+            });
+            return;
+        }
+        // Many (the whole mesh's): each leaf looks up the cells about it, tens of box
+        // tests where a walk from the root made hundreds per cell. A cell's triangles have
+        // their least corner in it and reach `extent_` beyond, so the cells whose bound
+        // comes within r_box of the leaf lie in its box widened by that much.
+        const std::ptrdiff_t nl = std::ptrdiff_t(leaves.size());
+#pragma omp parallel for schedule(dynamic, 256) if (nl > detail::kParallelCheapItems / 16)
+        for (std::ptrdiff_t i = 0; i < nl; ++i) {
+            const Node& n = *leaves[std::size_t(i)];
+            Vec3 lo, hi, big;
+            corners(n, lo, hi, big);
+            const double r_box = slack(r * (1 + 1e-9), big);
+            grid_->for_cells({lo[0] - r_box - extent_[0], lo[1] - r_box - extent_[1], lo[2] - r_box - extent_[2]},
+                             {hi[0] + r_box, hi[1] + r_box, hi[2] + r_box},
+                             [&](std::uint32_t c, std::uint32_t b, std::uint32_t e) {
+                                 if (node_may_reach(cell_[c], lo, hi, big)) points_of(n, c, b, e, frame.reach(cell_[c]));
+                             });
+        }
     }
 
     // The largest squared edge length as the cells were made.
