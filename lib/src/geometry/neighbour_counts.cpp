@@ -46,6 +46,11 @@ std::vector<std::uint8_t> points_short_of(const PointTree& t, double r2, std::si
     for (std::ptrdiff_t b = 0; b < nb; ++b) {
         const PointTree::Node& block = *blocks[b];
         if (block.count() >= need && PointTree::dist_sq(t.lo(block), t.hi(block)) <= r2) continue;
+        struct {
+            std::uint32_t begin, end;
+        } wider{block.begin, block.end};
+        if (b > 0 && blocks[b - 1]->count() <= kBlock) wider.begin = blocks[b - 1]->begin;
+        if (b + 1 < nb && blocks[b + 1]->count() <= kBlock) wider.end = blocks[b + 1]->end;
         // Runs of `need` points in a row (neighbours in Morton order: on a dense cloud
         // nearly always close together) whose box is within reach across clear each other.
         bool cleared[kBlock] = {};
@@ -76,6 +81,10 @@ std::vector<std::uint8_t> points_short_of(const PointTree& t, double r2, std::si
                     if (runs && cleared[k - block.begin]) continue;
                     if (within(k, leaf.begin, leaf.end) >= need) continue;
                     if (within(k, block.begin, block.end) >= need) continue;
+                    // Then with the blocks on either side (in Morton order, often across
+                    // the boundary that split the point from its neighbours), before a
+                    // search of the tree.
+                    if (wider.end - wider.begin > block.count() && within(k, wider.begin, wider.end) >= need) continue;
                     short_of[k] = t.count_within(t.point(k), r2, need) < need;
                 }
             });
