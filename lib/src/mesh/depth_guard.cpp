@@ -627,9 +627,10 @@ public:
             lo = tree.lo(n), hi = tree.hi(n);
             for (int d = 0; d < 3; ++d) big[d] = std::max(std::fabs(lo[d]), std::fabs(hi[d]));
         };
-        std::vector<const Node*> leaves;
-        tree.for_each_leaf([](const Node&) { return true; }, [&](const Node& n) { leaves.push_back(&n); });
-        if (grid_->used_cells() < leaves.size() / 8) {
+        const std::vector<Node>& nodes = tree.nodes;
+        std::size_t leaves = 0;
+        for (const Node& n : nodes) leaves += n.leaf();
+        if (grid_->used_cells() < leaves / 8) {
             // Few cells (a repair's): each walks the tree down to the leaves it may reach.
             grid_->for_each_cell([&](std::uint32_t c, std::uint32_t b, std::uint32_t e) {
                 const FloatReach reach = frame.reach(cell_[c]);
@@ -647,10 +648,11 @@ public:
         // tests where a walk from the root made hundreds per cell. A cell's triangles have
         // their least corner in it and reach `extent_` beyond, so the cells whose bound
         // comes within r_box of the leaf lie in its box widened by that much.
-        const std::ptrdiff_t nl = std::ptrdiff_t(leaves.size());
-#pragma omp parallel for schedule(dynamic, 256) if (nl > detail::kParallelCheapItems / 16)
-        for (std::ptrdiff_t i = 0; i < nl; ++i) {
-            const Node& n = *leaves[std::size_t(i)];
+        const std::ptrdiff_t nn = std::ptrdiff_t(nodes.size());
+#pragma omp parallel for schedule(dynamic, 256) if (leaves > detail::kParallelCheapItems / 16)
+        for (std::ptrdiff_t i = 0; i < nn; ++i) {
+            const Node& n = nodes[std::size_t(i)];
+            if (!n.leaf()) continue;
             Vec3 lo, hi, big;
             corners(n, lo, hi, big);
             const double r_box = slack(r * (1 + 1e-9), big);
