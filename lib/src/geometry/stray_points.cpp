@@ -153,13 +153,12 @@ std::vector<std::uint8_t> stray_points(const PointTree& t, const StraySettings& 
     std::nth_element(nearest.begin(), nearest.begin() + std::ptrdiff_t(nearest.size() / 2), nearest.end());
     const double typical = nearest[nearest.size() / 2];
     if (!(typical > 0)) return {};
-    // Lonely: fewer than `company` other points within `lonely`. The candidates by cells
-    // (points_short_of, for every point); their neighbours one by one (a few).
+    // Lonely: fewer than `company` other points within `lonely`, for every point at once
+    // (points_short_of's flags are count_within's verdicts, point for point): each lonely
+    // point's neighbours are looked up, not counted again.
     const double lonely = std::max(s.lonely_factor * typical, s.least_lonely);
     const std::vector<std::uint8_t> alone = points_short_of(t, lonely * lonely, s.company + 1);
-    const auto lonely_point = [&](std::uint32_t k) {
-        return t.count_within(t.point(k), lonely * lonely, s.company + 1) <= s.company;
-    };
+    const auto lonely_point = [&](std::uint32_t k) { return alone[k] != 0; };
     std::vector<std::uint8_t> stray(n, 0);
     bool any = false;
     const std::ptrdiff_t nn = std::ptrdiff_t(n);
@@ -169,7 +168,7 @@ std::vector<std::uint8_t> stray_points(const PointTree& t, const StraySettings& 
         std::vector<std::uint8_t> use;
 #pragma omp for schedule(dynamic, 1024)
         for (std::ptrdiff_t k = 0; k < nn; ++k)
-            if (alone[k] && lonely_point(std::uint32_t(k)) && stands_off(t, std::uint32_t(k), s, lonely_point, d, use))
+            if (alone[k] && stands_off(t, std::uint32_t(k), s, lonely_point, d, use))
                 stray[k] = 1, any = true;
     }
     if (!any) return {};
