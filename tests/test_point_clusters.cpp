@@ -7,8 +7,11 @@
 #include <random>
 #include <vector>
 
+#include "geometry/point_clusters.hpp"
+#include "geometry/point_tree.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"
+#include "with_threads.hpp"
 
 using namespace snvr;
 
@@ -71,5 +74,50 @@ TEST_CASE("clusters: the same count as every pair looked at, dense, sparse and i
     for (double link : {0.001, 0.02, 0.05, 0.1, 0.25, 0.4, 0.8, 1.5}) {
         CAPTURE(link);
         CHECK(count_point_clusters(points, link) == clusters_brute_force(held, link));
+    }
+}
+
+TEST_CASE("cluster_roots: each point's cluster as its first member, on one thread or two") {
+    // Enough points for the threads to share the linking (over 2^16), in clusters of
+    // different density, some a hair more or less than a link apart.
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> unit(0, 1);
+    PointSet points;
+    for (int blob = 0; blob < 40; ++blob) {
+        const Vec3 centre{unit(rng) * 6, unit(rng) * 6, unit(rng) * 2};
+        const double radius = 0.05 + 0.25 * unit(rng);
+        const int count = blob % 4 == 0 ? 8000 : 800;
+        for (int k = 0; k < count; ++k)
+            points.push_back({centre[0] + radius * (2 * unit(rng) - 1), centre[1] + radius * (2 * unit(rng) - 1),
+                              centre[2] + radius * (2 * unit(rng) - 1)});
+    }
+    for (int k = 0; k < 3000; ++k) points.push_back({unit(rng) * 6, unit(rng) * 6, unit(rng) * 2});
+    const PointCloud cloud(points);
+    const detail::PointTree& t = cloud.tree();
+    REQUIRE(t.size() > (1u << 16));
+    for (double link : {0.004, 0.02, 0.06, 0.3}) {
+        CAPTURE(link);
+        // The clusters by a search from each point not yet reached, labelled by their
+        // first member.
+        std::vector<std::uint32_t> label(t.size(), detail::PointTree::npos);
+        for (std::uint32_t s = 0; s < t.size(); ++s) {
+            if (label[s] != detail::PointTree::npos) continue;
+            std::vector<std::uint32_t> todo{s};
+            label[s] = s;
+            while (!todo.empty()) {
+                const std::uint32_t k = todo.back();
+                todo.pop_back();
+                t.for_each_within(t.point(k), link * link, [&](std::uint32_t j) {
+                    if (label[j] == detail::PointTree::npos) label[j] = s, todo.push_back(j);
+                });
+            }
+        }
+        for (int threads : {1, 2}) {
+            const std::vector<std::uint32_t> roots =
+                snvr::testing::with_threads(threads, [&] { return detail::cluster_roots(t, link); });
+            std::size_t wrong = 0;
+            for (std::size_t k = 0; k < t.size(); ++k) wrong += roots[k] != label[k];
+            CHECK(wrong == 0);
+        }
     }
 }

@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
+#include "parallel_sizes.hpp"
 #include "snvr/reconstruct.hpp"
 
 namespace snvr::detail {
@@ -14,10 +14,38 @@ namespace {
 
 using Node = PointTree::Node;
 
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t n) {
-    while (parent[n] != n) n = parent[n] = parent[parent[n]];
-    return n;
-}
+// Union-find shared by the team's threads, on a plain array through atomic built-ins: a
+// parent is never above its child, and a union hangs the larger root under the smaller,
+// so every cluster's root is its least index whatever order the unions came in.
+class Forest {
+public:
+    explicit Forest(std::vector<std::uint32_t>& parent) : parent_(parent) {}
+    std::uint32_t find(std::uint32_t n) const {
+        for (;;) {
+            std::uint32_t p = load(n);
+            if (p == n) return n;
+            const std::uint32_t g = load(p);
+            // Halving the path: any ancestor is a valid parent, a stale one too.
+            if (g != p) __atomic_compare_exchange_n(&parent_[n], &p, g, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
+            n = g;
+        }
+    }
+    void unite(std::uint32_t a, std::uint32_t b) const {
+        for (;;) {
+            a = find(a);
+            b = find(b);
+            if (a == b) return;
+            if (a < b) std::swap(a, b);
+            std::uint32_t root = a;  // still a root, or another thread hung it first: again
+            if (__atomic_compare_exchange_n(&parent_[a], &root, b, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) return;
+        }
+    }
+    void set(std::uint32_t n, std::uint32_t p) const { __atomic_store_n(&parent_[n], p, __ATOMIC_RELAXED); }
+
+private:
+    std::uint32_t load(std::uint32_t n) const { return __atomic_load_n(&parent_[n], __ATOMIC_RELAXED); }
+    std::vector<std::uint32_t>& parent_;
+};
 
 // The squared gap between two boxes (world units); below every pair's squared distance
 // (rounding is monotone).
@@ -36,19 +64,32 @@ double gap_sq(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi
 // handful of pairs for each pair of neighbouring whole nodes.
 class Linker {
 public:
-    Linker(const PointTree& tree, double link) : t_(tree), link_sq_(link * link), parent_(tree.size()) {
-        std::iota(parent_.begin(), parent_.end(), 0u);
+    Linker(const PointTree& tree, double link) : t_(tree), link_sq_(link * link), parent_(tree.size()), forest_(parent_) {
+        const std::ptrdiff_t n = std::ptrdiff_t(parent_.size());
+#pragma omp parallel for schedule(static) if (n > kParallelCheapItems)
+        for (std::ptrdiff_t k = 0; k < n; ++k) parent_[std::size_t(k)] = std::uint32_t(k);
     }
 
+    // Each point's cluster as its least index. Both threads link the units: the unions
+    // commute, so the roots are the same.
     std::vector<std::uint32_t> roots() {
         if (t_.nodes.empty() || !(link_sq_ > 0)) return parent_;
         collect(0);
-        for (const Unit& u : units_)
-            if (u.whole)
-                for (std::uint32_t k = t_.nodes[u.node].begin + 1; k < t_.nodes[u.node].end; ++k)
-                    parent_[k] = t_.nodes[u.node].begin;
-        for (const Unit& u : units_) link_unit(u);
-        for (std::uint32_t k = 0; k < parent_.size(); ++k) parent_[k] = find_root(parent_, k);
+        const std::ptrdiff_t nu = std::ptrdiff_t(units_.size()), n = std::ptrdiff_t(parent_.size());
+#pragma omp parallel if (n > kParallelCheapItems)
+        {
+#pragma omp for schedule(dynamic, 64)
+            for (std::ptrdiff_t i = 0; i < nu; ++i) {
+                const Unit& u = units_[std::size_t(i)];
+                if (u.whole)
+                    for (std::uint32_t k = t_.nodes[u.node].begin + 1; k < t_.nodes[u.node].end; ++k)
+                        parent_[k] = t_.nodes[u.node].begin;
+            }
+#pragma omp for schedule(dynamic, 16)
+            for (std::ptrdiff_t i = 0; i < nu; ++i) link_unit(units_[std::size_t(i)]);
+#pragma omp for schedule(static)
+            for (std::ptrdiff_t k = 0; k < n; ++k) forest_.set(std::uint32_t(k), forest_.find(std::uint32_t(k)));
+        }
         return std::move(parent_);
     }
 
@@ -74,11 +115,8 @@ private:
         for (std::uint32_t c = 0; c < n.children; ++c) collect(n.child + c);
     }
 
-    void unite(std::uint32_t a, std::uint32_t b) {
-        a = find_root(parent_, a);
-        b = find_root(parent_, b);
-        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-    }
+    void unite(std::uint32_t a, std::uint32_t b) { forest_.unite(a, b); }
+    std::uint32_t find_root(std::uint32_t n) const { return forest_.find(n); }
     bool linked(std::uint32_t a, std::uint32_t b) const {
         return PointTree::dist_sq(t_.point(a), t_.point(b)) < link_sq_;
     }
@@ -111,19 +149,19 @@ private:
         const Node& a = t_.nodes[u.node];
         const Node& b = t_.nodes[v.node];
         if (u.whole && v.whole) {
-            if (find_root(parent_, a.begin) != find_root(parent_, b.begin) && any_link(u.node, v.node))
+            if (find_root(a.begin) != find_root(b.begin) && any_link(u.node, v.node))
                 unite(a.begin, b.begin);
         } else if (u.whole || v.whole) {
             // Each point of the leaf with the whole unit, while they are apart.
             const Node& leaf = u.whole ? b : a;
             const std::uint32_t whole = u.whole ? u.node : v.node;
             for (std::uint32_t k = leaf.begin; k < leaf.end; ++k)
-                if (find_root(parent_, k) != find_root(parent_, t_.nodes[whole].begin) && reaches(k, whole))
+                if (find_root(k) != find_root(t_.nodes[whole].begin) && reaches(k, whole))
                     unite(k, t_.nodes[whole].begin);
         } else {
             for (std::uint32_t i = a.begin; i < a.end; ++i)
                 for (std::uint32_t j = b.begin; j < b.end; ++j)
-                    if (find_root(parent_, i) != find_root(parent_, j) && linked(i, j)) unite(i, j);
+                    if (find_root(i) != find_root(j) && linked(i, j)) unite(i, j);
         }
     }
 
@@ -167,6 +205,7 @@ private:
     const PointTree& t_;
     double link_sq_;
     std::vector<std::uint32_t> parent_;
+    Forest forest_;
     std::vector<Unit> units_;
 };
 
