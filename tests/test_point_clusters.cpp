@@ -49,22 +49,28 @@ std::size_t clusters_brute_force(const PointSet& points, double link) {
     return roots;
 }
 
-}  // namespace
-
-TEST_CASE("clusters: the same count as every pair looked at, dense, sparse and in between") {
-    std::mt19937_64 rng(7);
+// Blobs of very different density in a box (every dense_every-th of them `dense` points,
+// the others `sparse`), some touching at about a link, then `loose` points anywhere.
+PointSet blobs(unsigned seed, const Vec3& box, double widest, int count, int dense_every, int dense, int sparse,
+               int loose) {
+    std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> unit(0, 1);
-    // Blobs of very different density, some of them touching at about the link distance.
     PointSet points;
-    for (int blob = 0; blob < 12; ++blob) {
-        const Vec3 centre{unit(rng) * 4, unit(rng) * 4, unit(rng) * 1};
-        const double radius = 0.05 + 0.3 * unit(rng);
-        const int count = blob % 3 == 0 ? 600 : 40;
-        for (int k = 0; k < count; ++k)
+    for (int blob = 0; blob < count; ++blob) {
+        const Vec3 centre{unit(rng) * box[0], unit(rng) * box[1], unit(rng) * box[2]};
+        const double radius = 0.05 + widest * unit(rng);
+        for (int k = 0, n = blob % dense_every == 0 ? dense : sparse; k < n; ++k)
             points.push_back({centre[0] + radius * (2 * unit(rng) - 1), centre[1] + radius * (2 * unit(rng) - 1),
                               centre[2] + radius * (2 * unit(rng) - 1)});
     }
-    for (int k = 0; k < 100; ++k) points.push_back({unit(rng) * 4, unit(rng) * 4, unit(rng)});  // loose points
+    for (int k = 0; k < loose; ++k) points.push_back({unit(rng) * box[0], unit(rng) * box[1], unit(rng) * box[2]});
+    return points;
+}
+
+}  // namespace
+
+TEST_CASE("clusters: the same count as every pair looked at, dense, sparse and in between") {
+    PointSet points = blobs(7, {4, 4, 1}, 0.3, 12, 3, 600, 40, 100);
     // Points exactly a link apart are not linked; a hair closer, they are.
     points.push_back({10, 10, 10});
     points.push_back({10.25, 10, 10});
@@ -80,19 +86,7 @@ TEST_CASE("clusters: the same count as every pair looked at, dense, sparse and i
 TEST_CASE("cluster_roots: each point's cluster as its first member, on one thread or two") {
     // Enough points for the threads to share the linking (over 2^16), in clusters of
     // different density, some a hair more or less than a link apart.
-    std::mt19937_64 rng(11);
-    std::uniform_real_distribution<double> unit(0, 1);
-    PointSet points;
-    for (int blob = 0; blob < 40; ++blob) {
-        const Vec3 centre{unit(rng) * 6, unit(rng) * 6, unit(rng) * 2};
-        const double radius = 0.05 + 0.25 * unit(rng);
-        const int count = blob % 4 == 0 ? 8000 : 800;
-        for (int k = 0; k < count; ++k)
-            points.push_back({centre[0] + radius * (2 * unit(rng) - 1), centre[1] + radius * (2 * unit(rng) - 1),
-                              centre[2] + radius * (2 * unit(rng) - 1)});
-    }
-    for (int k = 0; k < 3000; ++k) points.push_back({unit(rng) * 6, unit(rng) * 6, unit(rng) * 2});
-    const PointCloud cloud(points);
+    const PointCloud cloud(blobs(11, {6, 6, 2}, 0.25, 40, 4, 8000, 800, 3000));
     const detail::PointTree& t = cloud.tree();
     REQUIRE(t.size() > (1u << 16));
     for (double link : {0.004, 0.02, 0.06, 0.3}) {
