@@ -46,11 +46,9 @@ std::vector<std::uint8_t> points_short_of(const PointTree& t, double r2, std::si
     for (std::ptrdiff_t b = 0; b < nb; ++b) {
         const PointTree::Node& block = *blocks[b];
         if (block.count() >= need && PointTree::dist_sq(t.lo(block), t.hi(block)) <= r2) continue;
-        struct {
-            std::uint32_t begin, end;
-        } wider{block.begin, block.end};
-        if (b > 0 && blocks[b - 1]->count() <= kBlock) wider.begin = blocks[b - 1]->begin;
-        if (b + 1 < nb && blocks[b + 1]->count() <= kBlock) wider.end = blocks[b + 1]->end;
+        // The block with those on either side (when they are blocks, not leaves of copies).
+        const std::uint32_t wide_begin = b > 0 && blocks[b - 1]->count() <= kBlock ? blocks[b - 1]->begin : block.begin;
+        const std::uint32_t wide_end = b + 1 < nb && blocks[b + 1]->count() <= kBlock ? blocks[b + 1]->end : block.end;
         // Runs of `need` points in a row (neighbours in Morton order: on a dense cloud
         // nearly always close together) whose box is within reach across clear each other.
         bool cleared[kBlock] = {};
@@ -84,7 +82,7 @@ std::vector<std::uint8_t> points_short_of(const PointTree& t, double r2, std::si
                     // Then with the blocks on either side (in Morton order, often across
                     // the boundary that split the point from its neighbours), before a
                     // search of the tree.
-                    if (wider.end - wider.begin > block.count() && within(k, wider.begin, wider.end) >= need) continue;
+                    if (wide_end - wide_begin > block.count() && within(k, wide_begin, wide_end) >= need) continue;
                     short_of[k] = t.count_within(t.point(k), r2, need) < need;
                 }
             });

@@ -566,14 +566,7 @@ public:
         const double slab_r = slab_radius(r, std::sqrt(longest_sq_), q);
         grid_->for_cells({q[0] - lo_r - extent_[0], q[1] - lo_r - extent_[1], q[2] - lo_r - extent_[2]},
                          {q[0] + lo_r, q[1] + lo_r, q[2] + lo_r}, [&](std::uint32_t c, std::uint32_t b, std::uint32_t e) {
-                             if (!cell_[c].may_reach(q, r_box_sq, slab_r)) return;
-                             for (std::uint32_t s = b; s < e; ++s) {
-                                 const std::uint32_t t = id(grid_->order[s]);
-                                 Bound tb;
-                                 for (std::uint32_t v : mesh_.triangles[t]) tb.add_to_box(x[v]);
-                                 const double box = box_dist_sq(q, tb.lo, tb.hi);
-                                 if (box < r_box_sq) f(t, box);
-                             }
+                             if (cell_[c].may_reach(q, r_box_sq, slab_r)) boxes_near(x, q, r_box_sq, b, e, f);
                          });
     }
 
@@ -614,13 +607,7 @@ public:
                 const Vec3 q = tree.point(k);
                 const double r_box = slack(r * (1 + 1e-9), q), r_box_sq = r_box * r_box;
                 if (!cb.may_reach(q, r_box_sq, slab_radius(r, slab_extent, q))) continue;
-                for (std::uint32_t s = b; s < e; ++s) {
-                    const std::uint32_t t = id(grid_->order[s]);
-                    Bound tb;
-                    for (std::uint32_t v : mesh_.triangles[t]) tb.add_to_box(x[v]);
-                    const double box = box_dist_sq(q, tb.lo, tb.hi);
-                    if (box < r_box_sq) f(k, t, box);
-                }
+                boxes_near(x, q, r_box_sq, b, e, [&](std::uint32_t t, double box) { f(k, t, box); });
             }
         };
         const auto corners = [&](const Node& n, Vec3& lo, Vec3& hi, Vec3& big) {
@@ -666,6 +653,7 @@ public:
 
     // The largest squared edge length as the cells were made.
     double longest_sq() const { return longest_sq_; }
+
     // Of the whole mesh's triangles but those in `skip` (also flagged in `skipped`), with x
     // where the others still are.
     double longest_sq(const std::vector<std::uint32_t>& skip, const std::vector<std::uint8_t>& skipped) const {
@@ -687,6 +675,18 @@ public:
 
 private:
     std::uint32_t id(std::uint32_t i) const { return ids_.empty() ? i : ids_[i]; }
+    // Calls f(t, box) for each triangle t in slots [b, e) of a cell whose box (with x the
+    // vertices) lies below r_box_sq of q, box being that squared distance.
+    template <class X, class F>
+    void boxes_near(const X& x, const Vec3& q, double r_box_sq, std::uint32_t b, std::uint32_t e, F&& f) const {
+        for (std::uint32_t s = b; s < e; ++s) {
+            const std::uint32_t t = id(grid_->order[s]);
+            Bound tb;
+            for (std::uint32_t v : mesh_.triangles[t]) tb.add_to_box(x[v]);
+            const double box = box_dist_sq(q, tb.lo, tb.hi);
+            if (box < r_box_sq) f(t, box);
+        }
+    }
     // A triangle's largest squared edge length.
     template <class X>
     static double edge_sq(const X& x, const std::array<std::uint32_t, 3>& tri) {
