@@ -17,7 +17,7 @@ namespace {
 std::string memory_text(std::size_t bytes) {
     if (bytes == 0) return "-";
     const double gib = double(bytes) / (1024.0 * 1024.0 * 1024.0);
-    return gib >= 1 ? fmt("%.1f GiB", gib) : fmt("%.0f MiB", double(bytes) / (1024.0 * 1024.0));
+    return gib >= 1 ? snvr::format_text("%.1f GiB", gib) : snvr::format_text("%.0f MiB", double(bytes) / (1024.0 * 1024.0));
 }
 
 void print_table(std::ostream& out, const std::vector<std::vector<std::string>>& rows) {
@@ -62,7 +62,7 @@ int run_sample(const std::vector<std::string>& args) {
     } catch (const snvr::ParameterError& e) {
         throw UsageError(e.what());  // an unknown shape name or a bad spacing came from the command line
     }
-    snvr::write_points(points, parsed->output, fmt("snvr-cl sample %s --spacing %g --outliers %g", parsed->shape.c_str(), parsed->spacing, parsed->outliers));
+    snvr::write_points(points, parsed->output, snvr::format_text("snvr-cl sample %s --spacing %g --outliers %g", parsed->shape.c_str(), parsed->spacing, parsed->outliers));
     std::cerr << "wrote " << grouped(points.size()) << " points to " << snvr::printable(parsed->output) << '\n';
     return 0;
 }

@@ -14,6 +14,7 @@
 #include "report.hpp"
 #include "snvr/error.hpp"
 #include "snvr/reconstruct.hpp"
+#include "snvr/shell.hpp"
 
 namespace cli {
 namespace {
@@ -47,15 +48,6 @@ bool is_decimal(const std::string& text) {
 
 [[noreturn]] void bad_value(const std::string& option, const std::string& text, const char* expected) {
     throw UsageError("bad value '" + text + "' for " + option + ": expected " + expected);
-}
-
-// The length units --units knows, in millimetres; 0 for another name.
-double millimetres_per(const std::string& unit) {
-    if (unit == "mm") return 1;
-    if (unit == "cm") return 10;
-    if (unit == "m") return 1000;
-    if (unit == "in") return 25.4;
-    return 0;
 }
 
 // ---------------------------------------------------------------- option tables
@@ -204,7 +196,7 @@ Command reconstruct_command(ReconstructOptions& o) {
         else bad_value(option, value, "double or float");
     };
     auto units = [&o](const std::string& option, const std::string& value) {
-        if (!millimetres_per(value)) bad_value(option, value, "mm, cm, m or in");
+        if (!snvr::millimetres_per_unit(value)) bad_value(option, value, "mm, cm, m or in");
         o.units = value;
     };
     auto origin = [&o](const std::string& option, const std::string& value) {
@@ -235,7 +227,7 @@ Command reconstruct_command(ReconstructOptions& o) {
         {"--outliers", "", "FILE",
          "write the points dropped as outliers (.ply or .xyz)", store(o.outliers)},
         {"--keep-outliers", "", "",
-         fmt("use every point: by default points far sparser than the\nsurface, lone points standing off a flat surface, and\nclusters of under %zu points (and under 1%%) that the shell\nwould leave apart as loose beads, are dropped",
+         snvr::format_text("use every point: by default points far sparser than the\nsurface, lone points standing off a flat surface, and\nclusters of under %zu points (and under 1%%) that the shell\nwould leave apart as loose beads, are dropped",
              snvr::OutlierSettings{}.min_cluster),
          set_flag(o.keep_outliers)},
         {"--min-piece-volume", "", "V",
@@ -247,44 +239,44 @@ Command reconstruct_command(ReconstructOptions& o) {
          "center: shift the points by their box centre, rounded\n(shown in the summary), so that far coordinates such as\nsurvey data keep their precision in float32 STL and PLY;\nkeep: coordinates as read (default: keep, but center for\nSTL and 3MF where float32 would move the shell)",
          origin},
         {"--offset", "", "L",
-         fmt("distance of each wall from the points, world units\n"
+         snvr::format_text("distance of each wall from the points, world units\n"
              "(default: the larger of %g voxels and the points' sampling gap)", defaults.offset_cells),
          store(p.offset), "Shell"},
         {"--offset-cells", "", "M",
-         fmt("the default offset in voxels instead of %g (the sampling gap\nstill wins when larger)", defaults.offset_cells),
+         snvr::format_text("the default offset in voxels instead of %g (the sampling gap\nstill wins when larger)", defaults.offset_cells),
          store(p.offset_cells)},
         {"--thickness", "", "T", "wall-to-wall thickness 2L instead of --offset, world units", store(p.thickness)},
         {"--resolution", "", "N",
-         fmt("cells on the longest axis of the padded box (default %d)", defaults.resolution), store(p.resolution),
+         snvr::format_text("cells on the longest axis of the padded box (default %d)", defaults.resolution), store(p.resolution),
          "Grid"},
         {"--voxel", "", "H", "voxel size instead of --resolution, world units", store(p.voxel)},
         {"--smoothing", "", "T",
-         fmt("flow time in voxels squared: how much the surface is smoothed\n(default %g)", defaults.smoothing_cells),
+         snvr::format_text("flow time in voxels squared: how much the surface is smoothed\n(default %g)", defaults.smoothing_cells),
          store(p.smoothing_cells), "Solver"},
-        {"--dt-cells", "", "X", fmt("time step as dt / h^2 (default %g)", defaults.dt_cells), store(p.dt_cells)},
+        {"--dt-cells", "", "X", snvr::format_text("time step as dt / h^2 (default %g)", defaults.dt_cells), store(p.dt_cells)},
         {"--dt", "", "X", "time step in normalised units (longest side = 1) instead of\n--dt-cells", store(p.dt)},
         {"--steps", "", "N", "time steps (default: the flow time over the time step)", store(p.steps)},
         {"--tube-inner", "", "F",
-         fmt("the flow keeps the surface at least (1 - F) x offset from the\npoints (default %g)", defaults.tube_inner),
+         snvr::format_text("the flow keeps the surface at least (1 - F) x offset from the\npoints (default %g)", defaults.tube_inner),
          store(p.tube_inner)},
         {"--tube-outer", "", "F",
-         fmt("...and at most (1 + F) x offset from them (default %g)", defaults.tube_outer), store(p.tube_outer)},
+         snvr::format_text("...and at most (1 + F) x offset from them (default %g)", defaults.tube_outer), store(p.tube_outer)},
         {"--free-flow", "", "", "no tube: the paper's unconstrained flow", [&p](const std::string&, const std::string&) {
              p.keep_offset = false;
          }},
-        {"--eps-cells", "", "M", fmt("Allen-Cahn epsilon: the interface spans about M cells\n(default %g)", defaults.eps_cells),
+        {"--eps-cells", "", "M", snvr::format_text("Allen-Cahn epsilon: the interface spans about M cells\n(default %g)", defaults.eps_cells),
          store(p.eps_cells)},
         {"--eps", "", "E", "Allen-Cahn epsilon instead of --eps-cells, world units", store(p.eps)},
-        {"--xi-cells", "", "M", fmt("width xi of the initial tanh profile, in cells (default %g)", defaults.xi_cells),
+        {"--xi-cells", "", "M", snvr::format_text("width xi of the initial tanh profile, in cells (default %g)", defaults.xi_cells),
          store(p.xi_cells)},
         {"--xi", "", "X", "xi instead of --xi-cells, world units", store(p.xi)},
         {"--tol", "", "X",
-         fmt("RMS residual over the band at which a step's multigrid\nsolve stops (default %g: moves the surface ~1e-3 voxels)", defaults.tol),
+         snvr::format_text("RMS residual over the band at which a step's multigrid\nsolve stops (default %g: moves the surface ~1e-3 voxels)", defaults.tol),
          store(p.tol)},
         {"--max-cycles", "", "N",
-         fmt("V-cycles per step at most; reaching it is a warning (default %d)", defaults.max_cycles),
+         snvr::format_text("V-cycles per step at most; reaching it is a warning (default %d)", defaults.max_cycles),
          store(p.max_cycles)},
-        {"--precision", "", "double|float", fmt("floating point type of the solver's fields (default %s)",
+        {"--precision", "", "double|float", snvr::format_text("floating point type of the solver's fields (default %s)",
                  defaults.precision == snvr::Precision::Double ? "double" : "float"), precision},
         {"--device", "", "DEV",
          "auto | openmp | opencl | opencl:P:D | a name substring (default\n"
@@ -292,7 +284,7 @@ Command reconstruct_command(ReconstructOptions& o) {
          "see 'snvr-cl devices'",
          store(p.device)},
         {"--fairing", "", "N",
-         fmt("passes of Taubin smoothing over the mesh, 0 for the raw\nisosurface (default %d)", snvr::MeshFairing{}.passes),
+         snvr::format_text("passes of Taubin smoothing over the mesh, 0 for the raw\nisosurface (default %d)", snvr::MeshFairing{}.passes),
          store(o.fairing.passes), "Mesh"},
         {"--measure", "", "",
          "the check also measures the surface: distance to the points\nminus the offset, dihedral and normal noise (the check\ntakes about 1.4 times as long)",
@@ -333,7 +325,7 @@ Command sample_command(SampleOptions& o) {
     c.options = {
         {"--output", "-o", "FILE", "points to write (required): .ply (binary float) or .xyz (text)",
          store(o.output), "Options"},
-        {"--spacing", "", "S", fmt("distance between neighbouring points (default %g)", o.spacing),
+        {"--spacing", "", "S", snvr::format_text("distance between neighbouring points (default %g)", o.spacing),
          store(o.spacing)},
         {"--outliers", "", "F",
          "add F times as many points uniform in the shape's box (the\npaper's Fig. 10 uses 0.05 to 0.15; default 0)",
@@ -399,8 +391,6 @@ std::string lower_extension(const std::string& path) {
     return ext;
 }
 
-double ReconstructOptions::to_millimetres() const { return scale * millimetres_per(units); }
-
 std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::string>& args, std::ostream& help_out) {
     ReconstructOptions o;
     const Command command = reconstruct_command(o);
@@ -419,13 +409,8 @@ std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::strin
     if (!o.preview.empty()) require_extension("--preview", o.preview, {".png"});
     if (!o.outliers.empty()) require_extension("--outliers", o.outliers, {".ply", ".xyz"});
     if (!o.outliers.empty() && o.keep_outliers) throw UsageError("--outliers and --keep-outliers exclude each other");
-    // A print at 1:1,000,000 or 1,000,000:1 is already beyond any printer; further the
-    // coordinates would leave float (and then double) range.
-    if (!(o.scale >= 1e-6 && o.scale <= 1e6)) {
-        char text[32];
-        std::snprintf(text, sizeof text, "%g", o.scale);
-        bad_value("--scale", text, "a factor from 1e-6 to 1e6");
-    }
+    if (!(o.scale >= snvr::ShellSettings::min_scale && o.scale <= snvr::ShellSettings::max_scale))
+        bad_value("--scale", snvr::format_text("%g", o.scale), snvr::ShellSettings::scale_range);
     // Out-of-range values are the command line's fault, so a usage error, not a failure.
     try {
         o.pieces.validate();
@@ -447,7 +432,7 @@ std::optional<SampleOptions> parse_sample(const std::vector<std::string>& args, 
     o.shape = only_positional(parse(command, args), "shape name (see snvr-cl sample --help)");
     if (o.output.empty()) throw UsageError("missing output: give -o FILE");
     require_extension("output", o.output, {".ply", ".xyz"});
-    if (!(o.spacing > 0)) throw UsageError(fmt("--spacing must be positive, got %g", o.spacing));
+    if (!(o.spacing > 0)) throw UsageError(snvr::format_text("--spacing must be positive, got %g", o.spacing));
     return o;
 }
 

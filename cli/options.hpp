@@ -26,7 +26,7 @@ int parse_int(const std::string& option, const std::string& text);
 struct ReconstructOptions {
     std::string input, output, volume, report, outliers, preview;  // outliers: where the dropped points go
     bool keep_outliers = false;
-    snvr::PieceFilter pieces;  // --min-piece-volume (input units cubed until scaled), --keep-largest
+    snvr::PieceFilter pieces;  // --min-piece-volume (input units cubed), --keep-largest
     snvr::Parameters params;
     snvr::MeshFairing fairing;
     // --origin center (true) or keep (false); unset: centred where a print format (STL,
@@ -34,8 +34,6 @@ struct ReconstructOptions {
     std::optional<bool> centre_origin;
     std::string units = "mm";    // the input's length unit (--units)
     double scale = 1;            // --scale: input lengths times this
-    // Every output is in millimetres: points and length options are multiplied by this.
-    double to_millimetres() const;
     bool measure = false;  // the check adds the surface figures (measure_quality, not measure_shell)
     bool quiet = false;
 };

@@ -18,6 +18,7 @@
 #include "snvr/mesh.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/render.hpp"
+#include "snvr/report.hpp"
 #include "snvr/shell.hpp"
 #include "snvr/stopwatch.hpp"
 
@@ -83,23 +84,21 @@ void check_outputs(const ReconstructOptions& o) {
     }
 }
 
-// The library's settings from the options, every length in millimetres (the points
-// are scaled to match).
+// The library's settings from the options (lengths in the input's units).
 snvr::ShellSettings shell_settings(const ReconstructOptions& o) {
-    const double to_mm = o.to_millimetres();
     snvr::ShellSettings s;
     s.params = o.params;
-    snvr::scale_lengths(s.params, to_mm);
     s.drop_outliers = !o.keep_outliers;
     s.origin = !o.centre_origin ? snvr::ShellOrigin::Auto
                : *o.centre_origin ? snvr::ShellOrigin::Centre
                                   : snvr::ShellOrigin::Keep;
     s.fairing = o.fairing;
     s.pieces = o.pieces;
-    s.pieces.min_volume *= to_mm * to_mm * to_mm;
     s.measure = o.measure;
     s.written_as = o.output;
     s.keep_field = !o.volume.empty();
+    s.units = o.units;
+    s.scale = o.scale;
     return s;
 }
 
@@ -129,91 +128,73 @@ int run_reconstruct(const std::vector<std::string>& args) {
     };
 
     Stopwatch total, stage;
-    Seconds seconds;
     check_outputs(o);
-    std::vector<std::string> warnings;  // shown as they come, and kept for --report
-    const auto warning = [&warnings](const std::string& message) {
-        warn(message);
-        warnings.push_back(message);
-    };
+    const snvr::ShellSettings settings = shell_settings(o);
+    snvr::RunFiles files;
+    files.input = o.input;
 
     say("read: " + o.input);
-    snvr::InputPoints input = snvr::read_input(o.input, o.params);
-    seconds.read = stage.lap();
+    snvr::InputPoints input = snvr::read_input(o.input, settings.params);
+    files.read_seconds = stage.lap();
     if (input.triangles)
-        say(fmt("read: a mesh of %s triangles, sampled at %.3g into %s points", grouped(input.triangles).c_str(),
-                input.spacing, grouped(input.points.size()).c_str()));
+        say(snvr::format_text("read: a mesh of %s triangles, sampled at %.3g into %s points",
+                              grouped(input.triangles).c_str(), input.spacing, grouped(input.points.size()).c_str()));
     else
         say("read: " + grouped(input.points.size()) + " points");
     try {
-        // From here on every length is in millimetres: the points, the options, the outputs.
-        snvr::PointCloud points = std::move(input.points);
-        const double to_mm = o.to_millimetres();
-        if (to_mm != 1) points.scale(to_mm);
-        const snvr::ShellSettings settings = shell_settings(o);
-        seconds.read += stage.lap();
-        snvr::Shell shell = snvr::make_shell(std::move(points), settings, [&](const snvr::Progress& p) {
+        snvr::Shell shell = snvr::make_shell(std::move(input.points), settings, [&](const snvr::Progress& p) {
             if (p.stage == "mesh") say("mesh: extracting the zero level set");
             else if (p.stage == "check") say("check: the shell against the points");
             else if (p.stage == "outliers" && !p.message.empty())
-                say(fmt("outliers: %s (sparse, lone points standing off the surface, or in clusters of under %zu "
-                        "points apart by over 2 x offset); --keep-outliers keeps them",
-                        p.message.c_str(), settings.outliers.min_cluster));
+                say(snvr::format_text("outliers: %s (sparse, lone points standing off the surface, or in clusters of "
+                                      "under %zu points apart by over 2 x offset); --keep-outliers keeps them",
+                                      p.message.c_str(), settings.outliers.min_cluster));
             else if (!o.quiet && p.stage != "outliers") print_progress(std::cerr, p);
             return true;
         });
         stage.lap();  // make_shell timed its own stages
         const snvr::Result& result = shell.run;
-        const snvr::DroppedOutliers& outliers = shell.outliers;
-        const snvr::Vec3& shift = shell.shift;
-        seconds.outliers = shell.seconds.outliers;
-        seconds.mesh = shell.seconds.mesh;
-        seconds.check = shell.seconds.check;
         const snvr::DepthGuardReport& guard = shell.guard;
         if (guard.moved_vertices) {
             const std::string except =
                 guard.lone_points ? " but " + grouped(guard.lone_points) +
                                         " with no other point within the offset (it is below the sampling gap)"
                                   : "";
-            say(fmt("mesh: %s vertices lifted along their normals, around %s that came nearer to a point than the "
-                    "tube's inner wall (%.3g x offset), so that every point stays that deep%s",
-                    grouped(guard.moved_vertices).c_str(), grouped(guard.near_vertices).c_str(),
-                    1 - result.tube_inner / result.offset, except.c_str()));
+            say(snvr::format_text("mesh: %s vertices lifted along their normals, around %s that came nearer to a "
+                                  "point than the tube's inner wall (%.3g x offset), so that every point stays that "
+                                  "deep%s",
+                                  grouped(guard.moved_vertices).c_str(), grouped(guard.near_vertices).c_str(),
+                                  1 - result.tube_inner / result.offset, except.c_str()));
         }
         const snvr::PieceReport& dropped_pieces = shell.pieces;
         if (dropped_pieces.dropped)
-            say(fmt("mesh: %zu solid piece%s dropped (%.4g mm^3 in all), %zu kept", dropped_pieces.dropped,
-                    dropped_pieces.dropped == 1 ? "" : "s", dropped_pieces.dropped_volume, dropped_pieces.kept));
-        for (const std::string& w : shell.warnings) warning(w);
-        const snvr::Mesh& mesh = shell.mesh;
-        const snvr::Vec3 size = mesh_size(mesh);
-        if (std::max({size[0], size[1], size[2]}) < 2)
-            warning(fmt("the shell is only %.3g mm across: if the points are not in millimetres, give --units (m, cm "
-                        "or in)", std::max({size[0], size[1], size[2]})));
+            say(snvr::format_text("mesh: %zu solid piece%s dropped (%.4g mm^3 in all), %zu kept",
+                                  dropped_pieces.dropped, dropped_pieces.dropped == 1 ? "" : "s",
+                                  dropped_pieces.dropped_volume, dropped_pieces.kept));
+        for (const std::string& w : shell.warnings) warn(w);
 
         // Staged first (whole files, not yet visible), then renamed into place together:
         // a failure anywhere leaves every output as it was, and a written output always
         // means exit 0 (the checks only warn).
         say("write: " + o.output + (o.volume.empty() ? "" : ", " + o.volume));
         snvr::OutputFiles outputs;
-        const std::uint64_t mesh_bytes = outputs.add_mesh(mesh, o.output);
-        const std::uint64_t volume_bytes = o.volume.empty() ? 0 : outputs.add_field(result.phi, result.domain, o.volume);
+        files.outputs.push_back({o.output, "mesh", outputs.add_mesh(shell.mesh, o.output)});
+        if (!o.volume.empty())
+            files.outputs.push_back({o.volume, "volume", outputs.add_field(result.phi, result.domain, o.volume)});
         if (!o.outliers.empty()) {  // where the kept points went: shifted alike
-            snvr::PointSet dropped = outliers.points;
+            snvr::PointSet dropped = shell.outliers.points;
             for (snvr::Vec3& p : dropped)
-                for (int a = 0; a < 3; ++a) p[a] -= shift[a];
+                for (int a = 0; a < 3; ++a) p[a] -= shell.shift[a];
             outputs.add_points(dropped, o.outliers, "outliers dropped by snvr-cl");
+            files.outliers_file = o.outliers;
         }
-        RunSummary summary{result, shell.quality, seconds, o.output, o.volume, shift, size, o.units, to_mm,
-                           o.input, shell.points, mesh_bytes, volume_bytes, warnings, outliers.points.size(),
-                           outliers.link, o.outliers, dropped_pieces};
-        summary.shift_by_default = shell.shift_by_default;
-        if (!o.preview.empty()) outputs.add_bytes(snvr::render::preview_png(mesh, o.preview), o.preview);
-        summary.seconds.write = stage.lap();
-        summary.seconds.total = total.lap();
-        if (!o.report.empty()) outputs.add_bytes(report_json(summary), o.report);
+        if (!o.preview.empty()) outputs.add_bytes(snvr::render::preview_png(shell.mesh, o.preview), o.preview);
+        files.write_seconds = stage.lap();
+        files.total_seconds = total.lap();
+        const snvr::RunReport report = snvr::make_report(shell, files);
+        if (!o.report.empty()) outputs.add_bytes(snvr::report_json(report), o.report);
         outputs.commit();
-        if (!o.quiet) print_summary(std::cerr, summary);
+        if (!o.quiet) std::cerr << "summary:\n" << snvr::report_summary(report) << std::flush;
         return 0;
     } catch (...) {
         rethrow_naming_input(o.input);

@@ -57,6 +57,8 @@ def shell(
     device: str = "auto",
     written_as: str = ".stl",
     keep_field: bool = False,
+    units: str = "mm",
+    scale: float = 1.0,
     progress: Optional[Callable[[str, int, int], Optional[bool]]] = None,
 ) -> Shell: ...
 

@@ -18,7 +18,9 @@
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
 #include "snvr/point_cloud.hpp"
+#include "snvr/report.hpp"
 #include "snvr/shell.hpp"
+#include "snvr/stopwatch.hpp"
 
 namespace py = pybind11;
 
@@ -58,79 +60,16 @@ py::array_t<double> array_of(const snvr::PointSet& points) {
     return out;
 }
 
-// What snvr-cl's --report says, as a dict.
-py::dict report_of(const snvr::Shell& s) {
-    const snvr::Result& r = s.run;
-    const snvr::MeshQuality& q = s.quality;
-    py::dict grid, mesh, check, outliers, run, surface;
-    grid["cells"] = py::make_tuple(r.domain.nx, r.domain.ny, r.domain.nz);
-    grid["voxel"] = r.domain.h;
-    grid["origin"] = py::make_tuple(r.domain.origin[0], r.domain.origin[1], r.domain.origin[2]);
-    run["offset"] = r.offset;
-    run["offset_reason"] = r.offset_reason;
-    run["sampling_gap"] = r.gap;
-    run["eps"] = r.eps;
-    run["xi"] = r.xi;
-    run["dt"] = r.dt;
-    run["steps"] = r.steps.size();
-    run["backend"] = r.backend;
-    run["active_cells"] = r.active_cells;
-    run["solver_bytes"] = r.solver_bytes;
-    mesh["triangles"] = q.triangles;
-    mesh["vertices"] = q.vertices;
-    mesh["components"] = q.components;
-    mesh["solids"] = q.solids;
-    mesh["cavities"] = q.cavities;
-    mesh["closed"] = q.closed;
-    mesh["manifold"] = q.manifold;
-    mesh["oriented"] = q.oriented;
-    mesh["genus"] = q.genus;
-    mesh["pieces_dropped"] = s.pieces.dropped;
-    check["points"] = q.points;
-    check["points_inside"] = q.points_inside;
-    check["depth_min"] = q.depth_min;
-    check["depth_p01"] = q.depth_p01;
-    check["wall_min"] = q.wall_min;
-    check["wall_p01"] = q.wall_p01;
-    check["point_clusters"] = s.clusters;
-    if (q.has_surface) {
-        surface["offset_rms"] = q.offset_rms;
-        surface["offset_mean"] = q.offset_mean;
-        surface["offset_max"] = q.offset_max;
-        surface["dihedral_rms"] = q.dihedral_rms;
-        surface["normal_noise"] = q.normal_noise;
-        check["surface"] = surface;
-    }
-    outliers["dropped"] = s.outliers.points.size();
-    outliers["link"] = s.outliers.link;
-    py::dict seconds;
-    seconds["outliers"] = s.seconds.outliers;
-    seconds["domain"] = r.seconds.domain;
-    seconds["distance"] = r.seconds.distance;
-    seconds["init"] = r.seconds.init;
-    seconds["steps"] = r.seconds.steps;
-    seconds["mesh"] = s.seconds.mesh;
-    seconds["check"] = s.seconds.check;
-    seconds["total"] = s.seconds.total;
-    py::dict out;
-    out["grid"] = grid;
-    out["run"] = run;
-    out["mesh"] = mesh;
-    out["check"] = check;
-    out["outliers"] = outliers;
-    out["origin_shift"] = py::make_tuple(s.shift[0], s.shift[1], s.shift[2]);
-    out["origin_shift_why"] = s.shift == snvr::Vec3{0, 0, 0} ? "none"
-                              : s.shift_by_default ? "float32 output far from the origin (default)"
-                                                   : "origin='center'";
-    out["warnings"] = s.warnings;
-    out["seconds"] = seconds;
-    return out;
-}
-
 // The shell and what came with it, as Python sees it.
 struct PyShell {
     snvr::Shell shell;
     std::size_t input_points = 0;
+    snvr::RunFiles files;  // the file read, when a path was given
+
+    // The report's JSON view as a dict: the same keys and figures as snvr-cl's --report.
+    py::object report() const {
+        return py::module_::import("json").attr("loads")(snvr::report_json(snvr::make_report(shell, files)));
+    }
 
     py::array_t<double> vertices() const { return array_of(shell.mesh.vertices); }
     py::array_t<std::uint32_t> faces() const {
@@ -161,7 +100,7 @@ PyShell shell(const py::handle& points, std::optional<int> resolution, std::opti
               bool free_flow, std::optional<double> eps_cells, std::optional<double> xi_cells,
               std::optional<double> tol, std::optional<int> max_cycles, const std::string& precision,
               const std::string& device, const std::string& written_as, bool keep_field,
-              const py::object& progress) {
+              const std::string& units, double scale, const py::object& progress) {
     snvr::ShellSettings s;
     snvr::Parameters& p = s.params;
     if (resolution) p.resolution = *resolution;
@@ -194,19 +133,23 @@ PyShell shell(const py::handle& points, std::optional<int> resolution, std::opti
     s.measure = measure;
     s.written_as = written_as;
     s.keep_field = keep_field;
+    s.units = units;
+    s.scale = scale;
 
     PyShell out;
     snvr::PointCloud cloud;
     if (py::isinstance<py::str>(points) || py::hasattr(points, "__fspath__")) {  // a file, read as snvr-cl reads it
-        const std::string path = py::str(py::module_::import("os").attr("fspath")(points));
+        out.files.input = py::str(py::module_::import("os").attr("fspath")(points));
         py::gil_scoped_release unlocked;
-        cloud = std::move(snvr::read_input(path, p).points);
+        snvr::Stopwatch read;
+        cloud = std::move(snvr::read_input(out.files.input, p).points);
+        out.files.read_seconds = read.lap();
     } else {
         cloud = cloud_of(points);
     }
     out.input_points = cloud.size();
     // Called without the GIL: takes it, lets Python see Ctrl-C, asks the callback.
-    const snvr::ShellProgress ask = [&progress](const snvr::Progress& p) {
+    const snvr::ProgressCallback ask = [&progress](const snvr::Progress& p) {
         py::gil_scoped_acquire locked;
         if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // KeyboardInterrupt: the run stops
         if (progress.is_none()) return true;
@@ -255,8 +198,8 @@ PYBIND11_MODULE(snvr, m) {
         }, "what was subtracted from the points (origin='center', or 'auto' where written_as is STL or 3MF and "
            "float32 would move the shell): add it back to place the shell")
         .def_property_readonly("warnings", [](const PyShell& s) { return s.shell.warnings; })
-        .def_property_readonly("report", [](const PyShell& s) { return report_of(s.shell); },
-                               "the summary snvr-cl prints, as a dict")
+        .def_property_readonly("report", &PyShell::report,
+                               "what snvr-cl's --report says (its JSON as a dict; lengths in millimetres)")
         .def("write", &PyShell::write, py::arg("path"),
              "Writes the mesh: .stl, .ply, .obj or .3mf (millimetres), by the extension.")
         // The libraries users hold, imported only when asked for.
@@ -283,6 +226,7 @@ PYBIND11_MODULE(snvr, m) {
                    " points inside>";
         });
 
+    const snvr::ShellSettings shell_defaults;
     m.def("shell", &shell, py::arg("points"), py::kw_only(), py::arg("resolution") = py::none(),
           py::arg("voxel") = py::none(), py::arg("offset") = py::none(), py::arg("thickness") = py::none(),
           py::arg("offset_cells") = py::none(), py::arg("keep_outliers") = false, py::arg("origin") = "auto",
@@ -292,12 +236,14 @@ PYBIND11_MODULE(snvr, m) {
           py::arg("tube_outer") = py::none(), py::arg("free_flow") = false, py::arg("eps_cells") = py::none(),
           py::arg("xi_cells") = py::none(), py::arg("tol") = py::none(), py::arg("max_cycles") = py::none(),
           py::arg("precision") = "float", py::arg("device") = "auto", py::arg("written_as") = ".stl",
-          py::arg("keep_field") = false, py::arg("progress") = py::none(),
+          py::arg("keep_field") = false, py::arg("units") = shell_defaults.units,
+          py::arg("scale") = shell_defaults.scale, py::arg("progress") = py::none(),
           "The printable shell around points ((N, 3) array, lengths in their units; or a file's path, read as "
           "snvr-cl reads it, meshes sampled), as snvr-cl reconstruct makes it. Keywords are snvr-cl's options (resolution, voxel, offset, thickness, offset_cells, "
           "keep_outliers, origin, fairing, min_piece_volume, keep_largest, measure, smoothing, dt_cells, steps, "
           "tube_inner, tube_outer, free_flow, eps_cells, xi_cells, tol, max_cycles, precision, device); "
-          "written_as: the format the mesh is meant for ('.stl': float32). progress(stage, step, steps) may "
+          "written_as: the format the mesh is meant for ('.stl': float32). units ('mm', 'cm', 'm' or 'in') and scale: "
+          "the points' unit and a factor on it, as snvr-cl's --units and --scale (the shell comes back in millimetres). progress(stage, step, steps) may "
           "return False to cancel (snvr.Cancelled); Ctrl-C cancels too (KeyboardInterrupt).");
     m.def("read_points", [](const std::string& path) -> py::array {
         snvr::detail::FloatPoints points;

@@ -7,8 +7,7 @@
 #   bash scripts/bench.sh --sections points --out /tmp/points, then copy what is wanted.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh gnuplot-nox libopenvdb-dev libboost-dev  # OpenVDB peer (its headers need Boost)
-bash scripts/build.sh
+bash scripts/build.sh gnuplot-nox libopenvdb-dev libboost-dev  # OpenVDB peer (its headers need Boost)
 export OMP_WAIT_POLICY=passive
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"
 out=bench/latest

@@ -4,7 +4,7 @@
 # a picture of it beside a cut through it in example-cone.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh
+bash scripts/build.sh --cli-only  # snvr-cl alone: no tests, benchmarks or Python module
 export OMP_WAIT_POLICY=passive
 # PoCL caches compiled kernels; keep its cache somewhere writable even without a home.
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"

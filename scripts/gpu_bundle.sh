@@ -8,7 +8,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-build/gpu-bundle}
-[ -x build/cli/snvr-cl ] || bash scripts/build.sh
+# A build/ made by the example alone has no benchmarks configured.
+grep -qs "SNVR_BUILD_BENCH:BOOL=ON" build/CMakeCache.txt || bash scripts/build.sh
 # The suite without the OpenVDB peer (a GPU run measures the kernels, not the peers).
 cmake --build build -j"$(nproc)" --target snvr-cl snvr-bench-portable >/dev/null
 rm -rf "$out"

@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 export OMP_WAIT_POLICY=passive
 if [[ "${1:-}" == "--sanitize" ]]; then
-  bash scripts/setup.sh
+  bash scripts/setup.sh --all
   cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSNVR_SANITIZE=ON -DSNVR_BUILD_BENCH=OFF >/dev/null
   cmake --build build-sanitize -j"$(nproc)"
   export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build-sanitize/pocl-cache}"
@@ -21,8 +21,7 @@ if [[ "${1:-}" == "--sanitize" ]]; then
 fi
 # Open3D only for the Python tests' round trip: the module never needs it. Oclgrind
 # checks the kernels (tests/oclgrind_check.sh).
-bash scripts/setup.sh python3-open3d oclgrind
-bash scripts/build.sh
+bash scripts/build.sh python3-open3d oclgrind
 # PoCL caches compiled kernels; keep its cache somewhere writable even without a home.
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"
 ctest --test-dir build --output-on-failure

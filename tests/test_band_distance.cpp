@@ -38,7 +38,7 @@ TEST_CASE("band distance equals brute force wherever it is inside the band") {
         const PointCloud cloud(points);
         points = cloud.to_point_set();  // as the cloud holds them (float)
         const Band band{0.05, 0.04};
-        BandDistance<double> bd = band_distance<double>(cloud.tree(), d, band);
+        BandDistance<double> bd = band_distance<double>(detail::tree_of(cloud), d, band);
         classify_band(bd, d, band);
         const std::vector<double> distance = bd.dense(d);
         // The layout from the per-brick distance is the one the dense distance gives.
@@ -83,7 +83,7 @@ void check_exact(const PointSet& input, const Domain& d, const Band& band, const
     CAPTURE(label);
     const PointCloud cloud(input);
     const PointSet points = distinct ? PointCloud(*distinct).to_point_set() : cloud.to_point_set();
-    const BandDistance<Real> bd = band_distance<Real>(cloud.tree(), d, band);
+    const BandDistance<Real> bd = band_distance<Real>(detail::tree_of(cloud), d, band);
     const std::vector<Real> distance = bd.dense(d);
     REQUIRE(distance.size() == d.cells());
     const Hierarchy shapes = make_levels(Domain{d.origin, d.h, d.nx, d.ny, d.nz, 1});

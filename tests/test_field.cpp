@@ -26,19 +26,19 @@ std::vector<double> random_values(std::size_t n, unsigned seed) {
 }
 
 // The same cells with every brick stored on its own (no sharing).
-Field unshared(const Field& f) {
-    Field g = f;
-    g.f64.clear();
-    g.f32.clear();
-    for (std::size_t b = 0; b < f.brick.size(); ++b) {
-        const std::size_t from = std::size_t(f.brick[b]) * Field::kBrickCells;
-        if (f.precision == Precision::Double)
-            g.f64.insert(g.f64.end(), f.f64.begin() + std::ptrdiff_t(from), f.f64.begin() + std::ptrdiff_t(from + Field::kBrickCells));
-        else
-            g.f32.insert(g.f32.end(), f.f32.begin() + std::ptrdiff_t(from), f.f32.begin() + std::ptrdiff_t(from + Field::kBrickCells));
-        g.brick[b] = std::uint32_t(b);
+template <class Real>
+Field unshared(const Field& f, const std::vector<Real>& stored) {
+    std::vector<std::uint32_t> table(f.brick_table().size());
+    std::vector<Real> values;
+    for (std::size_t b = 0; b < table.size(); ++b) {
+        const std::size_t from = std::size_t(f.brick_table()[b]) * Field::kBrickCells;
+        values.insert(values.end(), stored.begin() + std::ptrdiff_t(from), stored.begin() + std::ptrdiff_t(from + Field::kBrickCells));
+        table[b] = std::uint32_t(b);
     }
-    return g;
+    return Field::from_bricks(f.nx, f.ny, f.nz, std::move(table), std::move(values));
+}
+Field unshared(const Field& f) {
+    return f.precision == Precision::Double ? unshared(f, f.stored_f64()) : unshared(f, f.stored_f32());
 }
 
 // A ball of radius r (cells) in an nx x ny x nz grid: a tanh profile, +-1 far from it.
@@ -102,15 +102,22 @@ TEST_CASE("malformed fields and counts are refused with the reason") {
     CHECK_THROWS_AS(Field::from_dense(4, 4, 4, std::vector<double>(63)), ParameterError);
     CHECK_THROWS_AS(Field::from_dense(-1, 4, 4, std::vector<double>()), ParameterError);
     const Field good = Field::from_dense(9, 9, 9, random_values(729, 3));
+    std::vector<std::uint32_t> table = good.brick_table();
+    table.pop_back();
+    CHECK_THROWS_WITH_AS(Field::from_bricks(9, 9, 9, table, good.stored_f64()), doctest::Contains("brick entries"),
+                         InputError);
+    std::vector<double> values = good.stored_f64();
+    values.pop_back();
+    CHECK_THROWS_WITH_AS(Field::from_bricks(9, 9, 9, good.brick_table(), values), doctest::Contains("whole bricks"),
+                         InputError);
+    table = good.brick_table();
+    table[3] = 99;
+    CHECK_THROWS_WITH_AS(Field::from_bricks(9, 9, 9, table, good.stored_f64()), doctest::Contains("stored brick 99"),
+                         InputError);
+    // A shape changed after the bricks were made.
     Field bad = good;
-    bad.brick.pop_back();
+    bad.nx = 17;
     CHECK_THROWS_WITH_AS(bad.validate("x: "), doctest::Contains("brick entries"), InputError);
-    bad = good;
-    bad.f64.pop_back();
-    CHECK_THROWS_WITH_AS(bad.validate("x: "), doctest::Contains("whole bricks"), InputError);
-    bad = good;
-    bad.brick[3] = 99;
-    CHECK_THROWS_WITH_AS(bad.validate("x: "), doctest::Contains("stored brick 99"), InputError);
     CHECK_THROWS_AS(write_field(bad, domain_of(bad), "never_written.nrrd"), InputError);
 }
 

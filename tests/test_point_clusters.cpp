@@ -87,7 +87,7 @@ TEST_CASE("cluster_roots: each point's cluster as its first member, on one threa
     // Enough points for the threads to share the linking (over 2^16), in clusters of
     // different density, some a hair more or less than a link apart.
     const PointCloud cloud(blobs(11, {6, 6, 2}, 0.25, 40, 4, 8000, 800, 3000));
-    const detail::PointTree& t = cloud.tree();
+    const detail::PointTree& t = detail::tree_of(cloud);
     REQUIRE(t.size() > (1u << 16));
     for (double link : {0.004, 0.02, 0.06, 0.3}) {
         CAPTURE(link);

@@ -77,7 +77,7 @@ TEST_CASE("point depths: groups, runs and bounds give brute force's figures, den
     for (int threads_like : {1, 4}) {  // one pass over all groups, or in chunks
         CAPTURE(threads_like);
         const TriangleGrid grid(mesh);
-        detail::PointDepths depths(mesh, grid, cloud.tree(), h, false, false);
+        detail::PointDepths depths(mesh, grid, detail::tree_of(cloud), h, false, false);
         const std::size_t g = depths.groups(), step = (g + std::size_t(threads_like) - 1) / std::size_t(threads_like);
         for (std::size_t first = 0; first < g; first += step) depths.bound(first, std::min(g, first + step));
         const double shallowest = depths.shallowest();
@@ -90,7 +90,7 @@ TEST_CASE("point depths: groups, runs and bounds give brute force's figures, den
     }
     // Every point measured (measure_quality's way): the same.
     const TriangleGrid grid(mesh);
-    detail::PointDepths every(mesh, grid, cloud.tree(), h, true, false);
+    detail::PointDepths every(mesh, grid, detail::tree_of(cloud), h, true, false);
     every.bound(0, every.groups());
     every.settle(0, every.groups(), every.shallowest());
     const detail::PointDepths::Figures f = every.figures();

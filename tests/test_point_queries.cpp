@@ -76,7 +76,7 @@ TEST_CASE("PointTree: the nodes split their points in order and hold them in the
     REQUIRE(dense.size() > (std::size_t(1) << 17));
     for (const PointSet& points : {dense, awkward_clouds()[2].points}) {
         const PointCloud cloud(points);
-        const PointTree& t = cloud.tree();
+        const PointTree& t = detail::tree_of(cloud);
         REQUIRE(t.size() == points.size());
         std::vector<std::uint8_t> seen(points.size(), 0);
         std::size_t bad = 0, leaves = 0;
@@ -127,7 +127,7 @@ TEST_CASE("nearest_lanes: eight queries at once give nearest()'s distances, and 
     for (const Cloud& c : awkward_clouds()) {
         CAPTURE(c.what);
         const PointCloud cloud(c.points);
-        const PointTree& t = cloud.tree();
+        const PointTree& t = detail::tree_of(cloud);
         const auto box = cloud.box();
         const double span = std::max({box[1][0] - box[0][0], box[1][1] - box[0][1], box[1][2] - box[0][2], 1e-6});
         std::size_t mismatches = 0, brute_mismatches = 0, found = 0;
@@ -169,7 +169,7 @@ TEST_CASE("points_short_of: the cells' counts are the tree's, and brute force's"
     for (const Cloud& c : awkward_clouds()) {
         CAPTURE(c.what);
         const PointCloud cloud(c.points);
-        const PointTree& t = cloud.tree();
+        const PointTree& t = detail::tree_of(cloud);
         const bool brute = t.size() <= 20000;
         for (double radius : {1e-9, 1e-4, 0.003, 0.02, 0.2}) {
             for (std::size_t need : {std::size_t(1), std::size_t(4), std::size_t(9), std::size_t(60)}) {
@@ -210,7 +210,7 @@ PointSet square(double spacing, double noise, std::uint64_t seed) {
 
 std::size_t strays_in(const PointSet& points, const std::vector<std::size_t>& of, std::size_t* others = nullptr) {
     const PointCloud cloud(points);
-    const std::vector<std::uint8_t> stray = detail::stray_points(cloud.tree());
+    const std::vector<std::uint8_t> stray = detail::stray_points(detail::tree_of(cloud));
     std::size_t hit = 0, rest = 0;
     for (std::size_t k = 0; k < stray.size(); ++k) {
         if (!stray[k]) continue;

@@ -90,18 +90,15 @@ DistanceShell distance_mc_shell(const PointSet& points, double voxel, double off
     shell.seconds_band = clock.lap();
 
     // Stored brick 0 is every brick the band misses; the band's bricks follow it.
-    Field field;
-    field.nx = g.nx, field.ny = g.ny, field.nz = g.nz;
-    field.precision = Precision::Single;
-    field.brick.resize(band.slot.size());
-    for (std::size_t b = 0; b < band.slot.size(); ++b) field.brick[b] = band.slot[b] == BandCells::kNone ? 0 : band.slot[b] + 1;
-    field.f32.assign((band.masks.size() + 1) * Field::kBrickCells, float(-clip));
+    std::vector<std::uint32_t> table(band.slot.size());
+    for (std::size_t b = 0; b < band.slot.size(); ++b) table[b] = band.slot[b] == BandCells::kNone ? 0 : band.slot[b] + 1;
+    std::vector<float> stored((band.masks.size() + 1) * Field::kBrickCells, float(-clip));
     const std::uint32_t bx = std::uint32_t(band.bricks_x), by = std::uint32_t(band.bricks_y);
 #pragma omp parallel for schedule(dynamic, 8)
     for (std::int64_t s = 0; s < std::int64_t(band.masks.size()); ++s) {
         const std::uint32_t b = band.brick[std::size_t(s)];
         const int i0 = int(b % bx) * 8, j0 = int(b / bx % by) * 8, k0 = int(b / bx / by) * 8;
-        float* values = &field.f32[(std::size_t(s) + 1) * Field::kBrickCells];
+        float* values = &stored[(std::size_t(s) + 1) * Field::kBrickCells];
         for (int z = 0; z < 8; ++z)
             for (std::uint64_t bits = band.masks[std::size_t(s)][std::size_t(z)]; bits; bits &= bits - 1) {
                 const int xy = __builtin_ctzll(bits), x = xy % 8, y = xy / 8;
@@ -113,6 +110,7 @@ DistanceShell distance_mc_shell(const PointSet& points, double voxel, double off
     }
     shell.seconds_distance = clock.lap();
 
+    const Field field = Field::from_bricks(g.nx, g.ny, g.nz, std::move(table), std::move(stored));
     shell.mesh = extract_dual_isosurface(field, g, 0.0, Interpolation::Linear);
     shell.seconds_mesh = clock.lap();
     return shell;

@@ -14,6 +14,7 @@ using Vec3f = std::array<float, 3>;
 
 namespace detail {
 class PointTree;
+struct CloudAccess;  // the library's stages reach the tree through it (geometry/point_tree.hpp)
 }
 
 // Float coordinates about an origin (world = origin + coordinate, summed in double):
@@ -64,10 +65,8 @@ public:
     // Adds `by` to every point (the origin moves; the coordinates stay).
     void translate(const Vec3& by);
 
-    // The tree itself, for the library's stages (lib/src/geometry/point_tree.hpp).
-    const detail::PointTree& tree() const { return *tree_; }
-
 private:
+    friend struct detail::CloudAccess;
     std::unique_ptr<detail::PointTree> tree_;
 };
 

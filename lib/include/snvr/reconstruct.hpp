@@ -59,13 +59,16 @@ struct Result : DomainPlan {
     std::vector<std::string> warnings;
 };
 
+// A run's progress, as each stage ends (reconstruct: "domain", "distance", "init", "step";
+// make_shell adds its own). Returning false cancels: the call stops there, frees what it
+// holds and throws Cancelled.
 struct Progress {
-    std::string stage;      // "domain", "distance", "init", "step"
+    std::string stage;
     int step = 0, steps = 0;
     const StepStats* stats = nullptr;  // set for "step"
     std::string message;
 };
-using ProgressCallback = std::function<void(const Progress&)>;
+using ProgressCallback = std::function<bool(const Progress&)>;
 
 // Fits the grid (see fit_domain), computes the distance, runs the split scheme.
 // Throws InputError / ParameterError / ResourceError with a message naming the problem.

@@ -20,6 +20,10 @@ namespace snvr {
 // a voxel (decided on the points as given, at the smallest voxel the run can have).
 enum class ShellOrigin { Auto, Keep, Centre };
 
+// Millimetres in one of the length units the points may be given in (mm, cm, m, in);
+// 0 for another name.
+double millimetres_per_unit(const std::string& unit);
+
 struct ShellSettings {
     Parameters params;           // lengths in the points' units
     bool drop_outliers = true;   // the outlier rules (false: every point is used)
@@ -33,6 +37,15 @@ struct ShellSettings {
     // when the format cannot hold it faithfully. Empty: doubles, as meshed.
     std::string written_as;
     bool keep_field = false;     // keep run.phi (else freed before the check)
+    // The points' length unit and a factor on it (a print at 1:100 is scale 0.01): the
+    // points and every length above are taken times scale in that unit, and the shell is
+    // made and returned in millimetres, the unit slicers assume.
+    std::string units = "mm";
+    double scale = 1;
+    static constexpr double min_scale = 1e-6, max_scale = 1e6;  // beyond any printer; further, float range goes
+    static constexpr const char* scale_range = "a factor from 1e-6 to 1e6";  // as messages say it
+    double to_millimetres() const { return scale * millimetres_per_unit(units); }
+    void validate() const;       // throws ParameterError naming the bad value (every part's rules)
 };
 
 struct ShellSeconds {
@@ -46,24 +59,26 @@ struct Shell {
     Vec3 shift{0, 0, 0};        // subtracted from the kept points before the run (origin)
     bool shift_by_default = false;  // shifted by ShellOrigin::Auto's rule, not on request
     std::size_t points = 0;     // the points the shell was made around
+    std::string units = "mm";   // the points' unit as given, and
+    double to_millimetres = 1;  // what their lengths were multiplied by (everything here is in mm)
+    Vec3 size{0, 0, 0};         // the mesh's extent along x, y and z
     DepthGuardReport guard;
     PieceReport pieces;
     MeshQuality quality;        // the check: closed, pieces, points inside and their depth, walls
     std::size_t clusters = 0;   // count_point_clusters(kept points, 2 l)
-    std::vector<std::string> warnings;  // the run's, the depth guard's, the check's
+    std::vector<std::string> warnings;  // the run's, the depth guard's, the check's, the size's
     ShellSeconds seconds;
 };
 
-// Progress of make_shell: the stages "outliers", "domain", "distance", "init", "step",
-// "mesh" and "check" as they begin (steps as they end; "outliers" again when points were
-// dropped, saying how many). Returning false cancels: the call stops there, frees what
-// it holds and throws Cancelled.
-using ShellProgress = std::function<bool(const Progress&)>;
+// Progress of make_shell (as reconstruct's, Progress in reconstruct.hpp): the stages
+// "outliers", "domain", "distance", "init", "step", "mesh" and "check" ("outliers" and
+// "mesh" and "check" as they begin; "outliers" again when points were dropped, saying
+// how many). Returning false cancels: Cancelled.
 
 // Throws InputError, ParameterError, ResourceError or IoError naming the problem;
 // Error when the shell comes out empty (every piece below pieces.min_volume, or none at
 // all); Cancelled when the progress callback asks.
-Shell make_shell(PointCloud points, const ShellSettings& settings, const ShellProgress& progress = {});
-Shell make_shell(const PointSet& points, const ShellSettings& settings, const ShellProgress& progress = {});
+Shell make_shell(PointCloud points, const ShellSettings& settings, const ProgressCallback& progress = {});
+Shell make_shell(const PointSet& points, const ShellSettings& settings, const ProgressCallback& progress = {});
 
 }  // namespace snvr

@@ -496,7 +496,7 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
 
 MeshQuality measure_quality(const Mesh& mesh, const PointCloud& points, double offset, double voxel,
                             const std::function<double(const Vec3&)>& exact) {
-    return measure("measure_quality", mesh, points.tree(), offset, voxel, true, exact);
+    return measure("measure_quality", mesh, detail::tree_of(points), offset, voxel, true, exact);
 }
 MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double offset, double voxel,
                             const std::function<double(const Vec3&)>& exact) {
@@ -504,7 +504,7 @@ MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double off
 }
 
 MeshQuality measure_shell(const Mesh& mesh, const PointCloud& points, double offset, double voxel) {
-    return measure("measure_shell", mesh, points.tree(), offset, voxel, false, {});
+    return measure("measure_shell", mesh, detail::tree_of(points), offset, voxel, false, {});
 }
 MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offset, double voxel) {
     return measure_shell(mesh, PointCloud(points), offset, voxel);

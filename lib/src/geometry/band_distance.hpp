@@ -11,7 +11,6 @@
 #include "grid/brick_tiling.hpp"
 #include "geometry/point_tree.hpp"
 #include "snvr/domain.hpp"
-#include "snvr/reconstruct.hpp"
 
 namespace snvr {
 

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <map>
 #include <type_traits>
+#include <utility>
 
 #include "snvr/error.hpp"
 
@@ -15,11 +16,11 @@ namespace {
 // (bit for bit) shares the stored brick of the first such brick, so a mostly uniform
 // grid costs little.
 template <class Real>
-std::vector<Real> brick_values(Field& f, const std::vector<Real>& values) {
+std::vector<Real> brick_values(const Field& f, const std::vector<Real>& values, std::vector<std::uint32_t>& table) {
     const int bx = f.bricks_x(), by = f.bricks_y(), bz = f.bricks_z();
     std::vector<Real> stored;
     std::map<std::uint64_t, std::uint32_t> uniform;  // a value's bits -> its stored brick
-    f.brick.assign(f.brick_count(), 0);
+    table.assign(f.brick_count(), 0);
     Real cells[Field::kBrickCells];
     for (int kb = 0; kb < bz; ++kb)
         for (int jb = 0; jb < by; ++jb)
@@ -43,20 +44,22 @@ std::vector<Real> brick_values(Field& f, const std::vector<Real>& values) {
                 if (same) {
                     const auto found = uniform.find(key);
                     if (found != uniform.end()) {
-                        f.brick[b] = found->second;
+                        table[b] = found->second;
                         continue;
                     }
                     std::fill_n(cells, Field::kBrickCells, first);
                     uniform.emplace(key, std::uint32_t(stored.size() / Field::kBrickCells));
                 }
-                f.brick[b] = std::uint32_t(stored.size() / Field::kBrickCells);
+                table[b] = std::uint32_t(stored.size() / Field::kBrickCells);
                 stored.insert(stored.end(), cells, cells + Field::kBrickCells);
             }
     return stored;
 }
 
+}  // namespace
+
 template <class Real>
-Field make(int nx, int ny, int nz, const std::vector<Real>& values, Precision precision) {
+Field Field::make(int nx, int ny, int nz, const std::vector<Real>& values, Precision precision) {
     if (nx < 0 || ny < 0 || nz < 0) throw ParameterError("Field::from_dense: negative grid size");
     Field f;
     f.nx = nx;
@@ -67,20 +70,18 @@ Field make(int nx, int ny, int nz, const std::vector<Real>& values, Precision pr
         throw ParameterError("Field::from_dense: " + std::to_string(values.size()) + " values for a " +
                              std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) + " grid");
     if (f.size() == 0) {
-        f.brick.assign(f.brick_count(), 0);
+        f.brick_.assign(f.brick_count(), 0);
         return f;
     }
     if constexpr (std::is_same_v<Real, float>) {
-        f.f32 = brick_values(f, values);
+        f.f32_ = brick_values(f, values, f.brick_);
     } else if (precision == Precision::Double) {
-        f.f64 = brick_values(f, values);
+        f.f64_ = brick_values(f, values, f.brick_);
     } else {
-        f.f32 = brick_values(f, std::vector<float>(values.begin(), values.end()));
+        f.f32_ = brick_values(f, std::vector<float>(values.begin(), values.end()), f.brick_);
     }
     return f;
 }
-
-}  // namespace
 
 Field Field::from_dense(int nx, int ny, int nz, const std::vector<double>& values, Precision precision) {
     return make(nx, ny, nz, values, precision);
@@ -88,6 +89,30 @@ Field Field::from_dense(int nx, int ny, int nz, const std::vector<double>& value
 
 Field Field::from_dense(int nx, int ny, int nz, const std::vector<float>& values) {
     return make(nx, ny, nz, values, Precision::Single);
+}
+
+Field Field::from_bricks(int nx, int ny, int nz, std::vector<std::uint32_t> table, std::vector<double> stored) {
+    Field f;
+    f.nx = nx;
+    f.ny = ny;
+    f.nz = nz;
+    f.precision = Precision::Double;
+    f.brick_ = std::move(table);
+    f.f64_ = std::move(stored);
+    f.validate("Field::from_bricks: ");
+    return f;
+}
+
+Field Field::from_bricks(int nx, int ny, int nz, std::vector<std::uint32_t> table, std::vector<float> stored) {
+    Field f;
+    f.nx = nx;
+    f.ny = ny;
+    f.nz = nz;
+    f.precision = Precision::Single;
+    f.brick_ = std::move(table);
+    f.f32_ = std::move(stored);
+    f.validate("Field::from_bricks: ");
+    return f;
 }
 
 std::vector<double> Field::to_dense() const {
@@ -102,18 +127,18 @@ std::vector<double> Field::to_dense() const {
 
 void Field::validate(const std::string& who) const {
     if (nx < 0 || ny < 0 || nz < 0) throw InputError(who + "negative grid size");
-    if (brick.size() != brick_count())
-        throw InputError(who + "field has " + std::to_string(brick.size()) + " brick entries for " +
+    if (brick_.size() != brick_count())
+        throw InputError(who + "field has " + std::to_string(brick_.size()) + " brick entries for " +
                          std::to_string(brick_count()) + " bricks");
-    const std::size_t values = precision == Precision::Double ? f64.size() : f32.size();
+    const std::size_t values = precision == Precision::Double ? f64_.size() : f32_.size();
     if (values % kBrickCells != 0)
         throw InputError(who + "field stores " + std::to_string(values) + " values, not whole bricks of " +
                          std::to_string(kBrickCells));
     const std::size_t stored = stored_bricks();
-    for (std::size_t b = 0; b < brick.size(); ++b)
-        if (brick[b] >= stored)
+    for (std::size_t b = 0; b < brick_.size(); ++b)
+        if (brick_[b] >= stored)
             throw InputError(who + "field brick " + std::to_string(b) + " points at stored brick " +
-                             std::to_string(brick[b]) + " of " + std::to_string(stored));
+                             std::to_string(brick_[b]) + " of " + std::to_string(stored));
 }
 
 }  // namespace snvr

@@ -1,8 +1,11 @@
-// split_outliers and drop_outliers (reconstruct.hpp): uniform random outliers sit far
-// from the surface and from each other, so they fall out of the surface's clusters as
-// singletons or small groups; a sparse but real part of a scan is still linked at a few
-// spacings. Both rules look at the cloud's leaves first: a leaf whose points have their
-// neighbours among themselves clears them all, and only the rest ask the tree.
+// The outlier rules (geometry/outliers.hpp): uniform random outliers sit far from the
+// surface and from each other, so they fall out of the surface's clusters as singletons
+// or small groups; a sparse but real part of a scan is still linked at a few spacings.
+// Both rules look at the cloud's leaves first: a leaf whose points have their neighbours
+// among themselves clears them all, and only the rest ask the tree. The run's lengths
+// come from the caller (pipeline/outlier_policy.cpp plans them).
+#include "geometry/outliers.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -17,7 +20,6 @@
 #include "geometry/point_tree.hpp"
 #include "geometry/stray_points.hpp"
 #include "snvr/error.hpp"
-#include "snvr/reconstruct.hpp"
 
 namespace snvr {
 namespace {
@@ -75,27 +77,32 @@ bool take(PointCloud& cloud, const std::vector<std::uint8_t>& flagged, std::vect
     return any;
 }
 
-// Both rules on the cloud, in place; the outliers by input index, and the kept points'
-// clusters at `link` when the last round counted them (else 0).
-std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, const Parameters& params,
-                                                          const OutlierSettings& s, double& link,
-                                                          std::size_t& clusters) {
+}  // namespace
+
+void OutlierSettings::validate() const {
+    if (!(reach_factor > 0) || !std::isfinite(reach_factor) || neighbours < 1 || median_sample < 1)
+        throw ParameterError("the outliers' reach factor must be a positive number, neighbours and the median's sample at least 1");
+}
+
+std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cloud, const OutlierSettings& s,
+                                                                  const RunLengthsOf& lengths_of, double& link,
+                                                                  std::size_t& clusters) {
     s.validate();
     std::vector<std::pair<std::size_t, Vec3>> out;
     link = 0;
     clusters = 0;
     const std::size_t total = cloud.size();
     if (total < 2) return out;
-    const std::vector<std::uint8_t> sparse = sparse_points(cloud.tree(), s);
+    const std::vector<std::uint8_t> sparse = sparse_points(detail::tree_of(cloud), s);
     if (sparse.empty()) return out;
     take(cloud, sparse, out);
-    std::optional<DomainPlan> plan;  // of the points kept, while none is dropped
+    std::optional<RunLengths> plan;  // of the points kept, while none is dropped
     // Near the surface, what the density let through: points off their neighbours' plane.
     if (s.strays) {
-        plan = plan_domain(cloud, params);
+        plan = lengths_of(cloud);
         detail::StraySettings strays;
-        strays.least_lonely = 0.5 * plan->domain.h;
-        const std::vector<std::uint8_t> stray = detail::stray_points(cloud.tree(), strays);
+        strays.least_lonely = 0.5 * plan->voxel;
+        const std::vector<std::uint8_t> stray = detail::stray_points(detail::tree_of(cloud), strays);
         if (!stray.empty() && take(cloud, stray, out)) plan.reset();
     }
     // Among the rest, what the shell would carry as loose beads: clusters that the
@@ -103,10 +110,10 @@ std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, con
     // Dropping them can lower the offset (they may set the sampling gap), which can
     // part more: again until nothing changes (two rounds in the cases tried).
     for (int round = 0; round < 8; ++round) {
-        if (!plan) plan = plan_domain(cloud, params);
+        if (!plan) plan = lengths_of(cloud);
         link = 2 * plan->offset;
         plan.reset();
-        const std::vector<std::uint32_t> root = detail::cluster_roots(cloud.tree(), link);
+        const std::vector<std::uint32_t> root = detail::cluster_roots(detail::tree_of(cloud), link);
         std::vector<std::uint32_t> members(root.size(), 0);
         for (std::uint32_t r : root) ++members[r];
         std::vector<std::uint8_t> small(root.size());
@@ -123,34 +130,6 @@ std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, con
     }
     std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     return out;
-}
-
-}  // namespace
-
-void OutlierSettings::validate() const {
-    if (!(reach_factor > 0) || !std::isfinite(reach_factor) || neighbours < 1 || median_sample < 1)
-        throw ParameterError("the outliers' reach factor must be a positive number, neighbours and the median's sample at least 1");
-}
-
-DroppedOutliers drop_outliers(PointCloud& points, const Parameters& params, const OutlierSettings& s) {
-    DroppedOutliers d;
-    for (const auto& o : remove_outliers(points, params, s, d.link, d.clusters)) {
-        d.points.push_back(o.second);
-        d.input_indices.push_back(o.first);
-    }
-    return d;
-}
-
-OutlierSplit split_outliers(const PointSet& points, const Parameters& params, const OutlierSettings& s) {
-    s.validate();
-    OutlierSplit split;
-    PointCloud cloud(points);
-    std::vector<std::uint8_t> out(points.size(), 0);
-    std::size_t clusters = 0;
-    for (const auto& o : remove_outliers(cloud, params, s, split.link, clusters)) out[o.first] = 1;
-    // The caller's own coordinates, not the cloud's floats.
-    for (std::size_t i = 0; i < points.size(); ++i) (out[i] ? split.outliers : split.kept).push_back(points[i]);
-    return split;
 }
 
 }  // namespace snvr

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "parallel_sizes.hpp"
-#include "snvr/reconstruct.hpp"
+#include "snvr/point_cleaning.hpp"
 
 namespace snvr::detail {
 namespace {
@@ -220,7 +220,7 @@ std::vector<std::uint32_t> cluster_roots(const PointTree& tree, double link_dist
 namespace snvr {
 
 std::size_t count_point_clusters(const PointCloud& points, double link_distance) {
-    const std::vector<std::uint32_t> root = detail::cluster_roots(points.tree(), link_distance);
+    const std::vector<std::uint32_t> root = detail::cluster_roots(detail::tree_of(points), link_distance);
     std::size_t roots = 0;
     for (std::uint32_t k = 0; k < root.size(); ++k) roots += root[k] == k;
     return roots;

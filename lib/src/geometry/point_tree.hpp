@@ -134,4 +134,10 @@ private:
     Frame frame_{{0, 0, 0}, 1};
 };
 
+// The tree a cloud keeps its points in, for the library's stages.
+struct CloudAccess {
+    static const PointTree& tree(const PointCloud& cloud) { return *cloud.tree_; }
+};
+inline const PointTree& tree_of(const PointCloud& cloud) { return CloudAccess::tree(cloud); }
+
 }  // namespace snvr::detail

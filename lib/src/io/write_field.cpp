@@ -53,9 +53,9 @@ void write_le_samples(const Field& field, const std::vector<T>& stored, AtomicFi
 
 void write_samples(const Field& field, AtomicFile& out) {
     if (field.precision == Precision::Double)
-        write_le_samples(field, field.f64, out);
+        write_le_samples(field, field.stored_f64(), out);
     else
-        write_le_samples(field, field.f32, out);
+        write_le_samples(field, field.stored_f32(), out);
 }
 
 void write_vti(const Field& field, const Domain& domain, AtomicFile& out) {

@@ -744,7 +744,7 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointCloud& points, double d
     VertexLists fans;
     fans.start = rings.start;
     fans.fill(mesh, detail::fan_item());
-    return detail::keep_points_deep(mesh, points.tree(), depth, voxel, lone, std::move(rings), fans);
+    return detail::keep_points_deep(mesh, detail::tree_of(points), depth, voxel, lone, std::move(rings), fans);
 }
 
 DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, double depth, double voxel,

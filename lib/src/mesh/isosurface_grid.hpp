@@ -44,13 +44,13 @@ public:
     SignBits(const Grid& g, const Field& f, double iso, [[maybe_unused]] bool parallel)
         : g_(g), bits_(std::size_t(g.ny) * g.nz * g.words, 0) {
         static_assert(Field::kBrick == 8, "a brick row is one byte of sign bits");
-        const std::vector<std::uint8_t> side = f.precision == Precision::Double ? sides(f.f64, iso) : sides(f.f32, iso);
+        const std::vector<std::uint8_t> side = f.precision == Precision::Double ? sides(f.stored_f64(), iso) : sides(f.stored_f32(), iso);
         const int bx = f.bricks_x(), by = f.bricks_y(), bz = f.bricks_z();
 #pragma omp parallel for schedule(static) if (parallel)
         for (int kb = 0; kb < bz; ++kb)  // a layer of bricks owns its rows
             for (int jb = 0; jb < by; ++jb)
                 for (int ib = 0; ib < bx; ++ib) {
-                    const std::uint32_t stored = f.brick[std::size_t(ib) + std::size_t(bx) * (std::size_t(jb) + std::size_t(by) * std::size_t(kb))];
+                    const std::uint32_t stored = f.brick_table()[std::size_t(ib) + std::size_t(bx) * (std::size_t(jb) + std::size_t(by) * std::size_t(kb))];
                     const int i0 = ib * 8, cells = std::min(8, g.nx - i0);
                     const std::uint64_t in_grid = (std::uint64_t(1) << cells) - 1;
                     for (int lk = 0; lk < 8 && kb * 8 + lk < g.nz; ++lk)
@@ -58,7 +58,7 @@ public:
                             std::uint64_t byte = side[stored] == kAbove ? 0xffu : 0;
                             if (side[stored] == kMixed) {
                                 const std::size_t at = std::size_t(stored) * Field::kBrickCells + std::size_t(8 * (lj + 8 * lk));
-                                byte = f.precision == Precision::Double ? row_bits(&f.f64[at], iso) : row_bits(&f.f32[at], iso);
+                                byte = f.precision == Precision::Double ? row_bits(&f.stored_f64()[at], iso) : row_bits(&f.stored_f32()[at], iso);
                             }
                             bits_[row_start(jb * 8 + lj, kb * 8 + lk) + std::size_t(i0 >> 6)] |= (byte & in_grid) << (i0 & 63);
                         }

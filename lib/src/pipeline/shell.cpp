@@ -47,13 +47,42 @@ bool print_format_needs_centring(const std::string& written_as, const PointCloud
     return voxel > 0 && !holds_faithfully(farthest + offset, as, voxel);
 }
 
+// The extent of the mesh's vertices along x, y and z.
+Vec3 extent(const Mesh& mesh) {
+    if (mesh.vertices.empty()) return {0, 0, 0};
+    Vec3 lo = mesh.vertices[0], hi = lo;
+    for (const Vec3& v : mesh.vertices)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], v[a]);
+            hi[a] = std::max(hi[a], v[a]);
+        }
+    return {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+}
+
 }  // namespace
 
-Shell make_shell(const PointSet& points, const ShellSettings& settings, const ShellProgress& progress) {
+double millimetres_per_unit(const std::string& unit) {
+    if (unit == "mm") return 1;
+    if (unit == "cm") return 10;
+    if (unit == "m") return 1000;
+    if (unit == "in") return 25.4;
+    return 0;
+}
+
+void ShellSettings::validate() const {
+    params.validate();
+    fairing.validate();
+    pieces.validate();
+    if (!millimetres_per_unit(units)) throw ParameterError("unknown length unit '" + units + "': expected mm, cm, m or in");
+    if (!(scale >= min_scale && scale <= max_scale))
+        throw ParameterError(std::string("the scale must be ") + scale_range + format(", got %g", scale));
+}
+
+Shell make_shell(const PointSet& points, const ShellSettings& settings, const ProgressCallback& progress) {
     return make_shell(PointCloud(points), settings, progress);
 }
 
-Shell make_shell(PointCloud points, const ShellSettings& settings, const ShellProgress& progress) {
+Shell make_shell(PointCloud points, const ShellSettings& given, const ProgressCallback& progress) {
     Stopwatch total, stage;
     Shell shell;
     const auto enter = [&progress](const char* name) {
@@ -61,10 +90,16 @@ Shell make_shell(PointCloud points, const ShellSettings& settings, const ShellPr
         p.stage = name;
         if (progress && !progress(p)) throw Cancelled(std::string("cancelled before the ") + name + " stage");
     };
-    settings.params.validate();
-    settings.fairing.validate();
-    settings.pieces.validate();
+    given.validate();
     if (points.empty()) throw InputError("the point set is empty");
+    // From here on every length is in millimetres: the points, the settings, the shell.
+    ShellSettings settings = given;
+    shell.units = given.units;
+    shell.to_millimetres = given.to_millimetres();
+    const double to_mm = shell.to_millimetres;
+    if (to_mm != 1) points.scale(to_mm);
+    scale_lengths(settings.params, to_mm);
+    settings.pieces.min_volume *= to_mm * to_mm * to_mm;
     // Decided on the points as given, before any is dropped.
     const bool centre = settings.origin == ShellOrigin::Centre ||
                         (settings.origin == ShellOrigin::Auto &&
@@ -86,11 +121,7 @@ Shell make_shell(PointCloud points, const ShellSettings& settings, const ShellPr
         if (!progress(p)) throw Cancelled("cancelled after the outliers stage");
     }
 
-    shell.run = reconstruct(points, settings.params, [&progress](const Progress& p) {
-        if (progress && !progress(p))
-            throw Cancelled(p.stage == "step" ? "cancelled after step " + std::to_string(p.step)
-                                              : "cancelled before the " + p.stage + " stage");
-    });
+    shell.run = reconstruct(points, settings.params, progress);
     shell.seconds.reconstruct = stage.lap();
     const Result& run = shell.run;
     shell.warnings = run.warnings;
@@ -132,6 +163,12 @@ Shell make_shell(PointCloud points, const ShellSettings& settings, const ShellPr
                                                                         : count_point_clusters(points, 2 * run.offset);
     for (std::string& w : shell_warnings(shell.quality, points.size(), shell.clusters, shell.pieces.dropped))
         shell.warnings.push_back(std::move(w));
+    shell.size = extent(shell.mesh);
+    const double across = std::max({shell.size[0], shell.size[1], shell.size[2]});
+    if (across < 2)
+        shell.warnings.push_back(format("the shell is only %.3g mm across: if the points are not in millimetres, give "
+                                        "--units (m, cm or in)",
+                                        across));
     shell.seconds.check = stage.lap();
     shell.seconds.total = total.lap();
     return shell;

@@ -70,7 +70,7 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
                                  fmt(kMaxLengthRatio * extent));
 
     DomainPlan plan;
-    plan.gap = sampling_gap(points.tree());
+    plan.gap = sampling_gap(detail::tree_of(points));
     std::optional<double> offset = params.offset;
     if (params.thickness) offset = *params.thickness / 2;
 

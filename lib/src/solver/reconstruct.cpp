@@ -47,7 +47,7 @@ void run(const PointCloud& points, const Parameters& params, const ProgressCallb
             p.step = st.step;
             p.steps = problem.steps;
             p.stats = &st;
-            progress(p);
+            if (!progress(p)) throw Cancelled("cancelled after step " + std::to_string(st.step));
         }
     }
 

@@ -9,6 +9,7 @@
 #include "geometry/band_distance.hpp"
 #include "solver/operations.hpp"
 #include "solver/solver_memory.hpp"
+#include "snvr/error.hpp"
 #include "snvr/stopwatch.hpp"
 
 namespace snvr {
@@ -40,7 +41,7 @@ void report(const ProgressCallback& cb, const std::string& stage, const std::str
     Progress p;
     p.stage = stage;
     p.message = message;
-    cb(p);
+    if (!cb(p)) throw Cancelled("cancelled before the " + stage + " stage");
 }
 
 }  // namespace
@@ -66,7 +67,7 @@ SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& p
                std::to_string(dom.levels) + " multigrid levels");
 
     const Band& band = problem_.band;
-    BandDistance<Real> dist = band_distance<Real>(points.tree(), dom, band, [&](std::size_t near_bricks) {
+    BandDistance<Real> dist = band_distance<Real>(detail::tree_of(points), dom, band, [&](std::size_t near_bricks) {
         require_memory(band_distance_bytes(near_bricks, params.precision) + problem_.plan.estimated_bytes, dom);
     });
     classify_band(dist, dom, band);
@@ -137,20 +138,9 @@ void SolverSession<Real>::field(Real* dense) {
 template <class Real>
 Field SolverSession<Real>::take_field() {
     static_assert(Field::kBrick == kBrick && Field::kBrickCells == kBrickCells, "a Field brick is a solver brick");
-    Field f;
     const Domain& dom = domain();
-    f.nx = dom.nx;
-    f.ny = dom.ny;
-    f.nz = dom.nz;
-    f.brick = layout_.grid(0).slot;  // constant slots first, as BrickGrid lays them out
-    if constexpr (std::is_same_v<Real, double>) {
-        f.precision = Precision::Double;
-        f.f64 = backend_->take_phase();
-    } else {
-        f.precision = Precision::Single;
-        f.f32 = backend_->take_phase();
-    }
-    return f;
+    // Constant slots first, as BrickGrid lays them out.
+    return Field::from_bricks(dom.nx, dom.ny, dom.nz, layout_.grid(0).slot, backend_->take_phase());
 }
 
 template class SolverSession<double>;

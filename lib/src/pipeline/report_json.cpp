@@ -1,26 +1,26 @@
-// --report: the run as JSON for scripts (nlohmann-json). The check's figures come from
-// the library's own quality_json, so each figure is named in one place.
+// report_json (report.hpp): the run as JSON for scripts (nlohmann-json; snvr-cl's
+// --report, Python's Shell.report). The check's figures come from quality_json, so each
+// figure is named in one place.
 #include <nlohmann/json.hpp>
 
-#include "report.hpp"
+#include "snvr/report.hpp"
 
 #ifndef SNVR_VERSION
 #define SNVR_VERSION "unknown"
 #endif
 
-namespace cli {
+namespace snvr {
 
-std::string report_json(const RunSummary& run) {
+std::string report_json(const RunReport& run) {
     using nlohmann::json;
-    const snvr::Result& r = run.result;
-    const snvr::Domain& d = r.domain;
-    const CycleTotals cycles = cycle_totals(r);
-    const snvr::MeshReport& m = run.quality.report;
+    const DomainPlan& r = run.plan;
+    const Domain& d = r.domain;
+    const CycleTotals& cycles = run.cycles;
+    const MeshReport& m = run.quality.report;
     const double L = d.length_scale(), dt_cells = r.dt * (L / d.h) * (L / d.h);
 
-    json outputs = json::array({{{"path", run.output}, {"kind", "mesh"}, {"bytes", run.output_bytes}}});
-    if (!run.volume.empty())
-        outputs.push_back({{"path", run.volume}, {"kind", "volume"}, {"bytes", run.volume_bytes}});
+    json outputs = json::array();
+    for (const RunFiles::Output& o : run.outputs) outputs.push_back({{"path", o.path}, {"kind", o.kind}, {"bytes", o.bytes}});
     const json report = {
         {"snvr_version", SNVR_VERSION},
         {"units", "mm"},  // every length below, and every output
@@ -28,41 +28,43 @@ std::string report_json(const RunSummary& run) {
          {{"path", run.input},
           {"points", run.points},
           {"units", run.units},
-          {"to_millimetres", run.to_mm},
+          {"to_millimetres", run.to_millimetres},
           {"origin_shift", {0.0 - run.shift[0], 0.0 - run.shift[1], 0.0 - run.shift[2]}},  // no -0
-          {"origin_shift_why", run.shift == snvr::Vec3{0, 0, 0} ? "none"
+          {"origin_shift_why", run.shift == Vec3{0, 0, 0} ? "none"
                                : run.shift_by_default       ? "float32 output far from the origin (default)"
                                                             : "--origin center"}}},
         {"outliers", {{"dropped", run.outliers}, {"link", run.outlier_link}, {"file", run.outliers_file}}},
+        {"point_clusters", run.clusters},
         {"pieces_dropped", {{"count", run.pieces.dropped}, {"volume", run.pieces.dropped_volume}}},
         {"outputs", outputs},
         {"grid",
          {{"nx", d.nx}, {"ny", d.ny}, {"nz", d.nz}, {"cells", d.cells()}, {"voxel", d.h}, {"levels", d.levels},
-          {"active_cells", r.active_cells}}},
+          {"origin", {d.origin[0], d.origin[1], d.origin[2]}},
+          {"active_cells", run.active_cells}}},
         {"offset", {{"length", r.offset}, {"voxels", r.offset / d.h}, {"thickness", 2 * r.offset}, {"why", r.offset_reason}}},
         {"sampling_gap", r.gap},
         {"eps", r.eps},
         {"xi", r.xi},
         {"flow",
-         {{"steps", r.steps.size()},
+         {{"steps", run.steps},
           {"dt", r.dt},
           {"dt_cells", dt_cells},
           {"free_flow", !(r.tube_inner > 0)},
           {"tube", {r.offset - r.tube_inner, r.offset + r.tube_outer}}}},
-        {"backend", r.backend},
-        {"memory", {{"solver_bytes", r.solver_bytes}, {"peak_rss_bytes", peak_rss_bytes()}}},
+        {"backend", run.backend},
+        {"memory", {{"solver_bytes", run.solver_bytes}, {"peak_rss_bytes", run.peak_rss_bytes}}},
         {"v_cycles", {{"total", cycles.total}, {"most_in_a_step", cycles.most_in_a_step}, {"not_converged", cycles.not_converged}}},
         {"seconds",
-         {{"read", run.seconds.read},
-          {"outliers", run.seconds.outliers},
-          {"domain", r.seconds.domain},
-          {"distance", r.seconds.distance},
-          {"init", r.seconds.init},
-          {"steps", r.seconds.steps},
-          {"mesh", run.seconds.mesh},
-          {"write", run.seconds.write},
-          {"check", run.seconds.check},
-          {"total", run.seconds.total}}},
+         {{"read", run.read_seconds},
+          {"outliers", run.shell_seconds.outliers},
+          {"domain", run.run_seconds.domain},
+          {"distance", run.run_seconds.distance},
+          {"init", run.run_seconds.init},
+          {"steps", run.run_seconds.steps},
+          {"mesh", run.shell_seconds.mesh},
+          {"write", run.write_seconds},
+          {"check", run.shell_seconds.check},
+          {"total", run.total_seconds}}},
         {"size", {run.size[0], run.size[1], run.size[2]}},
         {"mesh",
          {{"triangles", m.triangles},
@@ -73,10 +75,10 @@ std::string report_json(const RunSummary& run) {
           {"manifold", m.manifold()},
           {"oriented", m.oriented()},
           {"zero_area_triangles", m.zero_area_triangles}}},
-        {"check", json::parse(snvr::quality_json(run.quality))},
+        {"check", json::parse(quality_json(run.quality))},
         {"warnings", run.warnings},
     };
     return report.dump(2) + "\n";
 }
 
-}  // namespace cli
+}  // namespace snvr

@@ -1,11 +1,11 @@
-// The default mesher of a reconstruction, in one place for the CLI, benchmarks and tests:
-// dual marching cubes (a third of the tetrahedra mesher's triangles, smoother normals),
-// faired at the vertex scale, then the tube's depth made good between grid nodes (after
-// the fairing, so that nothing undoes it).
+// fair_and_keep_deep (fair_and_keep_deep.hpp): both passes over an extracted surface,
+// sharing the per-vertex lists they walk, the depth made good after the fairing so that
+// nothing undoes it.
+#include "mesh/fair_and_keep_deep.hpp"
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <limits>
 #include <utility>
 #include <vector>
 
@@ -14,7 +14,6 @@
 #endif
 
 #include "snvr/mesh.hpp"
-#include "snvr/reconstruct.hpp"
 #include "geometry/point_tree.hpp"
 #include "mesh/vertex_lists.hpp"
 #include "parallel_sizes.hpp"
@@ -66,32 +65,17 @@ void rings_and_fans(const Mesh& m, detail::VertexLists& ring, detail::VertexList
 
 }  // namespace
 
-Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* guard, const MeshFairing& fairing) {
-    return shell_mesh(result, PointCloud(points), guard, fairing);
-}
-
-Mesh shell_mesh(const Result& result, const PointCloud& points, DepthGuardReport* guard, const MeshFairing& fairing) {
-    Mesh mesh = extract_dual_isosurface(result.phi, result.domain, 0.0, Interpolation::PhaseField);
-    fairing.validate();
+DepthGuardReport detail::fair_and_keep_deep(Mesh& mesh, const PointCloud& points, const MeshFairing& fairing,
+                                            const KeepDeep* deep) {
     const bool fair = fairing.passes > 0 && !mesh.triangles.empty();
-    const bool deep = result.tube_inner > 0 && !mesh.triangles.empty() && !points.empty();
+    const bool lists = deep && !mesh.triangles.empty() && !points.empty();
     // Both passes walk the same triangles: their per-vertex lists are built once.
     detail::VertexLists ring, fan;
-    if (fair || deep) rings_and_fans(mesh, ring, deep ? &fan : nullptr);
+    if (fair || lists) rings_and_fans(mesh, ring, lists ? &fan : nullptr);
     if (fair) detail::fair_mesh(mesh, fairing, ring);
-    DepthGuardReport report;
-    // Where the offset is below the points' spacing the shell is a chain of beads around
-    // single points; lifting each bead's top made it grainier (undersampled torus: 8.1 ->
-    // 8.8 deg dihedral), so those points are left out, unless the offset reaches the
-    // sampling gap (then the promise covers every point).
-    if (result.tube_inner > 0) {
-        const double lone = result.offset >= result.gap ? std::numeric_limits<double>::infinity() : result.offset;
-        report = deep ? detail::keep_points_deep(mesh, points.tree(), result.offset - result.tube_inner, result.domain.h,
-                                                 lone, std::move(ring), fan)
-                      : keep_points_deep(mesh, points, result.offset - result.tube_inner, result.domain.h, lone);
-    }
-    if (guard) *guard = report;
-    return mesh;
+    if (!deep) return {};
+    return lists ? detail::keep_points_deep(mesh, detail::tree_of(points), deep->depth, deep->voxel, deep->lone, std::move(ring), fan)
+                 : keep_points_deep(mesh, points, deep->depth, deep->voxel, deep->lone);
 }
 
 }  // namespace snvr

@@ -1,0 +1,71 @@
+// The run's report: one structure, built once from the shell and what the caller did
+// around it (the file read, the files written), and its views: the summary snvr-cl
+// prints, the JSON of --report, and (in Python) the dict of that JSON.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "snvr/shell.hpp"
+
+namespace snvr {
+
+// What the caller did around make_shell (all of it optional).
+struct RunFiles {
+    std::string input;                    // the points' file
+    double read_seconds = 0;              // reading it
+    struct Output {
+        std::string path, kind;           // kind: "mesh" or "volume"
+        std::uint64_t bytes = 0;
+    };
+    std::vector<Output> outputs;          // the files written, in order
+    std::string outliers_file;            // where the outliers went
+    double write_seconds = 0;
+    double total_seconds = 0;             // 0: the read, the shell's total and the write
+};
+
+// V-cycles over the run's steps.
+struct CycleTotals {
+    int total = 0, most_in_a_step = 0, not_converged = 0;
+};
+
+struct RunReport {
+    DomainPlan plan;                      // grid, offset and why, gap, eps, xi, dt, tube
+    std::string backend;
+    std::size_t active_cells = 0, solver_bytes = 0, peak_rss_bytes = 0;
+    std::size_t steps = 0;
+    CycleTotals cycles;
+    StageSeconds run_seconds;             // domain, distance, init, steps
+    ShellSeconds shell_seconds;           // outliers, mesh, check
+    double read_seconds = 0, write_seconds = 0, total_seconds = 0;
+    MeshQuality quality;
+    PieceReport pieces;
+    std::size_t points = 0, outliers = 0, clusters = 0;
+    double outlier_link = 0;              // 0: the outlier rules did not run
+    Vec3 shift{0, 0, 0};
+    bool shift_by_default = false;
+    Vec3 size{0, 0, 0};                   // the shell's extent, mm
+    std::string units = "mm";
+    double to_millimetres = 1;
+    std::string input, outliers_file;
+    std::vector<RunFiles::Output> outputs;
+    std::vector<std::string> warnings;
+};
+
+RunReport make_report(const Shell& shell, const RunFiles& files = {});
+CycleTotals cycle_totals(const std::vector<StepStats>& steps);
+
+// The summary's rows, "  key  value" a line (values printable: control bytes escaped).
+std::string report_summary(const RunReport& report);
+// Everything the summary says, and the warnings, as a JSON document (lengths in mm).
+std::string report_json(const RunReport& report);
+
+// Peak resident set size of this process in bytes (0 if unknown).
+std::size_t peak_rss_bytes();
+// 1234567 -> "1,234,567".
+std::string grouped(std::size_t n);
+// printf into a std::string (the summary's rows, and messages about a run).
+std::string format_text(const char* format, ...) __attribute__((format(printf, 1, 2)));
+
+}  // namespace snvr

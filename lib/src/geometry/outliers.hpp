@@ -1,0 +1,29 @@
+// The outlier rules on a cloud (outliers.cpp), given the lengths of the run that will
+// follow; which run that is, is the pipeline's to say (pipeline/outlier_policy.cpp).
+#pragma once
+#include <cstddef>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "snvr/point_cleaning.hpp"
+#include "snvr/point_cloud.hpp"
+
+namespace snvr::detail {
+
+// The lengths the rules take from the run planned for a set of points.
+struct RunLengths {
+    double voxel = 0;   // h: the stray rule's scale
+    double offset = 0;  // l: clusters apart by over 2 l are the shell's loose beads
+};
+using RunLengthsOf = std::function<RunLengths(const PointCloud&)>;
+
+// The rules of OutlierSettings on the cloud, in place; the outliers by input index,
+// ascending, with their world points. `link` is the clusters' last link (2 l; 0 when none
+// was looked for), `clusters` the kept points' clusters at it when the last round counted
+// them (else 0). lengths_of is asked again whenever points were dropped since.
+std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, const OutlierSettings& settings,
+                                                          const RunLengthsOf& lengths_of, double& link,
+                                                          std::size_t& clusters);
+
+}  // namespace snvr::detail

@@ -1,0 +1,18 @@
+// The passes over a shell's extracted surface: fairing, then the depth guard.
+#pragma once
+#include "snvr/mesh.hpp"
+#include "snvr/point_cloud.hpp"
+
+namespace snvr::detail {
+
+// What keep_points_deep is asked for (world units; see mesh.hpp).
+struct KeepDeep {
+    double depth = 0, voxel = 0, lone = 0;
+};
+
+// fair_mesh, then (when `deep`) keep_points_deep: the same results as the two public
+// calls in that order, with the per-vertex lists both walk built once.
+DepthGuardReport fair_and_keep_deep(Mesh& mesh, const PointCloud& points, const MeshFairing& fairing,
+                                    const KeepDeep* deep);
+
+}  // namespace snvr::detail

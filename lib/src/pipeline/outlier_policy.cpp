@@ -1,0 +1,42 @@
+// drop_outliers and split_outliers (point_cleaning.hpp): the outlier rules measured by
+// the run the parameters plan for the points kept so far (its voxel and offset).
+#include <cstdint>
+#include <vector>
+
+#include "geometry/outliers.hpp"
+#include "snvr/reconstruct.hpp"
+
+namespace snvr {
+namespace {
+
+detail::RunLengthsOf planned_by(const Parameters& params) {
+    return [&params](const PointCloud& cloud) {
+        const DomainPlan plan = plan_domain(cloud, params);
+        return detail::RunLengths{plan.domain.h, plan.offset};
+    };
+}
+
+}  // namespace
+
+DroppedOutliers drop_outliers(PointCloud& points, const Parameters& params, const OutlierSettings& s) {
+    DroppedOutliers d;
+    for (const auto& o : detail::remove_outliers(points, s, planned_by(params), d.link, d.clusters)) {
+        d.points.push_back(o.second);
+        d.input_indices.push_back(o.first);
+    }
+    return d;
+}
+
+OutlierSplit split_outliers(const PointSet& points, const Parameters& params, const OutlierSettings& s) {
+    s.validate();
+    OutlierSplit split;
+    PointCloud cloud(points);
+    std::vector<std::uint8_t> out(points.size(), 0);
+    std::size_t clusters = 0;
+    for (const auto& o : detail::remove_outliers(cloud, s, planned_by(params), split.link, clusters)) out[o.first] = 1;
+    // The caller's own coordinates, not the cloud's floats.
+    for (std::size_t i = 0; i < points.size(); ++i) (out[i] ? split.outliers : split.kept).push_back(points[i]);
+    return split;
+}
+
+}  // namespace snvr

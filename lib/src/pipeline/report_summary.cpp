@@ -1,0 +1,95 @@
+// report_summary (report.hpp): the run's figures as the rows snvr-cl prints under
+// "summary:", lengths in millimetres.
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+#include "snvr/error.hpp"
+#include "snvr/report.hpp"
+
+namespace snvr {
+namespace {
+
+double mib(std::size_t bytes) { return double(bytes) / (1024.0 * 1024.0); }
+const char* yes_no(bool b) { return b ? "yes" : "no"; }
+
+}  // namespace
+
+std::string report_summary(const RunReport& run) {
+    const DomainPlan& r = run.plan;
+    const Domain& d = r.domain;
+    const double cells = double(d.cells());
+    std::string out;
+    const auto row = [&out](const char* key, const std::string& value) {  // values may hold the user's file names
+        out += "  " + std::string(key) +
+               std::string(17 - std::min<std::size_t>(17, std::char_traits<char>::length(key)), ' ') +
+               printable(value) + '\n';
+    };
+    if (run.outlier_link > 0)
+        row("outliers", format_text("%s dropped, %s used (sparse, lone points standing off the surface, or in clusters of under %zu points apart by over %.3g mm)%s",
+                            grouped(run.outliers).c_str(), grouped(run.points).c_str(),
+                            OutlierSettings{}.min_cluster, run.outlier_link,
+                            run.outliers_file.empty() ? "" : (": written to " + run.outliers_file).c_str()));
+    row("grid", format_text("%d x %d x %d (%s cells), voxel %.6g, %d multigrid levels", d.nx, d.ny, d.nz,
+                    grouped(d.cells()).c_str(), d.h, d.levels));
+    if (run.shift != Vec3{0, 0, 0})
+        row("origin", format_text("shifted by (%.17g, %.17g, %.17g): add that back to place the shell%s", -run.shift[0],
+                          -run.shift[1], -run.shift[2],
+                          run.shift_by_default ? " (float32 in this format would move it so far from the origin; "
+                                                 "--origin keep keeps the coordinates)"
+                                               : ""));
+    row("offset", format_text("%.6g (%.3g voxels), thickness %.6g; why: %s", r.offset, r.offset / d.h, 2 * r.offset,
+                      r.offset_reason.empty() ? "not reported" : r.offset_reason.c_str()));
+    row("sampling gap", format_text("%.6g", r.gap));
+    // In the cells of --eps-cells/--xi-cells, whichever way they were given.
+    const double per_cell = eps_of_cells(1, d.h);
+    row("eps, xi", format_text("%.6g (%.3g cells), %.6g (%.3g cells)", r.eps, r.eps / per_cell, r.xi, r.xi / per_cell));
+    const double L = d.length_scale(), dt_cells = r.dt * (L / d.h) * (L / d.h);
+    row("flow", format_text("%zu steps of dt %.3g (%.3g h^2): time %.3g h^2; %s", run.steps, r.dt, dt_cells,
+                    dt_cells * double(run.steps),
+                    r.tube_inner > 0 ? format_text("surface kept between %.3g and %.3g voxels from the points", (r.offset - r.tube_inner) / d.h,
+                                           (r.offset + r.tube_outer) / d.h).c_str()
+                                     : "free flow"));
+    row("backend", run.backend);
+    row("active cells", format_text("%s (%.1f%% of the grid)", grouped(run.active_cells).c_str(),
+                            cells > 0 ? 100.0 * double(run.active_cells) / cells : 0.0));
+    row("memory", format_text("solver %.1f MiB, peak RSS %.1f MiB", mib(run.solver_bytes), mib(run.peak_rss_bytes)));
+    const CycleTotals& c = run.cycles;
+    row("V-cycles", format_text("%d in %zu steps, at most %d in a step%s", c.total, run.steps, c.most_in_a_step,
+                        c.not_converged ? format_text(", %d not converged", c.not_converged).c_str() : ""));
+    const StageSeconds& s = run.run_seconds;
+    row("seconds", format_text("read %.2f, outliers %.2f, domain %.2f, distance %.2f, init %.2f, steps %.2f,",
+                       run.read_seconds, run.shell_seconds.outliers, s.domain, s.distance, s.init, s.steps));
+    row("", format_text("mesh %.2f, write %.2f, check %.2f; total %.2f", run.shell_seconds.mesh, run.write_seconds,
+                run.shell_seconds.check, run.total_seconds));
+    const MeshQuality& q = run.quality;
+    const MeshReport& m = q.report;
+    row("size", format_text("%.4g x %.4g x %.4g mm%s", run.size[0], run.size[1], run.size[2],
+                    run.to_millimetres == 1 ? " (lengths as read: --units mm)"
+                                            : format_text(" (lengths in %s times %.6g)", run.units.c_str(), run.to_millimetres).c_str()));
+    row("mesh", format_text("%s triangles, %s vertices, %zu component%s", grouped(m.triangles).c_str(),
+                    grouped(m.vertices).c_str(), m.components, m.components == 1 ? "" : "s"));
+    row("", format_text("%zu solid piece%s (the other components bound cavities)%s", m.solids, m.solids == 1 ? "" : "s",
+                run.pieces.dropped ? format_text("; %zu dropped, %.4g mm^3 in all", run.pieces.dropped,
+                                         run.pieces.dropped_volume).c_str()
+                                   : ""));
+    row("", format_text("closed %s, manifold %s, oriented %s%s", yes_no(m.closed()), yes_no(m.manifold()),
+                yes_no(m.oriented()),
+                m.zero_area_triangles ? format_text(", %zu zero-area triangles", m.zero_area_triangles).c_str() : ""));
+    row("points enclosed", format_text("%s of %s; the nearest to the surface %.3g x offset deep (1st percentile %.3g)",
+                               grouped(q.points_inside).c_str(), grouped(q.points).c_str(), q.depth_min, q.depth_p01));
+    row("walls", format_text("thinnest 1%% at %.3g voxels = %.3g x 2 offset (thinnest of all %.3g voxels)", q.wall_p01,
+                     q.wall_p01_2l, q.wall_min));
+    if (q.has_surface)
+        row("surface", format_text("distance to the points - offset: RMS %.3g voxels, mean %+.3g; dihedral RMS %.3g deg, "
+                           "normal noise %.3g deg; genus %ld",
+                           q.offset_rms, q.offset_mean, q.dihedral_rms, q.normal_noise, q.genus));
+    else
+        row("surface", format_text("genus %ld (distance to the offset and smoothness: --measure)", q.genus));
+    std::string wrote;
+    for (const RunFiles::Output& o : run.outputs) wrote += (wrote.empty() ? "" : ", ") + o.path;
+    if (!wrote.empty()) row("wrote", wrote);
+    return out;
+}
+
+}  // namespace snvr

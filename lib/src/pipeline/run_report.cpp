@@ -1,0 +1,89 @@
+// make_report (report.hpp): the run's figures gathered once, for every view of them;
+// the number formats the views and snvr-cl share.
+#include "snvr/report.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstdarg>
+#include <cstdio>
+
+namespace snvr {
+
+CycleTotals cycle_totals(const std::vector<StepStats>& steps) {
+    CycleTotals c;
+    for (const StepStats& s : steps) {
+        c.total += s.cycles;
+        c.most_in_a_step = std::max(c.most_in_a_step, s.cycles);
+        c.not_converged += s.converged ? 0 : 1;
+    }
+    return c;
+}
+
+std::size_t peak_rss_bytes() {
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+#if defined(__APPLE__)
+    return std::size_t(usage.ru_maxrss);  // bytes on macOS
+#else
+    return std::size_t(usage.ru_maxrss) * 1024;  // KiB on Linux and the BSDs
+#endif
+}
+
+std::string format_text(const char* format, ...) {
+    va_list args;
+    va_start(args, format);
+    va_list again;
+    va_copy(again, args);
+    const int n = std::vsnprintf(nullptr, 0, format, args);
+    va_end(args);
+    std::string out(n > 0 ? std::size_t(n) : 0, '\0');
+    if (n > 0) std::vsnprintf(out.data(), out.size() + 1, format, again);
+    va_end(again);
+    return out;
+}
+
+std::string grouped(std::size_t n) {
+    std::string digits = std::to_string(n), out;
+    for (std::size_t i = 0; i < digits.size(); ++i) {
+        if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+        out += digits[i];
+    }
+    return out;
+}
+
+RunReport make_report(const Shell& shell, const RunFiles& files) {
+    const Result& run = shell.run;
+    RunReport r;
+    r.plan = run;  // the plan's part of the result
+    r.backend = run.backend;
+    r.active_cells = run.active_cells;
+    r.solver_bytes = run.solver_bytes;
+    r.peak_rss_bytes = peak_rss_bytes();
+    r.steps = run.steps.size();
+    r.cycles = cycle_totals(run.steps);
+    r.run_seconds = run.seconds;
+    r.shell_seconds = shell.seconds;
+    r.read_seconds = files.read_seconds;
+    r.write_seconds = files.write_seconds;
+    r.total_seconds = files.total_seconds > 0 ? files.total_seconds
+                                              : files.read_seconds + shell.seconds.total + files.write_seconds;
+    r.quality = shell.quality;
+    r.pieces = shell.pieces;
+    r.points = shell.points;
+    r.outliers = shell.outliers.points.size();
+    r.clusters = shell.clusters;
+    r.outlier_link = shell.outliers.link;
+    r.shift = shell.shift;
+    r.shift_by_default = shell.shift_by_default;
+    r.size = shell.size;
+    r.units = shell.units;
+    r.to_millimetres = shell.to_millimetres;
+    r.input = files.input;
+    r.outliers_file = files.outliers_file;
+    r.outputs = files.outputs;
+    r.warnings = shell.warnings;
+    return r;
+}
+
+}  // namespace snvr
