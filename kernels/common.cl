@@ -270,82 +270,21 @@ ALWAYS_INLINE row_mask lanes_in_grid(BrickSite s, int nx) {
     return (row_mask)(0, 1, 2, 3, 4, 5, 6, 7) < (row_mask)(nx - s.i0);
 }
 
-
-// exp and tanh on rows, the same operations in the same order as
-// lib/src/solver/phase_math.hpp (see there): bit-identical to the OpenMP backend.
+// exp and tanh on rows: phase_math.h over row_t, the operations the OpenMP backend
+// runs per cell (lib/src/solver/phase_math.hpp), so the same bits. The embedder splices
+// the header in place of the #include: the program needs no file at run time.
+#define PM_REAL row_t
+#define PM_SCALAR real
 #ifdef SNVR_DOUBLE
-#define AS_ROW_BITS as_long8  // to row_mask, the integer row
-#define AS_ROW as_double8
-#define EXP_LOWEST -708.0
-#define EXP_ROUND 6755399441055744.0
-#define EXP_LOG2E 1.4426950408889634
-#define EXP_LN2_HI 6.93147180369123816490e-01
-#define EXP_LN2_LO 1.90821492927058770002e-10
-#define EXP_MANTISSA 52
-#define EXP_BIAS 1023
+#define PM_DOUBLE 1
+#define PM_BITS as_long8  // to row_mask, the integer row
+#define PM_FROM_BITS as_double8
 #else
-#define AS_ROW_BITS as_int8
-#define AS_ROW as_float8
-#define EXP_LOWEST -87.0f
-#define EXP_ROUND 12582912.0f
-#define EXP_LOG2E 1.44269502f
-#define EXP_LN2_HI 6.9314575195e-01f
-#define EXP_LN2_LO 1.4286067653e-06f
-#define EXP_MANTISSA 23
-#define EXP_BIAS 127
+#define PM_DOUBLE 0
+#define PM_BITS as_int8
+#define PM_FROM_BITS as_float8
 #endif
-
-// (e^r - 1) / r by Horner on 1/k!.
-ALWAYS_INLINE row_t expm1_over_r(row_t r) {
-#ifdef SNVR_DOUBLE
-    row_t p = (row_t)(1.0 / 6227020800.0);
-    p = p * r + 1.0 / 479001600.0;
-    p = p * r + 1.0 / 39916800.0;
-    p = p * r + 1.0 / 3628800.0;
-    p = p * r + 1.0 / 362880.0;
-    p = p * r + 1.0 / 40320.0;
-    p = p * r + 1.0 / 5040.0;
-    p = p * r + 1.0 / 720.0;
-    p = p * r + 1.0 / 120.0;
-    p = p * r + 1.0 / 24.0;
-    p = p * r + 1.0 / 6.0;
-    p = p * r + 0.5;
-    return p * r + 1.0;
-#else
-    row_t p = (row_t)(1.0f / 5040.0f);
-    p = p * r + 1.0f / 720.0f;
-    p = p * r + 1.0f / 120.0f;
-    p = p * r + 1.0f / 24.0f;
-    p = p * r + 1.0f / 6.0f;
-    p = p * r + 0.5f;
-    return p * r + 1.0f;
-#endif
-}
-
-// e^x = s (1 + q) for x <= 0, s = 2^n.
-typedef struct {
-    row_t s, q;
-} RowExp;
-
-ALWAYS_INLINE RowExp exp_parts(row_t x) {
-    x = fmax(x, (real)EXP_LOWEST);
-    const row_t shifted = x * (real)EXP_LOG2E + (real)EXP_ROUND;
-    const row_t n = shifted - (real)EXP_ROUND;
-    const row_t r = (x - n * (real)EXP_LN2_HI) - n * (real)EXP_LN2_LO;
-    RowExp e;
-    e.s = AS_ROW((AS_ROW_BITS(shifted) - AS_ROW_BITS((row_t)(real)EXP_ROUND) + EXP_BIAS) << EXP_MANTISSA);
-    e.q = r * expm1_over_r(r);
-    return e;
-}
-
-ALWAYS_INLINE row_t exp_nonpositive(row_t x) {
-    const RowExp e = exp_parts(x);
-    return e.s + e.s * e.q;
-}
-
-ALWAYS_INLINE row_t tanh_of(row_t y) {
-    const RowExp e = exp_parts((real)-2 * fabs(y));
-    const row_t m = (e.s - (real)1) + e.s * e.q;
-    const row_t t = ((real)0 - m) / ((real)2 + m);
-    return select(t, -t, y < (real)0);
-}
+#define PM_PARTS RowExp
+#define PM_INLINE ALWAYS_INLINE
+#define PM_AT_LEAST fmax
+#include "phase_math.h"

@@ -77,9 +77,9 @@ kernel void prolong_correct(uint planes, global real* phi, global const real* g,
 #else
 // GPUs: a work-item per row.
 kernel void prolong_correct(uint rows, global real* phi, global const real* g, global const uint* bricks,
-                                 global const uint* slot, LEVEL_PARAMS, global const real* phi_coarse,
-                                 global const uint* slot_coarse, int cnx, int cny, int cnz, int cbx, int cby,
-                                 int trilinear) {
+                            global const uint* slot, LEVEL_PARAMS, global const real* phi_coarse,
+                            global const uint* slot_coarse, int cnx, int cny, int cnz, int cbx, int cby,
+                            int trilinear) {
     local real halo[BRICKS_PER_ROW_GROUP * HALO * HALO * HALO];
     const uint item = (uint)get_global_id(0);
     const int lid = (int)get_local_id(0), r = lid % ROWS_PER_BRICK;

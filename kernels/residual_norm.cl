@@ -43,8 +43,8 @@ kernel void residual_norm(uint planes, global const real* phi, global const real
 #else
 // GPUs: a work-item per row.
 kernel void residual_norm(uint rows, global const real* phi, global const real* rhs, global const real* g,
-                               global const uint* bricks, global const uint* slot, LEVEL_PARAMS, real coef,
-                               global acc* partial) {
+                          global const uint* bricks, global const uint* slot, LEVEL_PARAMS, real coef,
+                          global acc* partial) {
     local acc sums[ROWS_PER_GROUP];
     const uint item = (uint)get_global_id(0);
     const int lid = (int)get_local_id(0), r = lid % ROWS_PER_BRICK;

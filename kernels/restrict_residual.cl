@@ -55,9 +55,9 @@ kernel void restrict_residual(uint planes, global const real* phi, global const 
 #else
 // GPUs: a work-item per row, then one per coarse cell.
 kernel void restrict_residual(uint rows, global const real* phi, global const real* rhs, global const real* g,
-                                   global const uint* bricks, global const uint* slot, LEVEL_PARAMS, real coef,
-                                   global real* phi_coarse, global real* rhs_coarse, global const real* g_coarse,
-                                   global const uint* slot_coarse, int cbx, int cby) {
+                              global const uint* bricks, global const uint* slot, LEVEL_PARAMS, real coef,
+                              global real* phi_coarse, global real* rhs_coarse, global const real* g_coarse,
+                              global const uint* slot_coarse, int cbx, int cby) {
     local real res[BRICKS_PER_ROW_GROUP * BRICK_CELLS];
     const uint item = (uint)get_global_id(0);
     const int lid = (int)get_local_id(0), r = lid % ROWS_PER_BRICK;

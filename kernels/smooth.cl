@@ -60,8 +60,8 @@ kernel void smooth(uint count, global real* phi, global const real* rhs, global 
 #else
 // GPUs: one work-item per row (common.cl's row kernels), storing the colour's lanes.
 kernel void smooth(uint rows, global real* phi, global const real* rhs, global const real* g,
-                        global const uint* bricks, global const uint* slot, LEVEL_PARAMS, int color, real coef,
-                        real omega) {
+                   global const uint* bricks, global const uint* slot, LEVEL_PARAMS, int color, real coef,
+                   real omega) {
     const uint item = (uint)get_global_id(0);
     if (item >= rows) return;
     const BrickSite s = brick_site(slot, LEVEL_ARGS, bricks[item / ROWS_PER_BRICK]);

@@ -1,6 +1,7 @@
-// The phase field's own exp and tanh (solver/phase_math.hpp; kernels/common.cl computes
-// the same bits, which test_opencl_operations checks): their error against long double,
-// in ULP of the true value, over the ranges the solver feeds them.
+// The phase field's own exp and tanh (kernels/phase_math.h, through
+// solver/phase_math.hpp; the kernels run the same header on rows, and
+// test_opencl_operations checks they give the same bits): their error against long
+// double, in ULP of the true value, over the ranges the solver feeds them.
 #include <doctest/doctest.h>
 
 #include <cmath>
