@@ -16,6 +16,7 @@
 
 #include "snvr/snvr.hpp"
 #include "table2.hpp"
+#include "snvr/shapes.hpp"
 
 namespace {
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "snvr/snvr.hpp"
+#include "snvr/stopwatch.hpp"
 
 namespace {
 

@@ -7,8 +7,8 @@
 #include "options.hpp"
 #include "report.hpp"
 #include "snvr/devices.hpp"
+#include "snvr/point_io.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
 #include "snvr/shapes.hpp"
 
 namespace cli {

@@ -13,7 +13,7 @@
 #include "commands.hpp"
 #include "options.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
 
 #ifndef SNVR_VERSION
 #define SNVR_VERSION "unknown"

@@ -13,6 +13,7 @@
 
 #include "report.hpp"
 #include "snvr/error.hpp"
+#include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shell.hpp"
 

@@ -14,7 +14,7 @@
 #include "options.hpp"
 #include "report.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/render.hpp"

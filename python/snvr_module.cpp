@@ -16,7 +16,8 @@
 
 #include "io/point_readers.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
+#include "snvr/point_io.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/report.hpp"
 #include "snvr/shell.hpp"

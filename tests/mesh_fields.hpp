@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "snvr/mesh.hpp"
+#include "snvr/quality.hpp"
 
 namespace snvr::testing {
 

@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 
+#include "snvr/shapes.hpp"
 #include "snvr/snvr.hpp"
 
 namespace snvr::table2 {

@@ -13,7 +13,7 @@
 #include "cli_run.hpp"
 #include "test_files.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
 
 namespace fs = std::filesystem;
 using namespace cli_testing;

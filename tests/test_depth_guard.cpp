@@ -14,6 +14,8 @@
 #include "with_threads.hpp"
 #include "mesh_fields.hpp"
 #include "snvr/error.hpp"
+#include "snvr/quality.hpp"
+#include "snvr/shell.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"

@@ -11,6 +11,7 @@
 
 #include "mesh_fields.hpp"
 #include "snvr/error.hpp"
+#include "snvr/quality.hpp"
 #include "snvr/mesh.hpp"
 
 using namespace snvr;

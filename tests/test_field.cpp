@@ -7,7 +7,8 @@
 #include <random>
 
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
+#include "snvr/point_cloud.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"

@@ -20,9 +20,9 @@
 
 #include "io/atomic_file.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
 #include "snvr/snvr.hpp"
 #include "temp_dir.hpp"
+#include "snvr/shapes.hpp"
 
 namespace fs = std::filesystem;
 using snvr::PointSet;

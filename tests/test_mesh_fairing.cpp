@@ -6,6 +6,8 @@
 
 #include "mesh_fields.hpp"
 #include "snvr/error.hpp"
+#include "snvr/quality.hpp"
+#include "snvr/shell.hpp"
 #include "snvr/mesh.hpp"
 #include "mesh/vertex_lists.hpp"
 

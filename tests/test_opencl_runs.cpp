@@ -10,6 +10,7 @@
 #include "backend_compare.hpp"
 #include "opencl/runtime.hpp"
 #include "snvr/snvr.hpp"
+#include "snvr/shapes.hpp"
 
 using namespace snvr;
 

@@ -6,6 +6,7 @@
 
 #include "snvr/snvr.hpp"
 #include "table2.hpp"
+#include "snvr/shapes.hpp"
 
 using namespace snvr;
 

@@ -9,6 +9,7 @@
 
 #include "geometry/point_clusters.hpp"
 #include "geometry/point_tree.hpp"
+#include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"
 #include "with_threads.hpp"

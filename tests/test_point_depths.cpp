@@ -11,6 +11,8 @@
 #include "check/point_depths.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "snvr/mesh.hpp"
+#include "snvr/quality.hpp"
+#include "snvr/shell.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"

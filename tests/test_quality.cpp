@@ -18,7 +18,8 @@
 
 #include "with_threads.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
+#include "snvr/point_cloud.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"

@@ -19,7 +19,7 @@
 #include "io/point_readers.hpp"
 #include "io/text_scan.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/point_io.hpp"
 #include "temp_dir.hpp"
 #include "test_files.hpp"
 

@@ -9,8 +9,9 @@
 
 #include "cli_run.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
-#include "snvr/point_cleaning.hpp"
+#include "snvr/mesh_io.hpp"
+#include "snvr/point_cloud.hpp"
+#include "snvr/point_io.hpp"
 #include "snvr/shapes.hpp"
 #include "snvr/shell.hpp"
 

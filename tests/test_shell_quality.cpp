@@ -10,6 +10,7 @@
 #include <string>
 
 #include "snvr/snvr.hpp"
+#include "snvr/shapes.hpp"
 
 using namespace snvr;
 

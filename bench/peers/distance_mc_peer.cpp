@@ -12,7 +12,8 @@
 #include "distance_mc_shell.hpp"
 #include "host_measures.hpp"
 #include "peer_args.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
+#include "snvr/point_io.hpp"
 #include "snvr/stopwatch.hpp"
 
 int main(int argc, char** argv) {

@@ -10,7 +10,9 @@
 #include "host_measures.hpp"
 #include "peer_args.hpp"
 #include "openvdb_shell.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
+#include "snvr/point_io.hpp"
+#include "snvr/quality.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/stopwatch.hpp"
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "snvr/mesh_io.hpp"
 #include "snvr/render.hpp"
-#include "snvr/io.hpp"
 
 namespace {
 

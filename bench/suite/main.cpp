@@ -33,6 +33,7 @@
 #include "points_report.hpp"
 #include "quality.hpp"
 #include "report.hpp"
+#include "snvr/shapes.hpp"
 
 using namespace snvr;
 using namespace snvr::bench;

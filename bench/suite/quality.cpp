@@ -12,6 +12,7 @@
 #include "openvdb_shell.hpp"
 #endif
 #include "snvr/render.hpp"
+#include "snvr/shapes.hpp"
 
 namespace snvr::bench {
 

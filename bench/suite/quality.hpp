@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "record.hpp"
+#include "snvr/shapes.hpp"
 
 namespace snvr::bench {
 

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include <snvr/snvr.hpp>
+#include "snvr/shapes.hpp"
 
 int main(int argc, char** argv) {
     const char* out = argc > 1 ? argv[1] : "sphere-shell.stl";

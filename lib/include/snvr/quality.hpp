@@ -13,6 +13,28 @@
 
 namespace snvr {
 
+struct MeshReport {
+    std::size_t vertices = 0, triangles = 0;
+    std::size_t boundary_edges = 0;     // edges with one incident triangle
+    std::size_t nonmanifold_edges = 0;  // edges with more than two incident triangles
+    std::size_t misoriented_edges = 0;  // interior edges whose two triangles traverse it the same way
+    std::size_t nonmanifold_vertices = 0;  // vertices whose triangle fan is not a single disc
+    std::size_t degenerate_triangles = 0;  // repeated vertex indices
+    std::size_t zero_area_triangles = 0;   // three vertices, but on one line or two at one place
+    std::size_t components = 0;            // edge-connected pieces
+    std::size_t solids = 0;                // pieces enclosing positive volume: separate solid
+                                           // parts (the other pieces bound cavities in them)
+    double volume = 0;  // signed enclosed volume (positive when outward oriented)
+    bool closed() const { return triangles > 0 && boundary_edges == 0; }
+    bool manifold() const { return nonmanifold_edges == 0 && nonmanifold_vertices == 0 && degenerate_triangles == 0; }
+    bool oriented() const { return misoriented_edges == 0 && volume > 0; }
+};
+
+MeshReport check_mesh(const Mesh& mesh);
+
+// How many of the points lie strictly inside the closed mesh (odd crossing count of a ray).
+std::size_t count_points_inside(const Mesh& mesh, const PointSet& points);
+
 // Lengths are in the units named by each field: "h" (voxel), "l" (offset),
 // "2l" (the shell's intended thickness) or degrees. NaN marks a figure with no
 // data (say, depth when no point is inside).

@@ -1,4 +1,5 @@
-// The whole method: points in, phase field out (mesh it with extract_isosurface).
+// The whole method: points in, phase field out (lib/src/solver/; shell_mesh in shell.hpp
+// meshes it as snvr-cl does).
 #pragma once
 #include <cstddef>
 #include <functional>
@@ -8,10 +9,8 @@
 #include "snvr/domain.hpp"
 #include "snvr/field.hpp"
 #include "snvr/geometry.hpp"
-#include "snvr/mesh.hpp"
 #include "snvr/parameters.hpp"
 #include "snvr/point_cloud.hpp"
-#include "snvr/point_cleaning.hpp"  // outliers, clusters, mesh sampling (were declared here)
 
 namespace snvr {
 
@@ -75,16 +74,6 @@ using ProgressCallback = std::function<bool(const Progress&)>;
 Result reconstruct(const PointCloud& points, const Parameters& params, const ProgressCallback& progress = {});
 Result reconstruct(const PointSet& points, const Parameters& params,
                    const ProgressCallback& progress = {});  // makes a PointCloud
-
-// The shell's surface: the zero level set of result.phi, meshed the way snvr-cl does
-// (closed, manifold, outward), faired (fair_mesh), and, when the run kept a tube, lifted where the mesh dips
-// nearer to a point than the tube's inner wall (keep_points_deep; every point when the
-// offset is at least the sampling gap, else the points with a neighbour within the
-// offset). `points` are the reconstruction's input. One place for the default mesher.
-Mesh shell_mesh(const Result& result, const PointCloud& points, DepthGuardReport* guard = nullptr,
-                const MeshFairing& fairing = {});
-Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* guard = nullptr,
-                const MeshFairing& fairing = {});  // makes a PointCloud
 
 DomainPlan plan_domain(const PointCloud& points, const Parameters& params);
 DomainPlan plan_domain(const PointSet& points, const Parameters& params);  // makes a PointCloud

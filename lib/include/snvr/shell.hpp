@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "snvr/mesh.hpp"
+#include "snvr/parameters.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"
@@ -19,6 +20,33 @@ namespace snvr {
 // print format (STL, 3MF) whose float32 would otherwise move the shell by more than 1% of
 // a voxel (decided on the points as given, at the smallest voxel the run can have).
 enum class ShellOrigin { Auto, Keep, Centre };
+
+// The points a reconstruction starts from: a point file as read_point_cloud reads it, or
+// a mesh (.stl; .ply, .obj or .off with faces; any of them gzipped) with its triangles
+// sampled at half the voxel the run will have (sample_triangles), so that its faces,
+// not only its corners, are thickened.
+struct InputPoints {
+    PointCloud points;
+    std::size_t triangles = 0;  // the mesh's, when the input was one
+    double spacing = 0;         // the sampling's
+};
+InputPoints read_input(const std::string& path, const Parameters& params);
+
+// The shell's surface: the zero level set of result.phi, meshed the way snvr-cl does
+// (closed, manifold, outward), faired (fair_mesh), and, when the run kept a tube, lifted where the mesh dips
+// nearer to a point than the tube's inner wall (keep_points_deep; every point when the
+// offset is at least the sampling gap, else the points with a neighbour within the
+// offset). `points` are the reconstruction's input. One place for the default mesher.
+Mesh shell_mesh(const Result& result, const PointCloud& points, DepthGuardReport* guard = nullptr,
+                const MeshFairing& fairing = {});
+Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* guard = nullptr,
+                const MeshFairing& fairing = {});  // makes a PointCloud
+
+// The outlier rules (OutlierSettings, point_cloud.hpp) measured by the run `params`
+// plans for the points kept so far.
+OutlierSplit split_outliers(const PointSet& points, const Parameters& params, const OutlierSettings& settings = {});
+// The same rules on a cloud, in place: the outliers leave `points` and are returned.
+DroppedOutliers drop_outliers(PointCloud& points, const Parameters& params, const OutlierSettings& settings = {});
 
 // Millimetres in one of the length units the points may be given in (mm, cm, m, in);
 // 0 for another name.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "snvr/mesh.hpp"
+#include "snvr/quality.hpp"
 
 namespace snvr::detail {
 

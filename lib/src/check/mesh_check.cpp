@@ -14,6 +14,7 @@
 
 #include "geometry/disjoint_sets.hpp"
 #include "snvr/error.hpp"
+#include "snvr/quality.hpp"
 #include "mesh/float_rounding.hpp"
 #include "check/mesh_adjacency.hpp"
 #include "mesh/threads_here.hpp"

@@ -16,6 +16,7 @@
 
 #include "number_text.hpp"
 #include "snvr/error.hpp"
+#include "snvr/point_cloud.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/quality.hpp"
 #include "mesh/cell_rings.hpp"

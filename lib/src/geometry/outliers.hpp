@@ -6,7 +6,6 @@
 #include <utility>
 #include <vector>
 
-#include "snvr/point_cleaning.hpp"
 #include "snvr/point_cloud.hpp"
 
 namespace snvr::detail {

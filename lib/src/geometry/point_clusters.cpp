@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "parallel_sizes.hpp"
-#include "snvr/point_cleaning.hpp"
+#include "snvr/point_cloud.hpp"
 
 namespace snvr::detail {
 namespace {

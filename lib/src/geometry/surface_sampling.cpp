@@ -1,4 +1,4 @@
-// sample_triangles (point_cleaning.hpp): a mesh given as input becomes points on its
+// sample_triangles (point_cloud.hpp): a mesh given as input becomes points on its
 // triangles, so that its faces, not only its corners, are thickened.
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "geometry/vec3_math.hpp"
 #include "snvr/error.hpp"
-#include "snvr/point_cleaning.hpp"
+#include "snvr/point_cloud.hpp"
 
 namespace snvr {
 namespace {

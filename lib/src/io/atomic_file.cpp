@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
 
 namespace snvr {
 namespace {

@@ -4,7 +4,7 @@
 // links it under a temporary name and renames that onto the target, so the
 // final step cannot cross file systems. Where the file system has no unnamed
 // files, a named temporary next to the target is used instead; while one exists
-// it is listed for remove_temporary_files() (snvr/io.hpp), which a signal
+// it is listed for remove_temporary_files() (snvr/mesh_io.hpp), which a signal
 // handler may call. If commit() is never reached, or any step fails, the
 // temporary is removed and the target is left as it was.
 #pragma once

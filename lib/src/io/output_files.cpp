@@ -5,7 +5,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/staged_writes.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
 
 namespace snvr {
 

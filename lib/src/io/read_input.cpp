@@ -13,7 +13,9 @@
 #include "io/point_readers.hpp"
 #include "io/read_whole_file.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/point_cloud.hpp"
+#include "snvr/point_io.hpp"
+#include "snvr/shell.hpp"
 #include "snvr/reconstruct.hpp"
 
 namespace snvr {

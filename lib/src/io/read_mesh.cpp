@@ -19,7 +19,7 @@
 #include "io/mesh_readers.hpp"
 #include "io/read_whole_file.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
 #include "io/text_scan.hpp"
 
 namespace snvr {

@@ -7,6 +7,8 @@
 
 #include "io/atomic_file.hpp"
 #include "snvr/domain.hpp"
+#include "snvr/mesh_io.hpp"
+#include "snvr/point_io.hpp"
 #include "snvr/field.hpp"
 #include "snvr/mesh.hpp"
 

@@ -11,7 +11,7 @@
 #include "io/staged_writes.hpp"
 #include "io/io_common.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
 
 namespace snvr {
 namespace {

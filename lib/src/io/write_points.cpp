@@ -7,7 +7,8 @@
 #include "io/staged_writes.hpp"
 #include "io/io_common.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
+#include "snvr/point_io.hpp"
 
 namespace snvr {
 

@@ -8,7 +8,7 @@
 
 #include "io/io_common.hpp"
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
+#include "snvr/mesh_io.hpp"
 
 namespace snvr {
 namespace {

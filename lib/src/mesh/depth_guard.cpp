@@ -34,6 +34,7 @@
 
 #include "geometry/point_tree.hpp"
 #include "snvr/error.hpp"
+#include "snvr/point_cloud.hpp"
 #include "snvr/mesh.hpp"
 #include "mesh/triangle_grid.hpp"  // point_triangle_dist_sq
 #include "geometry/vec3_math.hpp"

@@ -14,6 +14,7 @@
 #endif
 
 #include "snvr/mesh.hpp"
+#include "snvr/point_cloud.hpp"
 #include "geometry/point_tree.hpp"
 #include "mesh/vertex_lists.hpp"
 #include "parallel_sizes.hpp"

@@ -1,10 +1,12 @@
-// drop_outliers and split_outliers (point_cleaning.hpp): the outlier rules measured by
+// drop_outliers and split_outliers (shell.hpp): the outlier rules measured by
 // the run the parameters plan for the points kept so far (its voxel and offset).
 #include <cstdint>
 #include <vector>
 
 #include "geometry/outliers.hpp"
+#include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
+#include "snvr/shell.hpp"
 
 namespace snvr {
 namespace {

@@ -1,5 +1,7 @@
 // make_shell (shell.hpp): the job snvr-cl runs, in the order it runs it. Each stage
 // tells the progress callback first, so that a cancel stops before the next one.
+#include "snvr/mesh_io.hpp"
+#include "snvr/point_cloud.hpp"
 #include "snvr/shell.hpp"
 
 #include <algorithm>
@@ -10,7 +12,6 @@
 #include <utility>
 
 #include "snvr/error.hpp"
-#include "snvr/io.hpp"
 #include "snvr/stopwatch.hpp"
 #include "io/io_common.hpp"
 

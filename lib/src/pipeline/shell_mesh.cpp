@@ -5,7 +5,9 @@
 #include <limits>
 
 #include "mesh/fair_and_keep_deep.hpp"
+#include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
+#include "snvr/shell.hpp"
 
 namespace snvr {
 

@@ -1,5 +1,6 @@
 // reconstruct(): a solver session run through its Nt steps (session.hpp), reported
 // as a Result with the phase field in the band's bricks.
+#include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/stopwatch.hpp"
 

@@ -12,6 +12,7 @@
 #include "solver/backend.hpp"
 #include "solver/layout.hpp"
 #include "solver/problem.hpp"
+#include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
 
 namespace snvr {

@@ -1,6 +1,7 @@
-// Reading point sets and writing meshes and fields. Every writer writes to a
-// temporary file next to the target and renames it on success, so a failure
-// never leaves a half-written output.
+// Meshes and their writing: reading a triangle mesh, writing meshes and fields, the
+// float32 rule of each format, and outputs staged to appear together (lib/src/io/).
+// Every writer writes to a temporary file next to the target and renames it on
+// success, so a failure never leaves a half-written output.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -11,35 +12,10 @@
 #include "snvr/field.hpp"
 #include "snvr/geometry.hpp"
 #include "snvr/mesh.hpp"
-#include "snvr/parameters.hpp"
-#include "snvr/point_cloud.hpp"
 
 namespace snvr {
 
 class AtomicFile;
-
-// Chooses the reader from the extension: .ply (ASCII, binary little/big endian,
-// float or double x/y/z among any other properties), .xyz/.pts/.txt/.csv (x y z per
-// line, separated by spaces, tabs, commas or semicolons, extra columns ignored), .obj
-// ("v" lines), .off, .las; each also gzipped (.gz). The points are read as 32-bit floats
-// about an origin and returned as doubles: float files exactly, double values rounded
-// to within 1.5e-7 of their box's diagonal (see FloatPoints in io/point_readers.hpp).
-// Throws IoError (cannot open) or InputError (malformed, names file and place);
-// non-finite coordinates, points too far apart for floats and empty sets are InputErrors.
-PointSet read_points(const std::string& path);
-// The same points as a cloud (point_cloud.hpp), as read: 12 bytes a point, no doubles made.
-PointCloud read_point_cloud(const std::string& path);
-
-// The points a reconstruction starts from: a point file as read_point_cloud reads it, or
-// a mesh (.stl; .ply, .obj or .off with faces; any of them gzipped) with its triangles
-// sampled at half the voxel the run will have (sample_triangles), so that its faces,
-// not only its corners, are thickened.
-struct InputPoints {
-    PointCloud points;
-    std::size_t triangles = 0;  // the mesh's, when the input was one
-    double spacing = 0;         // the sampling's
-};
-InputPoints read_input(const std::string& path, const Parameters& params);
 
 // Reads a triangle mesh, choosing the parser from the extension: .stl (binary or
 // ASCII; corners with identical coordinates become one vertex), .ply (ASCII or
@@ -51,11 +27,6 @@ Mesh read_mesh(const std::string& path);
 // Chooses the format from the extension: .stl (binary), .ply (binary little endian), .obj,
 // .3mf (its unit set to millimetres: coordinates are taken to be in mm).
 void write_mesh(const Mesh& mesh, const std::string& path);
-
-// Writes points as binary little-endian PLY (.ply, float32 x y z, `comment` in the
-// header) or text (.xyz/.pts/.txt, one "x y z" line each, digits that read back
-// exactly), atomically like write_mesh. Throws InputError for another extension.
-void write_points(const PointSet& points, const std::string& path, const std::string& comment = "");
 
 // Writes the field as VTK image data (.vti, raw appended binary) or NRRD (.nrrd),
 // with the origin at the centre of cell (0,0,0) (domain.origin + h/2) and spacing h.
