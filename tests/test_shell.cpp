@@ -12,6 +12,7 @@
 #include "snvr/mesh_io.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/point_io.hpp"
+#include "snvr/report.hpp"
 #include "snvr/shapes.hpp"
 #include "snvr/shell.hpp"
 
@@ -68,6 +69,41 @@ TEST_CASE("make_shell writes what snvr-cl writes, byte for byte, and reports wha
     CHECK(every.outliers.points.empty());
     CHECK(every.points == points.size());
     CHECK(every.run.phi.stored_bricks() > 0);
+
+    // The report: built once, its summary and JSON views say the same figures.
+    const snvr::RunReport report = snvr::make_report(shell);
+    const std::string summary = snvr::report_summary(report), json = snvr::report_json(report);
+    CHECK(summary.find(snvr::grouped(shell.quality.triangles) + " triangles") != std::string::npos);
+    CHECK(json.find("\"triangles\": " + std::to_string(shell.quality.triangles)) != std::string::npos);
+    CHECK(summary.find("2 dropped") != std::string::npos);
+    CHECK(json.find("\"dropped\": 2") != std::string::npos);
+}
+
+TEST_CASE("make_shell: units and scale take the points and every length to millimetres") {
+    const snvr::PointSet points = snvr::shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.03);
+    snvr::ShellSettings cm = small();
+    cm.params.offset = 0.05;
+    cm.units = "cm";
+    cm.scale = 2;
+    const snvr::Shell scaled = snvr::make_shell(points, cm);
+    // The same run on points and lengths scaled by hand: the same shell, bit for bit.
+    snvr::PointCloud by_hand(points);
+    by_hand.scale(20);
+    snvr::ShellSettings mm = small();
+    mm.params.offset = 0.05 * 20;
+    const snvr::Shell plain = snvr::make_shell(std::move(by_hand), mm);
+    CHECK(scaled.mesh.vertices == plain.mesh.vertices);
+    CHECK(scaled.mesh.triangles == plain.mesh.triangles);
+    CHECK(scaled.to_millimetres == 20);
+    CHECK(scaled.run.offset == doctest::Approx(1.0));
+    CHECK(scaled.warnings == plain.warnings);
+
+    snvr::ShellSettings bad = small();
+    bad.units = "furlong";
+    CHECK_THROWS_WITH_AS(snvr::make_shell(points, bad), doctest::Contains("unit 'furlong'"), snvr::ParameterError);
+    bad = small();
+    bad.scale = 1e7;
+    CHECK_THROWS_WITH_AS(snvr::make_shell(points, bad), doctest::Contains("1e-6 to 1e6"), snvr::ParameterError);
 }
 
 TEST_CASE("make_shell: the clusters it reports are the kept points' own count, taken over from the outlier rules") {

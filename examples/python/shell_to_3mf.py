@@ -46,9 +46,9 @@ def main():
     report = shell.report
     print(f"{len(points):,} points, {int(shell.outlier_mask.sum()):,} dropped as outliers")
     print(f"{len(shell.faces):,} triangles; closed {report['mesh']['closed']}, manifold {report['mesh']['manifold']}, "
-          f"{report['mesh']['solids']} solid piece(s), genus {report['mesh']['genus']}")
+          f"{report['mesh']['solid_pieces']} solid piece(s), genus {report['check']['genus']}")
     print(f"points inside: {report['check']['points_inside']:,}, the shallowest "
-          f"{report['check']['depth_min']:.3f} x offset deep; offset {report['run']['offset']:.4g}")
+          f"{report['check']['depth_min_l']:.3f} x offset deep; offset {report['offset']['length']:.4g} mm")
     for warning in shell.warnings:
         print("warning:", warning)
     print(f"wrote {args.output} in {time.perf_counter() - start:.2f} s")

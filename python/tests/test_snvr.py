@@ -1,4 +1,5 @@
 """The Python module against the CLI: same bytes, same errors, cancel, no leak, no GIL held."""
+import json
 import os
 import signal
 import subprocess
@@ -53,6 +54,18 @@ def test_the_same_bytes_as_the_cli(tmp_path):
     report = s.report
     assert report["check"]["points_inside"] == len(snvr.read_points(str(points)))
     assert report["mesh"]["closed"] and report["mesh"]["manifold"] and report["mesh"]["oriented"]
+    # One report, two views: the dict has the keys and the figures of snvr-cl's --report.
+    cli_json = tmp_path / "cli.json"
+    subprocess.run([CLI, "reconstruct", str(points), "-o", str(tmp_path / "again.stl"), "--resolution", "48",
+                    "--device", "openmp", "--quiet", "--report", str(cli_json)], check=True)
+    cli_report = json.loads(cli_json.read_text())
+    assert report.keys() == cli_report.keys()
+    for section in ("grid", "offset", "flow", "mesh", "check"):
+        assert report[section].keys() == cli_report[section].keys()
+    for key in ("grid", "offset", "sampling_gap", "mesh", "pieces_dropped", "point_clusters"):
+        assert report[key] == cli_report[key]
+    check = {k: v for k, v in cli_report["check"].items() if k != "seconds"}
+    assert {k: v for k, v in report["check"].items() if k != "seconds"} == check
     for ext in (".ply", ".obj", ".3mf"):
         s.write(str(tmp_path / ("out" + ext)))
         assert (tmp_path / ("out" + ext)).stat().st_size > 0
@@ -176,9 +189,28 @@ def test_read_points_keeps_the_files_floats_and_far_scans_centre_as_the_cli(tmp_
     subprocess.run([CLI, "reconstruct", str(far), "-o", str(cli_stl), "--resolution", "32", "--device", "openmp",
                     "--quiet"], check=True)
     s = snvr.shell(str(far), resolution=32, device="openmp")
-    assert s.report["origin_shift_why"].endswith("(default)") and s.shift[1] != 0
+    assert s.report["input"]["origin_shift_why"].endswith("(default)") and s.shift[1] != 0
     s.write(str(tmp_path / "mine.stl"))
     assert (tmp_path / "mine.stl").read_bytes() == cli_stl.read_bytes()
     with pytest.raises(OSError, match="float"):
         snvr.shell(str(far), resolution=32, device="openmp", origin="keep")
     assert snvr.read_points(str(far)).dtype == np.float64
+
+
+def test_units_and_scale_as_the_cli(tmp_path):
+    points = tmp_path / "points.ply"
+    subprocess.run([CLI, "sample", "sphere", "-o", str(points), "--spacing", "0.03"], check=True, capture_output=True)
+    cli_stl = tmp_path / "cli.stl"
+    subprocess.run([CLI, "reconstruct", str(points), "-o", str(cli_stl), "--resolution", "32", "--device", "openmp",
+                    "--units", "cm", "--scale", "2", "--offset", "0.05", "--quiet"], check=True)
+    s = snvr.shell(str(points), resolution=32, device="openmp", units="cm", scale=2, offset=0.05)
+    s.write(str(tmp_path / "mine.stl"))
+    assert (tmp_path / "mine.stl").read_bytes() == cli_stl.read_bytes()
+    # Lengths given in cm times 2 come back in millimetres: 20 times the points' units.
+    assert s.report["input"]["to_millimetres"] == 20 and s.report["offset"]["length"] == pytest.approx(1.0)
+    plain = snvr.shell(str(points), resolution=32, device="openmp", offset=0.05)
+    assert np.ptp(s.vertices[:, 0]) == pytest.approx(20 * np.ptp(plain.vertices[:, 0]), rel=1e-3)
+    with pytest.raises(ValueError, match="unit 'furlong'"):
+        snvr.shell(str(points), resolution=32, device="openmp", units="furlong")
+    with pytest.raises(ValueError, match="scale"):
+        snvr.shell(str(points), resolution=32, device="openmp", scale=0)
