@@ -21,7 +21,7 @@
 #include "snvr/quality.hpp"
 #include "mesh/cell_rings.hpp"
 #include "check/mesh_adjacency.hpp"
-#include "mesh/threads_here.hpp"
+#include "threads_here.hpp"
 #include "check/point_depths.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "geometry/point_tree.hpp"
@@ -376,9 +376,9 @@ void measure_exact(const Mesh& m, const std::function<double(const Vec3&)>& exac
 
 // The figures of measure_quality; the surface's (offset error, smoothness, the
 // second inside test) only when `surface` is set.
-MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, double offset, double voxel,
-                    bool surface, const std::function<double(const Vec3&)>& exact) {
-    const auto started = std::chrono::steady_clock::now();
+// The inputs checked, and the figures they give at once.
+MeshQuality start_figures(const char* who, const Mesh& mesh, const PointTree& points, double offset, double voxel,
+                          bool surface) {
     if (!(offset > 0) || !(voxel > 0) || !std::isfinite(offset) || !std::isfinite(voxel))
         throw ParameterError(std::string(who) + ": offset and voxel must be positive (got " +
                              detail::format_number(offset) + " and " + detail::format_number(voxel) + ")");
@@ -394,6 +394,33 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
 
     if (mesh.triangles.size() > std::numeric_limits<std::uint32_t>::max())
         throw ResourceError(std::string(who) + ": more than 2^32 triangles");
+    return q;
+}
+
+// The figures from what the tasks found.
+void finish_figures(const Mesh& mesh, bool surface, const std::vector<Vec3>& normals, EdgeBuckets& edges,
+                    const std::optional<detail::PointDepths>& depths, std::size_t points_inside,
+                    std::vector<double>& wall, const std::function<double(const Vec3&)>& exact,
+                    MeshQuality& q) {
+    const MeshReport& report = q.report;
+    q.components = report.components;
+    q.solids = report.solids;
+    q.cavities = report.components - std::min(report.components, report.solids);
+    q.closed = report.closed();
+    q.manifold = report.manifold();
+    q.oriented = report.oriented();
+    if (surface) measure_normal_noise(normals, edges, q);
+    EdgeBuckets().swap(edges);
+    detail::PointDepths::Figures figures = depths ? depths->figures() : detail::PointDepths::Figures{};
+    measure_points(figures, surface ? std::optional<std::size_t>(points_inside) : std::nullopt, q);
+    measure_walls(wall, q);
+    if (exact) measure_exact(mesh, exact, q);
+}
+
+MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, double offset, double voxel,
+                    bool surface, const std::function<double(const Vec3&)>& exact) {
+    const auto started = std::chrono::steady_clock::now();
+    MeshQuality q = start_figures(who, mesh, points, offset, voxel, surface);
     // Tasks on the team's threads, each part on one thread (their loops run
     // serially inside a task): the mesh's own figures (A) on one, the grid and
     // what needs no more (B) on the other, then the walls, which need only B,
@@ -476,19 +503,7 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
     }
     for (const std::exception_ptr& e : failed)
         if (e) std::rethrow_exception(e);
-    const MeshReport& report = q.report;
-    q.components = report.components;
-    q.solids = report.solids;
-    q.cavities = report.components - std::min(report.components, report.solids);
-    q.closed = report.closed();
-    q.manifold = report.manifold();
-    q.oriented = report.oriented();
-    if (surface) measure_normal_noise(normals, edges, q);
-    EdgeBuckets().swap(edges);
-    detail::PointDepths::Figures figures = depths ? depths->figures() : detail::PointDepths::Figures{};
-    measure_points(figures, surface ? std::optional<std::size_t>(points_inside) : std::nullopt, q);
-    measure_walls(wall, q);
-    if (exact) measure_exact(mesh, exact, q);
+    finish_figures(mesh, surface, normals, edges, depths, points_inside, wall, exact, q);
     q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return q;
 }

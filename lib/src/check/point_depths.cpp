@@ -625,15 +625,160 @@ int PointDepths::side(const Vec3& p, std::uint32_t triangle) const {
     return side != 0 ? side : ray_side(grid_, p, lo_, hi_);
 }
 
-void PointDepths::visit(Group& group, bool every_point, double settle_below, void* scratch) const {
-    Scratch& s = *static_cast<Scratch*>(scratch);
-    const std::uint32_t count = group.end - group.begin;
-    const Vec3 centre = group.centre();
-    double radius = 0;
-    for (std::uint32_t k = group.begin; k < group.end; ++k)
-        radius = std::max(radius, PointTree::dist_sq(points_.point(k), centre));
-    radius = std::sqrt(radius);
-    every_point = every_point || every_point_ || group.sampled;
+// One group's visit: what it takes from the run's candidates, and its steps.
+class PointDepths::Visit {
+public:
+    // The group's candidates from its run's: those within d + 2 r of its centre, d its
+    // centre's distance (the least over the run's, all within reach of the run's centre).
+    Visit(const PointDepths& depths, Group& group, Scratch& s)
+        : pd_(depths), group_(group), s_(s), centre_(group.centre()) {
+        double radius = 0;
+        for (std::uint32_t k = group.begin; k < group.end; ++k)
+            radius = std::max(radius, PointTree::dist_sq(pd_.points_.point(k), centre_));
+        radius_ = std::sqrt(radius);
+        off_ = sub(centre_, s.run_centre);
+        const LaneTriangles& kept = s.kept;
+        // The floats err by far less than this: every value below (2 R)^2, R the largest
+        // coordinate about the run's centre, and rounded a dozen times by 2^-24 of it.
+        const double big = 2 * std::max(kept.reach, norm(off_) + radius_);
+        slack_ = 0x1p-18 * big * big;
+        // The same in distances, for the tangent bounds: above their own rounding (a few
+        // 2^-24 of big) and the root of the slack over the least distance there is.
+        margin_ = float(0x1p-12 * big);
+        // Every candidate's distance from the centre and the tangent plane there; the least
+        // bounds the centre's distance.
+        if (kept.size() > 0) {
+            s.tangents.v.resize(kept.packets() * TangentBounds::kPacket);
+            nearest_kept_ = tangents_over_triangles(kept, float(off_[0]), float(off_[1]), float(off_[2]),
+                                                    s.tangents.v.data());
+            const double root = double(s.tangents.v[nearest_kept_ / 8 * TangentBounds::kPacket + nearest_kept_ % 8]) *
+                                (1 + 0x1p-20);
+            centre_bound_ = std::sqrt(root * root + slack_) * (1 + 1e-9);
+        }
+        reach_ = (centre_bound_ + 2 * radius_) * (1 + 1e-9) + 1e-12 * (radius_ + 1);
+    }
+
+    // Whether the run gathered every candidate the group can need.
+    bool run_covers() const { return norm(off_) * (1 + 1e-9) + reach_ <= s_.run_reach; }
+
+    // Beyond what the run gathered (or it gathered nothing): each point's own search.
+    void search_each() {
+        start();
+        if (!(s_.run_distance < kInf)) {  // no triangle at all: every point outside, infinitely far
+            for (std::uint32_t k = group_.begin; k < group_.end; ++k) measured(k, kInf, kNone);
+            return;
+        }
+        const double bound = (s_.run_distance + norm(off_)) * (1 + 1e-9);
+        for (std::uint32_t k = group_.begin; k < group_.end; ++k) {
+            const Vec3 p = pd_.points_.point(k);
+            if (!last_.is(p)) {
+                const double own = (bound + norm(sub(p, centre_))) * (1 + 1e-9);
+                TriangleGrid::Closest near = pd_.grid_.closest(p, own * own + 1e-300);
+                if (near.triangle == TriangleGrid::none) near = pd_.grid_.closest(p);
+                last_ = Last{p, near.dist_sq, near.triangle, 0, true};
+            }
+            measured(k, last_.d2, last_.triangle);
+        }
+    }
+
+    // Every point on its own: its exact distance and side.
+    void measure_all() {
+        start();
+        for (std::uint32_t k = group_.begin; k < group_.end; ++k) {
+            const Vec3 p = pd_.points_.point(k);
+            if (!last_.is(p)) {
+                double d2;
+                std::uint32_t t;
+                pd_.nearest(p, centre_, within(k), &s_, slack_, margin_, d2, t);
+                last_ = Last{p, d2, t, 0, true};
+            }
+            measured(k, last_.d2, last_.triangle);
+        }
+    }
+
+    // For a group all inside: each point whose own tangent bound lies below `below` is
+    // measured (a triangle farther than below + r from the centre bounds none of them
+    // below it); returns the least bound of the others.
+    double point_by_point(double below) {
+        const float* tb = s_.tangents.v.data();
+        const LaneTriangles& kept = s_.kept;
+        const double room = double(margin_) + 1e-6 * (radius_ + centre_bound_);
+        const float beyond = float((below + radius_ + room) * (1 + 1e-6));
+        s_.packets.clear();
+        for (std::size_t p = 0; p < kept.packets(); ++p)
+            for (int l = 0; l < 8; ++l)
+                if (tb[p * TangentBounds::kPacket + std::size_t(l)] <= beyond) {
+                    s_.packets.push_back(std::uint32_t(p));
+                    break;
+                }
+        double rest = kInf;
+        for (std::uint32_t k = group_.begin; k < group_.end; ++k) {
+            if (k > group_.begin && pd_.points_.xyz[k] == pd_.points_.xyz[k - 1]) continue;  // a copy: nothing new
+            const Vec3 p = pd_.points_.point(k), o = sub(p, centre_);
+            const double low = double(least_tangent_bound(tb, s_.packets, float(o[0]), float(o[1]), float(o[2]))) - room;
+            if (!(low < below)) {
+                rest = std::min(rest, low);
+                continue;
+            }
+            double d2;
+            std::uint32_t t;
+            pd_.nearest(p, centre_, within(k), &s_, slack_, margin_, d2, t);
+            group_.shallowest = std::min(group_.shallowest, std::sqrt(d2));
+        }
+        return rest;
+    }
+
+    // A bound on every point's distance at once; returns false when it cannot show
+    // that nothing crosses the group (then every point is to be measured).
+    bool bound_all() {
+        const float* tb = s_.tangents.v.data();
+        // Each candidate's distance lies above its tangent plane at the centre,
+        // D + g . (p - c); split g along n (the gradient of the centre's nearest triangle:
+        // nearly every candidate's, on a smooth surface) and across it, and bound each part
+        // by the points' extent along n and their distance from the line through the
+        // centre along n.
+        const auto tangent = [&](std::size_t j, int field) {
+            return tb[j / 8 * TangentBounds::kPacket + 8 * field + j % 8];
+        };
+        const Vec3 n{tangent(nearest_kept_, 1), tangent(nearest_kept_, 2), tangent(nearest_kept_, 3)};
+        double along_lo = kInf, along_hi = -kInf, across = 0;
+        std::uint32_t ref = group_.begin;  // the point likeliest the shallowest: least along n
+        for (std::uint32_t k = group_.begin; k < group_.end; ++k) {
+            const Vec3 d = sub(pd_.points_.point(k), centre_);
+            const double a = dot(d, n);
+            if (a < along_lo) along_lo = a, ref = k;
+            along_hi = std::max(along_hi, a);
+            across = std::max(across, norm(Vec3{d[0] - a * n[0], d[1] - a * n[1], d[2] - a * n[2]}));
+        }
+        double low = least_group_bound(s_.kept, tb, float(n[0]), float(n[1]), float(n[2]), float(along_lo),
+                                       float(along_hi), float(across));
+        // Far above the floats' rounding of D, g and the points, and n's of unit length.
+        low -= double(margin_) + 1e-6 * (radius_ + centre_bound_);
+        // That point, measured: the group's side when nothing crosses it, and a depth that
+        // bounds the shallowest from above (the tighter, the fewer groups settle() measures).
+        double d2;
+        std::uint32_t t;
+        pd_.nearest(pd_.points_.point(ref), centre_, within(ref), &s_, slack_, margin_, d2, t);
+        const int ref_side = pd_.side(pd_.points_.point(ref), t);
+        // Nothing crosses the group when no surface comes within r of its centre (the points
+        // lie in that ball, and a segment between two of them with it), or when every point
+        // lies farther than 2 r from the surface (two on opposite sides would have it between
+        // them, within 2 r of each).
+        const double centre_low =
+            double(tangent(nearest_kept_, 0)) - double(margin_) - 1e-6 * (radius_ + centre_bound_);
+        if (!(centre_low > radius_ || low > 2 * radius_)) return false;
+        group_.low = low;
+        group_.side = ref_side;
+        group_.inside = ref_side < 0 ? group_.end - group_.begin : 0;
+        group_.shallowest = ref_side < 0 ? std::sqrt(d2) : kInf;
+        // Where the whole group's bound lies below the shallowest depth this pass has
+        // measured (which the least depth can only undercut), the points' own bounds,
+        // while the run's tangents are at hand: settle() then rarely needs the group.
+        if (ref_side < 0 && low < s_.shallowest) group_.low = point_by_point(s_.shallowest);
+        return true;
+    }
+
+private:
     // Copies of one point lie side by side in tree order (a scan may hold thousands):
     // each takes the one before's distance and side.
     struct Last {
@@ -643,170 +788,59 @@ void PointDepths::visit(Group& group, bool every_point, double settle_below, voi
         int side = 0;
         bool valid = false;
         bool is(const Vec3& q) const { return valid && q == p; }
-    } last;
-    const auto measured = [&](std::uint32_t k, double d2, std::uint32_t triangle) {
-        const Vec3 p = points_.point(k);
+    };
+
+    void start() {
+        group_.inside = 0;
+        group_.shallowest = kInf;
+        group_.depths.clear();
+        group_.measured = true;
+    }
+    void measured(std::uint32_t k, double d2, std::uint32_t triangle) {
+        const Vec3 p = pd_.points_.point(k);
         const double d = std::sqrt(d2);
-        const int at = last.is(p) && last.side != 0 ? last.side : side(p, triangle);
-        last.side = at;
+        const int at = last_.is(p) && last_.side != 0 ? last_.side : pd_.side(p, triangle);
+        last_.side = at;
         const bool inside = at < 0;
         if (inside) {
-            group.shallowest = std::min(group.shallowest, d);
-            ++group.inside;
+            group_.shallowest = std::min(group_.shallowest, d);
+            ++group_.inside;
         }
-        if (group.sampled) group.depths.push_back(inside ? d : -d);
-    };
-    const auto start = [&] {
-        group.inside = 0;
-        group.shallowest = kInf;
-        group.depths.clear();
-        group.measured = true;
-    };
-    // The group's candidates from its run's: those within d + 2 r of its centre, d its
-    // centre's distance (the least over the run's, all within reach of the run's centre).
-    const Vec3 off = sub(centre, s.run_centre);
-    const float ox = float(off[0]), oy = float(off[1]), oz = float(off[2]);
-    const LaneTriangles& kept = s.kept;
-    // The floats err by far less than this: every value below (2 R)^2, R the largest
-    // coordinate about the run's centre, and rounded a dozen times by 2^-24 of it.
-    const double big = 2 * std::max(kept.reach, norm(off) + radius);
-    const double slack = 0x1p-18 * big * big;
-    // The same in distances, for the tangent bounds: above their own rounding (a few
-    // 2^-24 of big) and the root of the slack over the least distance there is.
-    const float margin = float(0x1p-12 * big);
-    // Every candidate's distance from the centre and the tangent plane there; the least
-    // bounds the centre's distance.
-    double centre_bound = kInf;
-    std::size_t nearest_kept = 0;  // the candidate nearest the centre
-    if (kept.size() > 0) {
-        s.tangents.v.resize(kept.packets() * TangentBounds::kPacket);
-        nearest_kept = tangents_over_triangles(kept, ox, oy, oz, s.tangents.v.data());
-        const double root = double(s.tangents.v[nearest_kept / 8 * TangentBounds::kPacket + nearest_kept % 8]) *
-                            (1 + 0x1p-20);
-        centre_bound = std::sqrt(root * root + slack) * (1 + 1e-9);
+        if (group_.sampled) group_.depths.push_back(inside ? d : -d);
     }
-    const double reach = (centre_bound + 2 * radius) * (1 + 1e-9) + 1e-12 * (radius + 1);
     // Point k's distance to the surface, at most.
-    const auto within = [&](std::uint32_t k) {
-        return (centre_bound + std::sqrt(PointTree::dist_sq(points_.point(k), centre))) * (1 + 1e-9);
-    };
-    if (!(norm(off) * (1 + 1e-9) + reach <= s.run_reach)) {
-        // Beyond what the run gathered (or it gathered nothing): each point's own search.
-        start();
-        if (!(s.run_distance < kInf)) {  // no triangle at all: every point outside, infinitely far
-            for (std::uint32_t k = group.begin; k < group.end; ++k) measured(k, kInf, kNone);
-            return;
-        }
-        const double bound = (s.run_distance + norm(off)) * (1 + 1e-9);
-        for (std::uint32_t k = group.begin; k < group.end; ++k) {
-            const Vec3 p = points_.point(k);
-            if (!last.is(p)) {
-                const double own = (bound + norm(sub(p, centre))) * (1 + 1e-9);
-                TriangleGrid::Closest near = grid_.closest(p, own * own + 1e-300);
-                if (near.triangle == TriangleGrid::none) near = grid_.closest(p);
-                last = Last{p, near.dist_sq, near.triangle, 0, true};
-            }
-            measured(k, last.d2, last.triangle);
-        }
-        return;
-    }
-    // Every point on its own: its exact distance and side.
-    const auto measure_all = [&] {
-        start();
-        for (std::uint32_t k = group.begin; k < group.end; ++k) {
-            const Vec3 p = points_.point(k);
-            if (!last.is(p)) {
-                double d2;
-                std::uint32_t t;
-                nearest(p, centre, within(k), &s, slack, margin, d2, t);
-                last = Last{p, d2, t, 0, true};
-            }
-            measured(k, last.d2, last.triangle);
-        }
-    };
-    if (every_point) {
-        measure_all();
-        return;
+    double within(std::uint32_t k) const {
+        return (centre_bound_ + std::sqrt(PointTree::dist_sq(pd_.points_.point(k), centre_))) * (1 + 1e-9);
     }
 
-    const float* tb = s.tangents.v.data();
-    // For a group all inside: each point whose own tangent bound lies below `below` is
-    // measured (a triangle farther than below + r from the centre bounds none of them
-    // below it); returns the least bound of the others.
-    const double room = double(margin) + 1e-6 * (radius + centre_bound);
-    const auto point_by_point = [&](double below) {
-        const float beyond = float((below + radius + room) * (1 + 1e-6));
-        s.packets.clear();
-        for (std::size_t p = 0; p < kept.packets(); ++p)
-            for (int l = 0; l < 8; ++l)
-                if (tb[p * TangentBounds::kPacket + std::size_t(l)] <= beyond) {
-                    s.packets.push_back(std::uint32_t(p));
-                    break;
-                }
-        double rest = kInf;
-        for (std::uint32_t k = group.begin; k < group.end; ++k) {
-            if (k > group.begin && points_.xyz[k] == points_.xyz[k - 1]) continue;  // a copy: nothing new
-            const Vec3 p = points_.point(k), o = sub(p, centre);
-            const double low = double(least_tangent_bound(tb, s.packets, float(o[0]), float(o[1]), float(o[2]))) - room;
-            if (!(low < below)) {
-                rest = std::min(rest, low);
-                continue;
-            }
-            double d2;
-            std::uint32_t t;
-            nearest(p, centre, within(k), &s, slack, margin, d2, t);
-            group.shallowest = std::min(group.shallowest, std::sqrt(d2));
-        }
-        return rest;
-    };
-    if (settle_below < kInf) {  // all inside, as every group settle() visits
-        point_by_point(settle_below);
-        return;
-    }
+    const PointDepths& pd_;
+    Group& group_;
+    Scratch& s_;
+    const Vec3 centre_;
+    double radius_ = 0;
+    Vec3 off_{};           // the centre from the run's centre
+    double slack_ = 0;     // the floats' error in squared distances
+    float margin_ = 0;     // and in distances
+    double centre_bound_ = kInf;
+    std::size_t nearest_kept_ = 0;  // the candidate nearest the centre
+    double reach_ = 0;
+    Last last_;
+};
 
-    // A bound on every point's distance at once. Each candidate's distance lies above its
-    // tangent plane at the centre, D + g . (p - c); split g along n (the gradient of the
-    // centre's nearest triangle: nearly every candidate's, on a smooth surface) and across
-    // it, and bound each part by the points' extent along n and their distance from the
-    // line through the centre along n.
-    const auto tangent = [&](std::size_t j, int field) { return tb[j / 8 * TangentBounds::kPacket + 8 * field + j % 8]; };
-    const Vec3 n{tangent(nearest_kept, 1), tangent(nearest_kept, 2), tangent(nearest_kept, 3)};
-    double along_lo = kInf, along_hi = -kInf, across = 0;
-    std::uint32_t ref = group.begin;  // the point likeliest the shallowest: least along n
-    for (std::uint32_t k = group.begin; k < group.end; ++k) {
-        const Vec3 d = sub(points_.point(k), centre);
-        const double a = dot(d, n);
-        if (a < along_lo) along_lo = a, ref = k;
-        along_hi = std::max(along_hi, a);
-        across = std::max(across, norm(Vec3{d[0] - a * n[0], d[1] - a * n[1], d[2] - a * n[2]}));
+// The steps: the run's candidates, unless they miss some; every point where asked;
+// point by point for settle(); else the group's bound, every point where it fails.
+void PointDepths::visit(Group& group, bool every_point, double settle_below, void* scratch) const {
+    Visit v(*this, group, *static_cast<Scratch*>(scratch));
+    every_point = every_point || every_point_ || group.sampled;
+    if (!v.run_covers()) {
+        v.search_each();
+    } else if (every_point) {
+        v.measure_all();
+    } else if (settle_below < kInf) {  // all inside, as every group settle() visits
+        v.point_by_point(settle_below);
+    } else if (!v.bound_all()) {
+        v.measure_all();
     }
-    double low = least_group_bound(s.kept, tb, float(n[0]), float(n[1]), float(n[2]), float(along_lo),
-                                   float(along_hi), float(across));
-    // Far above the floats' rounding of D, g and the points, and n's of unit length.
-    low -= double(margin) + 1e-6 * (radius + centre_bound);
-    // That point, measured: the group's side when nothing crosses it, and a depth that
-    // bounds the shallowest from above (the tighter, the fewer groups settle() measures).
-    double d2;
-    std::uint32_t t;
-    nearest(points_.point(ref), centre, within(ref), &s, slack, margin, d2, t);
-    const int ref_side = side(points_.point(ref), t);
-    // Nothing crosses the group when no surface comes within r of its centre (the points
-    // lie in that ball, and a segment between two of them with it), or when every point
-    // lies farther than 2 r from the surface (two on opposite sides would have it between
-    // them, within 2 r of each).
-    const double centre_low = double(tangent(nearest_kept, 0)) - double(margin) - 1e-6 * (radius + centre_bound);
-    if (centre_low > radius || low > 2 * radius) {
-        group.low = low;
-        group.side = ref_side;
-        group.inside = ref_side < 0 ? count : 0;
-        group.shallowest = ref_side < 0 ? std::sqrt(d2) : kInf;
-        // Where the whole group's bound lies below the shallowest depth this pass has
-        // measured (which the least depth can only undercut), the points' own bounds,
-        // while the run's tangents are at hand: settle() then rarely needs the group.
-        if (ref_side < 0 && low < s.shallowest) group.low = point_by_point(s.shallowest);
-        return;
-    }
-    measure_all();
 }
 
 }  // namespace snvr::detail

@@ -77,6 +77,7 @@ private:
     // finite, a group known to lie inside as a whole: each point whose bound lies below
     // it is measured, for the shallowest.
     void visit(Group& group, bool every_point, double settle_below, void* scratch) const;
+    class Visit;  // one visit's state and steps
     // p's exact squared distance to the surface and nearest triangle, among the
     // candidates the scratch holds for p's group (centre), p's distance at most `within`.
     void nearest(const Vec3& p, const Vec3& centre, double within, const void* scratch, double slack, float margin,

@@ -28,10 +28,6 @@
 #include <utility>
 #include <vector>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "geometry/point_tree.hpp"
 #include "snvr/error.hpp"
 #include "snvr/point_cloud.hpp"
@@ -40,10 +36,12 @@
 #include "geometry/vec3_math.hpp"
 #include "mesh/vertex_lists.hpp"
 #include "parallel_sizes.hpp"
+#include "threads_here.hpp"
 
 namespace snvr {
 namespace {
 
+using detail::PointTree;
 using detail::VertexLists;
 
 // Vertices are aimed this far (in voxels) beyond the depth: a triangle about a voxel
@@ -285,20 +283,6 @@ double slab_radius(double r, double size, const Vec3& q) {
     return r + 1e-9 * (r + size) + 64 * DBL_EPSILON * largest_coordinate(q);
 }
 
-int max_threads() {
-#ifdef _OPENMP
-    return omp_get_max_threads();
-#else
-    return 1;
-#endif
-}
-int omp_thread() {
-#ifdef _OPENMP
-    return omp_get_thread_num();
-#else
-    return 0;
-#endif
-}
 
 // The vertices each vertex's ring reads, and the vertices whose rings read it: the
 // corners of its fan. Marks them in `in` and appends the new ones to `set`.
@@ -727,6 +711,329 @@ private:
     std::vector<Vec3> was_;
 };
 
+// A kept point, a triangle nearer than the depth to it, and their distance.
+struct PointTriangle {
+    std::uint32_t point, triangle;
+    double dist;
+};
+
+// A triangle's face vector where the mesh started (before any vertex moved).
+struct StartFaces {
+    const Mesh& mesh;
+    Vec3 operator()(std::uint32_t t) const { return face_vector(mesh, mesh.triangles[t]); }
+};
+
+// The points the promise covers: those with another point within `lone`.
+std::vector<std::uint8_t> covered_points(const PointTree& points, double lone, DepthGuardReport& report) {
+    std::vector<std::uint8_t> kept(points.size(), 1);
+    if (!std::isfinite(lone)) return kept;
+    const std::ptrdiff_t np = std::ptrdiff_t(points.size());
+#pragma omp parallel for schedule(dynamic, 1024) if (np > detail::kParallelItems)
+    for (std::ptrdiff_t p = 0; p < np; ++p) kept[p] = points.nearest_other(std::size_t(p)) <= lone;
+    for (std::uint8_t k : kept) report.lone_points += !k;
+    return kept;
+}
+
+// The search, on the mesh as it starts, in cells: each point finds the vertices within
+// the aim of it (the index's distance test, so exactly those the index would find),
+// and, for the first repair round, the triangles within the depth of it (those that the
+// lift leaves where they are stay that near). The cells look for their points, so that
+// the points far from the mesh (most of a dense scan) cost nothing.
+struct StartSearch {
+    std::vector<std::uint8_t> near_point;  // by vertex: a point within the aim
+    std::vector<PointTriangle> close;      // (kept point, triangle) nearer than the depth, by point
+};
+
+StartSearch search_start(const Mesh& mesh, const PointTree& points, const TriangleCells& start_cells,
+                         const std::vector<std::uint8_t>& kept, double aim, double depth) {
+    StartSearch found;
+    found.near_point.assign(mesh.vertices.size(), 0);
+    const double aim_sq = aim * aim;
+    const std::size_t team = std::size_t(detail::threads_here());
+    std::vector<std::vector<std::uint32_t>> near_of(team);
+    std::vector<std::vector<PointTriangle>> close_of(team);
+    start_cells.near_points(mesh.vertices, points, aim, [&](std::uint32_t p, std::uint32_t t, double box) {
+        std::vector<std::uint32_t>& mine = near_of[std::size_t(detail::thread_number())];
+        const Vec3 q = points.point(p);
+        for (std::uint32_t c : mesh.triangles[t])
+            if (index_dist_sq(mesh.vertices[c], q) < aim_sq) mine.push_back(c);
+        // The box bound keeps a margin far above the exact distance's rounding.
+        const double depth_box = slack(depth * (1 + 1e-9), q), depth_box_sq = depth_box * depth_box;
+        if (!kept[p] || !(box < depth_box_sq)) return;
+        const double d = triangle_distance(mesh.vertices, mesh, q, t);
+        if (d < depth) close_of[std::size_t(detail::thread_number())].push_back({p, t, d});
+    });
+    for (const auto& mine : near_of)
+        for (std::uint32_t v : mine) found.near_point[v] = 1;
+    for (const auto& mine : close_of) found.close.insert(found.close.end(), mine.begin(), mine.end());
+    std::sort(found.close.begin(), found.close.end(), [](const PointTriangle& a, const PointTriangle& b) {
+        return a.point != b.point ? a.point < b.point : a.triangle < b.triangle;
+    });
+    return found;
+}
+
+// How far to lift each vertex nearer than the aim to a kept point on its inner side.
+// Only the vertices with a point that near ask the index for their nearest; a vertex no
+// triangle uses has no normal and is never lifted. (Also notes the vertices with a -0
+// coordinate, see Moving.)
+std::vector<double> vertex_lifts(const Mesh& mesh, const VertexLists& fans, const PointTree& points,
+                                 const std::vector<std::uint8_t>& kept, const std::vector<std::uint8_t>& near_point,
+                                 double aim, std::vector<std::uint32_t>& negative_zero) {
+    const std::ptrdiff_t nv = std::ptrdiff_t(mesh.vertices.size());
+    std::vector<std::uint32_t> asking;
+    for (std::ptrdiff_t v = 0; v < nv; ++v) {
+        if (near_point[v] && fans.start[v] != fans.start[v + 1]) asking.push_back(std::uint32_t(v));
+        for (int d = 0; d < 3; ++d)
+            if (mesh.vertices[v][d] == 0 && std::signbit(mesh.vertices[v][d])) {
+                negative_zero.push_back(std::uint32_t(v));
+                break;
+            }
+    }
+    std::vector<double> lift(mesh.vertices.size(), 0.0);
+    const StartFaces start_face{mesh};
+    const std::ptrdiff_t na = std::ptrdiff_t(asking.size());
+#pragma omp parallel for schedule(dynamic, 64) if (na > detail::kParallelItems)
+    for (std::ptrdiff_t i = 0; i < na; ++i) {
+        const std::uint32_t v = asking[i];
+        const PointTree::Hit hit = points.nearest(mesh.vertices[v], aim * aim);
+        const std::uint32_t p = hit.index;
+        if (p != PointTree::npos && kept[p] &&
+            dot(sub(mesh.vertices[v], points.point(p)), vertex_normal(fans, v, start_face)) > 0)
+            lift[v] = aim - std::sqrt(hit.dist_sq);
+    }
+    return lift;
+}
+
+// The vertices that can move: where the lift reaches (region), and any with a -0
+// coordinate (see Moving), each shifted along its normal by its lift.
+void add_lifted(Moving& moving, const Mesh& mesh, const VertexLists& fans, const std::vector<std::uint32_t>& region,
+                const std::vector<std::uint32_t>& negative_zero, const std::vector<double>& lift) {
+    std::vector<std::uint32_t> order = region;
+    order.insert(order.end(), negative_zero.begin(), negative_zero.end());
+    std::sort(order.begin(), order.end());
+    order.erase(std::unique(order.begin(), order.end()), order.end());
+    std::vector<Vec3> shift(order.size());
+    const StartFaces start_face{mesh};
+    const std::ptrdiff_t nr = std::ptrdiff_t(order.size());
+#pragma omp parallel for schedule(static) if (nr > detail::kParallelItems)
+    for (std::ptrdiff_t i = 0; i < nr; ++i) {
+        const Vec3 n = vertex_normal(fans, order[i], start_face);
+        for (int d = 0; d < 3; ++d) shift[i][d] = n[d] * lift[order[i]];
+    }
+    for (std::size_t i = 0; i < order.size(); ++i) moving.add(order[i], shift[i]);
+}
+
+// The repairs: move the nearest triangle of each point still shallower than the depth
+// along its own normal, all three corners alike, round by round. The watch list holds
+// every triangle within a quarter voxel of the depth from a point; repairs move a few
+// vertices by a fraction of that, outward, away from the points inside. Each round
+// tests which points' rows a move touched, renews their nearest, and moves.
+class Repairs {
+public:
+    // The triangles that moved go in cells of their own; the others are where
+    // start_cells has them. The longest edge: a root of the largest square (the root
+    // is monotone).
+    Repairs(Mesh& mesh, const PointTree& points, const std::vector<std::uint8_t>& kept, const VertexLists& fans,
+            const TriangleCells& start_cells, Moving& moving, double depth, double voxel, double aim, double within)
+        : mesh_(mesh),
+          points_(points),
+          kept_(kept),
+          fans_(fans),
+          start_cells_(start_cells),
+          moving_(moving),
+          depth_(depth),
+          voxel_(voxel),
+          within_(within),
+          moved_tri_(moved_triangles(mesh, moving)),
+          moved_cells_(mesh, &moving.triangles, aim),
+          reach_(within + std::sqrt(std::max(start_cells.longest_sq(moving.triangles, moved_tri_),
+                                             moved_cells_.longest_sq())) /
+                              std::sqrt(3.0)),
+          list_time_(mesh),
+          touched_(mesh.vertices.size(), 0) {}
+
+    // Each point's nearest triangle of its row, as far as it matters: exact where below
+    // the depth; a point without an entry is not below the depth. Kept for the few points
+    // near a lift only (a dense scan has millions). From the search's pairs for the
+    // triangles that stayed, and the moved cells for the others.
+    void find_nearest(const std::vector<PointTriangle>& close) {
+        std::size_t c = 0;
+        while (c < close.size()) {
+            const std::uint32_t p = close[c].point;
+            Nearest n;
+            for (; c < close.size() && close[c].point == p; ++c)
+                if (!moved_tri_[close[c].triangle] &&
+                    index_takes(mesh_.vertices, mesh_, points_.point(p), close[c].triangle, reach_))
+                    n.add(close[c].dist, close[c].triangle);
+            if (n.dist < kInf) nearest_[p] = n;
+        }
+        std::vector<std::vector<PointTriangle>> near_moved(std::size_t(detail::threads_here()));
+        moved_cells_.near_points(mesh_.vertices, points_, depth_, [&](std::uint32_t p, std::uint32_t t, double) {
+            if (!kept_[p]) return;  // the repairs pass it by
+            const Vec3 at = points_.point(p);
+            const double d = triangle_distance(mesh_.vertices, mesh_, at, t);
+            if (d < depth_ && index_takes(mesh_.vertices, mesh_, at, t, reach_))
+                near_moved[std::size_t(detail::thread_number())].push_back({p, t, d});
+        });
+        for (const auto& mine : near_moved)
+            for (const PointTriangle& m : mine) nearest_[m.point].add(m.dist, m.triangle);
+    }
+
+    void run(DepthGuardReport& report) {
+        for (report.repair_rounds = 0;; ++report.repair_rounds) {
+            if (report.repair_rounds > 0) renew(stale_points());
+            report.shallow_points = push_shallow();
+            if (report.shallow_points == 0 || report.repair_rounds == kRepairRounds) break;
+            // shift += push (elsewhere both are zero: nothing to add).
+            for (std::size_t i = 0; i < moving_.vertices.size(); ++i)
+                for (int d = 0; d < 3; ++d) moving_.shift[i][d] += moving_.push[i][d];
+            // A vertex that untangling moves is, before it first moves, where the list saw it.
+            untangle(mesh_, moving_, [&](std::uint32_t v) {
+                list_time_.save(v);
+                touched_[v] = 1;
+            });
+        }
+    }
+
+private:
+    static std::vector<std::uint8_t> moved_triangles(const Mesh& mesh, const Moving& moving) {
+        std::vector<std::uint8_t> moved(mesh.triangles.size(), 0);
+        for (std::uint32_t t : moving.triangles) moved[t] = 1;
+        return moved;
+    }
+
+    // The test: points whose rows hold a triangle with a corner that moved in the last
+    // round: the triangles around the moved vertices, and the kept points within
+    // `within` of them as the list saw them, that the index would have taken them for.
+    std::vector<std::uint32_t> stale_points() {
+        const ListTime& as_was = list_time_;
+        std::vector<std::uint32_t> changed;
+        for (std::size_t v = 0; v < touched_.size(); ++v)
+            if (touched_[v])
+                for (std::size_t f = fans_.start[v]; f < fans_.start[v + 1]; ++f) changed.push_back(fans_.items[f]);
+        std::sort(changed.begin(), changed.end());
+        changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+        std::vector<std::uint32_t> stale;
+        const std::ptrdiff_t nc = std::ptrdiff_t(changed.size());
+#pragma omp parallel if (nc > 64)
+        {
+            std::vector<std::uint32_t> mine;
+#pragma omp for schedule(dynamic, 16)
+            for (std::ptrdiff_t i = 0; i < nc; ++i) {
+                const std::uint32_t t = changed[i];
+                Bound tb;
+                for (std::uint32_t v : mesh_.triangles[t]) tb.add_to_box(as_was[v]);
+                // Where a point within `within` of the triangle lies, rounding included.
+                const double r = slack(slack(within_, tb.lo), tb.hi);
+                const Vec3 a{tb.lo[0] - r, tb.lo[1] - r, tb.lo[2] - r}, b{tb.hi[0] + r, tb.hi[1] + r, tb.hi[2] + r};
+                points_.for_each_leaf(
+                    [&](const PointTree::Node& n) {
+                        Bound nb;
+                        nb.lo = points_.lo(n);
+                        nb.hi = points_.hi(n);
+                        return overlap(nb, a, b);
+                    },
+                    [&](const PointTree::Node& n) {
+                        for (std::uint32_t p = n.begin; p < n.end; ++p) {
+                            const Vec3 at = points_.point(p);
+                            if (!kept_[p] || !inside(at, a, b)) continue;
+                            if (triangle_distance(as_was, mesh_, at, t) < within_ &&
+                                index_takes(as_was, mesh_, at, t, reach_))
+                                mine.push_back(p);
+                        }
+                    });
+            }
+#pragma omp critical
+            stale.insert(stale.end(), mine.begin(), mine.end());
+        }
+        std::sort(stale.begin(), stale.end());
+        stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
+        std::fill(touched_.begin(), touched_.end(), 0);
+        return stale;
+    }
+
+    // The rows not gathered yet, then each stale point's nearest of its row.
+    void renew(const std::vector<std::uint32_t>& stale) {
+        std::vector<std::uint32_t> rowless;
+        for (std::uint32_t p : stale)
+            if (!rows_.count(p)) rowless.push_back(p);
+        std::vector<std::vector<std::uint32_t>> gathered(rowless.size());
+        const std::ptrdiff_t nr = std::ptrdiff_t(rowless.size());
+#pragma omp parallel for schedule(dynamic, 16) if (nr > 256)
+        for (std::ptrdiff_t i = 0; i < nr; ++i) gathered[i] = gather_row(rowless[i]);
+        for (std::size_t i = 0; i < rowless.size(); ++i) rows_[rowless[i]] = std::move(gathered[i]);
+        std::vector<Nearest> renewed(stale.size());
+        const std::ptrdiff_t ns = std::ptrdiff_t(stale.size());
+#pragma omp parallel for schedule(dynamic, 16) if (ns > 256)
+        for (std::ptrdiff_t i = 0; i < ns; ++i) {
+            const std::uint32_t p = stale[i];
+            const Vec3 at = points_.point(p);
+            for (std::uint32_t t : rows_.at(p)) renewed[i].add(triangle_distance(mesh_.vertices, mesh_, at, t), t);
+        }
+        for (std::size_t i = 0; i < stale.size(); ++i) nearest_[stale[i]] = renewed[i];
+    }
+
+    // Point p's row, gathered when first needed (from both cells, as the list saw the mesh).
+    std::vector<std::uint32_t> gather_row(std::uint32_t p) const {
+        std::vector<std::uint32_t> row;
+        const Vec3 at = points_.point(p);
+        const auto take = [&](std::uint32_t t) {
+            if (triangle_distance(list_time_, mesh_, at, t) < within_ && index_takes(list_time_, mesh_, at, t, reach_))
+                row.push_back(t);
+        };
+        start_cells_.near(list_time_, at, within_, [&](std::uint32_t t, double) {
+            if (!moved_tri_[t]) take(t);
+        });
+        moved_cells_.near(list_time_, at, within_, [&](std::uint32_t t, double) { take(t); });
+        std::sort(row.begin(), row.end());
+        return row;
+    }
+
+    // The move: pushes the nearest triangle of each point shallower than the depth, the
+    // last round's pushes undone first; returns the points pushed for.
+    std::size_t push_shallow() {
+        for (std::uint32_t v : pushed_) moving_.push_ref(v) = {0, 0, 0};
+        pushed_.clear();
+        std::size_t shallow_points = 0;
+        // In point order: of equal pushes on a vertex, the first point's stays.
+        std::vector<std::uint32_t> shallow;
+        for (const auto& [i, n] : nearest_)
+            if (n.dist < depth_) shallow.push_back(i);
+        std::sort(shallow.begin(), shallow.end());
+        for (std::uint32_t i : shallow) {
+            const double dist = nearest_.at(i).dist;
+            const Vec3 p = points_.point(i);
+            const auto& t = mesh_.triangles[nearest_.at(i).triangle];
+            const Vec3 n = face_vector(mesh_, t);
+            if (dot(sub(mesh_.vertices[t[0]], p), n) <= 0) continue;  // the point is not under it
+            ++shallow_points;
+            const double by = (depth_ - dist + 0.5 * kMarginVoxels * voxel_) / norm(n);
+            for (std::uint32_t v : t)
+                if (by * norm(n) > norm(moving_.push_of(v))) {
+                    if (!touched_[v]) pushed_.push_back(v), list_time_.save(v);
+                    moving_.push_ref(v) = {n[0] * by, n[1] * by, n[2] * by}, touched_[v] = 1;
+                }
+        }
+        return shallow_points;
+    }
+
+    Mesh& mesh_;
+    const PointTree& points_;
+    const std::vector<std::uint8_t>& kept_;
+    const VertexLists& fans_;
+    const TriangleCells& start_cells_;
+    Moving& moving_;
+    const double depth_, voxel_, within_;
+    const std::vector<std::uint8_t> moved_tri_;
+    const TriangleCells moved_cells_;
+    const double reach_;
+    ListTime list_time_;
+    std::unordered_map<std::uint32_t, Nearest> nearest_;
+    std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> rows_;
+    std::vector<std::uint8_t> touched_;  // moved in the last round
+    std::vector<std::uint32_t> pushed_;
+};
+
 }  // namespace
 
 DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel, double lone) {
@@ -748,6 +1055,8 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointCloud& points, double d
     return detail::keep_points_deep(mesh, detail::tree_of(points), depth, voxel, lone, std::move(rings), fans);
 }
 
+// Search (points near the start mesh), lift (the vertices near them, spread and
+// untangled), then the repair rounds' test and move.
 DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, double depth, double voxel,
                                           double lone, VertexLists rings, const VertexLists& fans) {
     if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
@@ -756,260 +1065,25 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, d
     DepthGuardReport report;
     if (mesh.triangles.empty() || points.size() == 0) return report;
 
-    const std::ptrdiff_t nv = std::ptrdiff_t(mesh.vertices.size()), np = std::ptrdiff_t(points.size());
-    const PointTree& index = points;
-    // The points the promise covers: those with another point within `lone`.
-    std::vector<std::uint8_t> kept(points.size(), 1);
-    if (std::isfinite(lone)) {
-#pragma omp parallel for schedule(dynamic, 1024) if (np > detail::kParallelItems)
-        for (std::ptrdiff_t p = 0; p < np; ++p) kept[p] = index.nearest_other(std::size_t(p)) <= lone;
-        for (std::uint8_t k : kept) report.lone_points += !k;
-    }
+    const std::vector<std::uint8_t> kept = covered_points(points, lone, report);
     const double aim = depth + kMarginVoxels * voxel;
     const double within = depth + 0.25 * voxel;
-
-    // The mesh as it starts, in cells: each point finds the vertices within the aim of it
-    // (the index's distance test, so exactly those the index would find), and, for the
-    // first repair round, the triangles within the depth of it (those that the lift
-    // leaves where they are stay that near). The cells look for their points, so that
-    // the points far from the mesh (most of a dense scan) cost nothing.
     const TriangleCells start_cells(mesh, nullptr, aim);
-    struct Pair {
-        std::uint32_t point, triangle;
-        double dist;
-    };
-    std::vector<std::uint8_t> near_point(mesh.vertices.size(), 0);
-    std::vector<Pair> close;  // (kept point, triangle) nearer than the depth, by point
-    {
-        const double aim_sq = aim * aim;
-        const std::size_t team = std::size_t(max_threads());
-        std::vector<std::vector<std::uint32_t>> near_of(team);
-        std::vector<std::vector<Pair>> close_of(team);
-        start_cells.near_points(mesh.vertices, points, aim, [&](std::uint32_t p, std::uint32_t t, double box) {
-            std::vector<std::uint32_t>& mine = near_of[std::size_t(omp_thread())];
-            const Vec3 q = points.point(p);
-            for (std::uint32_t c : mesh.triangles[t])
-                if (index_dist_sq(mesh.vertices[c], q) < aim_sq) mine.push_back(c);
-            // The box bound keeps a margin far above the exact distance's rounding.
-            const double depth_box = slack(depth * (1 + 1e-9), q), depth_box_sq = depth_box * depth_box;
-            if (!kept[p] || !(box < depth_box_sq)) return;
-            const double d = triangle_distance(mesh.vertices, mesh, q, t);
-            if (d < depth) close_of[std::size_t(omp_thread())].push_back({p, t, d});
-        });
-        for (const auto& mine : near_of)
-            for (std::uint32_t v : mine) near_point[v] = 1;
-        for (const auto& mine : close_of) close.insert(close.end(), mine.begin(), mine.end());
-        std::sort(close.begin(), close.end(), [](const Pair& a, const Pair& b) {
-            return a.point != b.point ? a.point < b.point : a.triangle < b.triangle;
-        });
-    }
+    const StartSearch found = search_start(mesh, points, start_cells, kept, aim, depth);
 
-    // Lift every vertex nearer than the aim to a kept point on its inner side. Only the
-    // vertices with a point that near ask the index for their nearest; a vertex no
-    // triangle uses has no normal and is never lifted.
-    // (Also noted: the vertices with a -0 coordinate, see Moving.)
-    const auto start_face = [&](std::uint32_t t) { return face_vector(mesh, mesh.triangles[t]); };
-    std::vector<std::uint32_t> asking, negative_zero;
-    for (std::ptrdiff_t v = 0; v < nv; ++v) {
-        if (near_point[v] && fans.start[v] != fans.start[v + 1]) asking.push_back(std::uint32_t(v));
-        for (int d = 0; d < 3; ++d)
-            if (mesh.vertices[v][d] == 0 && std::signbit(mesh.vertices[v][d])) {
-                negative_zero.push_back(std::uint32_t(v));
-                break;
-            }
-    }
-    std::vector<double> lift(mesh.vertices.size(), 0.0);
-    const std::ptrdiff_t na = std::ptrdiff_t(asking.size());
-#pragma omp parallel for schedule(dynamic, 64) if (na > detail::kParallelItems)
-    for (std::ptrdiff_t i = 0; i < na; ++i) {
-        const std::uint32_t v = asking[i];
-        const PointTree::Hit hit = index.nearest(mesh.vertices[v], aim * aim);
-        const std::uint32_t p = hit.index;
-        if (p != PointTree::npos && kept[p] &&
-            dot(sub(mesh.vertices[v], index.point(p)), vertex_normal(fans, v, start_face)) > 0)
-            lift[v] = aim - std::sqrt(hit.dist_sq);
-    }
+    std::vector<std::uint32_t> negative_zero;
+    std::vector<double> lift = vertex_lifts(mesh, fans, points, kept, found.near_point, aim, negative_zero);
     for (double x : lift) report.near_vertices += x > 0;
     if (report.near_vertices == 0) return report;
     const std::vector<std::uint32_t> region = spread(mesh, rings, fans, lift);
     rings = VertexLists();  // the repairs below walk fans only
-    // The vertices that can move: where the lift reaches, and any with a -0 coordinate
-    // (see Moving), each shifted along its normal by its lift.
     Moving moving(mesh, fans);
-    {
-        std::vector<std::uint32_t> order = region;
-        order.insert(order.end(), negative_zero.begin(), negative_zero.end());
-        std::sort(order.begin(), order.end());
-        order.erase(std::unique(order.begin(), order.end()), order.end());
-        std::vector<Vec3> shift(order.size());
-        const std::ptrdiff_t nr = std::ptrdiff_t(order.size());
-#pragma omp parallel for schedule(static) if (nr > detail::kParallelItems)
-        for (std::ptrdiff_t i = 0; i < nr; ++i) {
-            const Vec3 n = vertex_normal(fans, order[i], start_face);
-            for (int d = 0; d < 3; ++d) shift[i][d] = n[d] * lift[order[i]];
-        }
-        for (std::size_t i = 0; i < order.size(); ++i) moving.add(order[i], shift[i]);
-    }
+    add_lifted(moving, mesh, fans, region, negative_zero, lift);
     untangle(mesh, moving, [](std::uint32_t) {});
 
-    // Then move the nearest triangle of each point still shallower than the depth along
-    // its own normal, all three corners alike. The watch list holds every triangle
-    // within a quarter voxel of the depth from a point; repairs move a few vertices by
-    // a fraction of that, outward, away from the points inside.
-    // The triangles that moved, in cells of their own; the others are where start_cells
-    // has them. The longest edge (a root of the largest square; the root is monotone).
-    std::vector<std::uint8_t> moved_tri(mesh.triangles.size(), 0);
-    for (std::uint32_t t : moving.triangles) moved_tri[t] = 1;
-    const TriangleCells moved_cells(mesh, &moving.triangles, aim);
-    const double longest =
-        std::sqrt(std::max(start_cells.longest_sq(moving.triangles, moved_tri), moved_cells.longest_sq()));
-    const double reach = within + longest / std::sqrt(3.0);
-    ListTime list_time(mesh);
-    // Each point's nearest triangle of its row, as far as it matters: exact where below
-    // the depth; a point without an entry is not below the depth. Kept for the few points
-    // near a lift only (a dense scan has millions).
-    std::unordered_map<std::uint32_t, Nearest> nearest;
-    {
-        std::size_t c = 0;
-        while (c < close.size()) {
-            const std::uint32_t p = close[c].point;
-            Nearest n;
-            for (; c < close.size() && close[c].point == p; ++c)
-                if (!moved_tri[close[c].triangle] &&
-                    index_takes(mesh.vertices, mesh, points.point(p), close[c].triangle, reach))
-                    n.add(close[c].dist, close[c].triangle);
-            if (n.dist < kInf) nearest[p] = n;
-        }
-        const std::size_t team = std::size_t(max_threads());
-        std::vector<std::vector<Pair>> near_moved(team);
-        moved_cells.near_points(mesh.vertices, points, depth, [&](std::uint32_t p, std::uint32_t t, double) {
-            if (!kept[p]) return;  // the repairs pass it by
-            const Vec3 at = points.point(p);
-            const double d = triangle_distance(mesh.vertices, mesh, at, t);
-            if (d < depth && index_takes(mesh.vertices, mesh, at, t, reach))
-                near_moved[std::size_t(omp_thread())].push_back({p, t, d});
-        });
-        for (const auto& mine : near_moved)
-            for (const Pair& m : mine) nearest[m.point].add(m.dist, m.triangle);
-    }
-    // Rows, gathered when first needed (from both cells, as the list saw the mesh).
-    std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> rows;
-    const auto gather_row = [&](std::uint32_t p) {
-        std::vector<std::uint32_t> row;
-        const Vec3 at = points.point(p);
-        const auto take = [&](std::uint32_t t) {
-            if (triangle_distance(list_time, mesh, at, t) < within && index_takes(list_time, mesh, at, t, reach))
-                row.push_back(t);
-        };
-        start_cells.near(list_time, at, within, [&](std::uint32_t t, double) {
-            if (!moved_tri[t]) take(t);
-        });
-        moved_cells.near(list_time, at, within, [&](std::uint32_t t, double) { take(t); });
-        std::sort(row.begin(), row.end());
-        return row;
-    };
-
-    std::vector<std::uint8_t> touched(mesh.vertices.size(), 0);  // moved in the last round
-    std::vector<std::uint32_t> pushed;
-    for (report.repair_rounds = 0;; ++report.repair_rounds) {
-        if (report.repair_rounds > 0) {
-            // Points whose rows hold a triangle with a corner that moved: the triangles
-            // around the moved vertices, and the kept points within `within` of them as
-            // the list saw them, that the index would have taken them for.
-            const ListTime& as_was = list_time;
-            std::vector<std::uint32_t> changed;
-            for (std::size_t v = 0; v < touched.size(); ++v)
-                if (touched[v])
-                    for (std::size_t f = fans.start[v]; f < fans.start[v + 1]; ++f) changed.push_back(fans.items[f]);
-            std::sort(changed.begin(), changed.end());
-            changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
-            std::vector<std::uint32_t> stale;
-            const std::ptrdiff_t nc = std::ptrdiff_t(changed.size());
-#pragma omp parallel if (nc > 64)
-            {
-                std::vector<std::uint32_t> mine;
-#pragma omp for schedule(dynamic, 16)
-                for (std::ptrdiff_t i = 0; i < nc; ++i) {
-                    const std::uint32_t t = changed[i];
-                    Bound tb;
-                    for (std::uint32_t v : mesh.triangles[t]) tb.add_to_box(as_was[v]);
-                    // Where a point within `within` of the triangle lies, rounding included.
-                    const double r = slack(slack(within, tb.lo), tb.hi);
-                    const Vec3 a{tb.lo[0] - r, tb.lo[1] - r, tb.lo[2] - r}, b{tb.hi[0] + r, tb.hi[1] + r, tb.hi[2] + r};
-                    points.for_each_leaf(
-                        [&](const PointTree::Node& n) {
-                            Bound nb;
-                            nb.lo = points.lo(n);
-                            nb.hi = points.hi(n);
-                            return overlap(nb, a, b);
-                        },
-                        [&](const PointTree::Node& n) {
-                            for (std::uint32_t p = n.begin; p < n.end; ++p) {
-                                const Vec3 at = points.point(p);
-                                if (!kept[p] || !inside(at, a, b)) continue;
-                                if (triangle_distance(as_was, mesh, at, t) < within &&
-                                    index_takes(as_was, mesh, at, t, reach))
-                                    mine.push_back(p);
-                            }
-                        });
-                }
-#pragma omp critical
-                stale.insert(stale.end(), mine.begin(), mine.end());
-            }
-            std::sort(stale.begin(), stale.end());
-            stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
-            std::fill(touched.begin(), touched.end(), 0);
-            // The rows not gathered yet, then each stale point's nearest of its row.
-            std::vector<std::uint32_t> rowless;
-            for (std::uint32_t p : stale)
-                if (!rows.count(p)) rowless.push_back(p);
-            std::vector<std::vector<std::uint32_t>> gathered(rowless.size());
-            const std::ptrdiff_t nr = std::ptrdiff_t(rowless.size());
-#pragma omp parallel for schedule(dynamic, 16) if (nr > 256)
-            for (std::ptrdiff_t i = 0; i < nr; ++i) gathered[i] = gather_row(rowless[i]);
-            for (std::size_t i = 0; i < rowless.size(); ++i) rows[rowless[i]] = std::move(gathered[i]);
-            std::vector<Nearest> renewed(stale.size());
-            const std::ptrdiff_t ns = std::ptrdiff_t(stale.size());
-#pragma omp parallel for schedule(dynamic, 16) if (ns > 256)
-            for (std::ptrdiff_t i = 0; i < ns; ++i) {
-                const std::uint32_t p = stale[i];
-                const Vec3 at = points.point(p);
-                for (std::uint32_t t : rows.at(p)) renewed[i].add(triangle_distance(mesh.vertices, mesh, at, t), t);
-            }
-            for (std::size_t i = 0; i < stale.size(); ++i) nearest[stale[i]] = renewed[i];
-        }
-        for (std::uint32_t v : pushed) moving.push_ref(v) = {0, 0, 0};
-        pushed.clear();
-        report.shallow_points = 0;
-        // In point order: of equal pushes on a vertex, the first point's stays.
-        std::vector<std::uint32_t> shallow;
-        for (const auto& [i, n] : nearest)
-            if (n.dist < depth) shallow.push_back(i);
-        std::sort(shallow.begin(), shallow.end());
-        for (std::uint32_t i : shallow) {
-            const double dist = nearest.at(i).dist;
-            const Vec3 p = points.point(i);
-            const auto& t = mesh.triangles[nearest.at(i).triangle];
-            const Vec3 n = face_vector(mesh, t);
-            if (dot(sub(mesh.vertices[t[0]], p), n) <= 0) continue;  // the point is not under it
-            ++report.shallow_points;
-            const double by = (depth - dist + 0.5 * kMarginVoxels * voxel) / norm(n);
-            for (std::uint32_t v : t)
-                if (by * norm(n) > norm(moving.push_of(v))) {
-                    if (!touched[v]) pushed.push_back(v), list_time.save(v);
-                    moving.push_ref(v) = {n[0] * by, n[1] * by, n[2] * by}, touched[v] = 1;
-                }
-        }
-        if (report.shallow_points == 0 || report.repair_rounds == kRepairRounds) break;
-        // shift += push (elsewhere both are zero: nothing to add).
-        for (std::size_t i = 0; i < moving.vertices.size(); ++i)
-            for (int d = 0; d < 3; ++d) moving.shift[i][d] += moving.push[i][d];
-        // A vertex that untangling moves is, before it first moves, where the list saw it.
-        untangle(mesh, moving, [&](std::uint32_t v) {
-            list_time.save(v);
-            touched[v] = 1;
-        });
-    }
+    Repairs repairs(mesh, points, kept, fans, start_cells, moving, depth, voxel, aim, within);
+    repairs.find_nearest(found.close);
+    repairs.run(report);
     for (const Vec3& d : moving.shift) report.moved_vertices += dot(d, d) > 0;
     return report;
 }

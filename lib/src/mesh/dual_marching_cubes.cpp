@@ -42,14 +42,11 @@
 #include <string>
 #include <vector>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "mesh/isosurface_grid.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 #include "parallel_sizes.hpp"
+#include "threads_here.hpp"
 
 namespace snvr {
 namespace {
@@ -207,21 +204,6 @@ CubeTopology cube_topology(const Tables& tab, int mask, const double value[8], d
     return cube_topology(tab, mask, g);
 }
 
-int max_threads() {
-#ifdef _OPENMP
-    return omp_get_max_threads();
-#else
-    return 1;
-#endif
-}
-int thread() {
-#ifdef _OPENMP
-    return omp_get_thread_num();
-#else
-    return 0;
-#endif
-}
-
 // atanh of the samples of two neighbouring planes, each computed once however many
 // cubes share it (a sample near the surface is a corner of up to eight): per thread,
 // plane p in buffer p % 2, an entry valid while its stamp is p + 1.
@@ -305,184 +287,237 @@ struct Slab {
     std::vector<Vec3> vertices;
 };
 
-}  // namespace
+// What every stage reads: the field, its cubes and their sign bits.
+struct DualGrid {
+    DualGrid(const Field& f, const Domain& d, double iso_value, Interpolation mode)
+        : field(f),
+          domain(d),
+          iso(iso_value),
+          interpolation(mode),
+          g{f.nx, f.ny, f.nz, (f.nx + 63) / 64},
+          tab(tables()),
+          unfolded(mode == Interpolation::PhaseField),
+          iso_g(unfolded ? contour::unfold(iso_value) : iso_value),
+          parallel(f.size() >= std::size_t(detail::kParallelCheapItems)),
+          sb(g, f, iso_value, parallel),
+          cx(g.nx - 1),
+          cy(g.ny - 1),
+          cz(g.nz - 1) {}
 
-Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double iso, Interpolation interpolation) {
-    const std::string who = "extract_dual_isosurface: ";
-    if (field.nx != domain.nx || field.ny != domain.ny || field.nz != domain.nz)
-        throw ParameterError(who + "field is " + std::to_string(field.nx) + "x" + std::to_string(field.ny) + "x" +
-                             std::to_string(field.nz) + " but the domain is " + std::to_string(domain.nx) + "x" +
-                             std::to_string(domain.ny) + "x" + std::to_string(domain.nz));
-    if (field.nx < 0 || field.ny < 0 || field.nz < 0) throw ParameterError(who + "negative grid size");
-    field.validate(who);
-    Mesh mesh;
-    if (field.nx < 2 || field.ny < 2 || field.nz < 2) return mesh;  // no cubes
-    if (std::size_t(field.nx) * std::size_t(field.ny) >= std::numeric_limits<std::uint32_t>::max())
-        throw ResourceError(who + "grid planes too large for 32-bit cube keys");
-
-    const Grid g{field.nx, field.ny, field.nz, (field.nx + 63) / 64};
-    const Tables& tab = tables();
-    const bool unfolded = interpolation == Interpolation::PhaseField;
-    const double iso_g = unfolded ? contour::unfold(iso) : iso;
-    const bool parallel = field.size() >= std::size_t(detail::kParallelCheapItems);
-    const SignBits sb(g, field, iso, parallel);
-    const int cx = g.nx - 1, cy = g.ny - 1, cz = g.nz - 1;  // cubes per axis
-    const auto cube_values = [&](int i, int j, int k, double value[8]) {
+    void cube_values(int i, int j, int k, double value[8]) const {
         for (int c = 0; c < 8; ++c) value[c] = field.at(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2));
-    };
-    const auto cube_mask = [&](const double value[8]) {
+    }
+    int cube_mask(const double value[8]) const {
         int mask = 0;
         for (int c = 0; c < 8; ++c) mask |= int(value[c] > iso) << c;
         return mask;
-    };
+    }
+    // Cubes of row j in slab k whose corners are not all on one side, 64 at a time.
+    std::uint64_t mixed_cubes(int j, int k, int w) const {
+        std::uint64_t any = 0, all = ~std::uint64_t(0);
+        for (int c = 0; c < 8; ++c) {
+            const std::uint64_t bits = sb.word(j + (c >> 1 & 1), k + (c >> 2), w, c & 1);
+            any |= bits;
+            all &= bits;
+        }
+        return any & ~all & sb.valid(w, 1);
+    }
+    // Sign changes along x, y, z leaving the samples of word w of row j in plane k.
+    std::uint64_t changes(int j, int k, int w, std::uint64_t change[3]) const {
+        const std::uint64_t here = sb.word(j, k, w, 0);
+        change[0] = change[1] = change[2] = 0;
+        if (k >= 1 && k + 1 < g.nz) {
+            if (j >= 1 && j + 1 < g.ny) change[0] = (here ^ sb.word(j, k, w, 1)) & sb.valid(w, 1);
+            if (j + 1 < g.ny) change[1] = (here ^ sb.word(j + 1, k, w, 0)) & sb.valid(w, 0);
+        }
+        if (k + 1 < g.nz && j >= 1 && j + 1 < g.ny) change[2] = (here ^ sb.word(j, k + 1, w, 0)) & sb.valid(w, 0);
+        return here;
+    }
 
-    // Pass 1, one slab of cubes at a time: patches, their vertices, tunnel faces.
-    std::vector<Slab> slabs(cz);
+    const Field& field;
+    const Domain& domain;
+    const double iso;
+    const Interpolation interpolation;
+    const Grid g;
+    const Tables& tab;
+    const bool unfolded;
+    const double iso_g;  // iso in the space the crossings interpolate in
+    const bool parallel;
+    const SignBits sb;
+    const int cx, cy, cz;  // cubes per axis
+};
+
+// Cube (i, j, k)'s values minus iso in the space the crossings interpolate in.
+void interpolated_values(const DualGrid& d, int i, int j, int k, const double value[8], UnfoldedPlanes* planes,
+                         double gv[8]) {
+    for (int c = 0; c < 8; ++c)
+        gv[c] = (d.unfolded ? planes->at(k + (c >> 2), std::size_t(i + (c & 1)) + std::size_t(d.g.nx) * (j + (c >> 1 & 1)),
+                                         value[c])
+                            : value[c]) -
+                d.iso_g;
+}
+
+// A crossing on the grid boundary would leave the mesh open there: notes the cube.
+void note_boundary_crossing(const DualGrid& d, int i, int j, int k, Topology topo,
+                            std::atomic<long long>& boundary_cube) {
+    const int lo[3] = {i, j, k}, hi[3] = {d.cx, d.cy, d.cz};
+    for (int n = 0; n < 3; ++n)
+        for (int side = 0; side < 2; ++side) {
+            if (side ? lo[n] != hi[n] - 1 : lo[n] != 0) continue;
+            const Face& fc = d.tab.faces[2 * n + side];
+            for (int e : {fc.u0, fc.u1, fc.v0, fc.v1})
+                if (patch_of(topo, e) != kNone)
+                    boundary_cube = (long long)(i) + (long long)(d.g.nx) * (j + (long long)(d.g.ny) * k);
+        }
+}
+
+// One vertex per patch: the mean of its crossings (local, in cube sides), in a
+// one-patch cube moved onto the surface.
+void patch_vertices(const Vec3 local[12], Topology topo, const double gv[8], const Vec3& base, double h,
+                    std::vector<Vec3>& vertices) {
+    const int patches = patch_count(topo);
+    Vec3 sum[4] = {};
+    int count[4] = {};
+    for (int e = 0; e < 12; ++e) {
+        const int p = patch_of(topo, e);
+        if (p == kNone) continue;
+        for (int d = 0; d < 3; ++d) sum[p][d] += local[e][d];
+        ++count[p];
+    }
+    // The mean of a curved patch's crossings lies towards its centre of
+    // curvature; a one-patch cube moves it onto the surface.  Several
+    // patches keep the mean: their interpolant may pull it to another patch.
+    for (int p = 0; p < patches; ++p) {
+        const Vec3 mean{sum[p][0] / count[p], sum[p][1] / count[p], sum[p][2] / count[p]};
+        const Vec3 l = patches == 1 ? project(gv, mean) : mean;
+        vertices.push_back(Vec3{base[0] + h * l[0], base[1] + h * l[1], base[2] + h * l[2]});
+    }
+}
+
+// Tunnel faces at +n: ambiguous, and one patch holds all four crossings on both
+// sides; each gets its two segments' midpoints as vertices.
+void tunnel_faces(const DualGrid& d, int i, int j, int k, int mask, const CubeTopology& ct, const Vec3 local[12],
+                  const Vec3& base, CubeRecord& rec, std::vector<Vec3>& vertices) {
+    const int lo[3] = {i, j, k}, hi[3] = {d.cx, d.cy, d.cz};
+    const Tables& tab = d.tab;
+    for (int n = 0; n < 3; ++n) {
+        const Face& fc = tab.faces[2 * n + 1];
+        if (!(tab.ambiguous[mask] >> (2 * n + 1) & 1) || lo[n] + 1 >= hi[n]) continue;
+        const int p = patch_of(ct.topo, fc.u0);
+        if (patch_of(ct.topo, fc.u1) != p || patch_of(ct.topo, fc.v0) != p || patch_of(ct.topo, fc.v1) != p) continue;
+        double other[8];
+        d.cube_values(i + (n == 0), j + (n == 1), k + (n == 2), other);
+        const Topology ot = cube_topology(tab, d.cube_mask(other), other, d.iso, d.interpolation).topo;
+        const Face& oc = tab.faces[2 * n];
+        const int q = patch_of(ot, oc.u0);
+        if (patch_of(ot, oc.u1) != q || patch_of(ot, oc.v0) != q || patch_of(ot, oc.v1) != q) continue;
+        const bool cut00 = bool(mask >> fc.corner[0] & 1) != bool(ct.decisions >> (2 * n + 1) & 1);
+        rec.doubled |= std::uint8_t(1 << n);
+        rec.cut00 |= std::uint8_t(cut00 << n);
+        const int segs[2][2] = {{fc.u0, cut00 ? fc.v0 : fc.v1}, {fc.u1, cut00 ? fc.v1 : fc.v0}};
+        for (const auto& sg : segs) {
+            Vec3 m;
+            for (int a = 0; a < 3; ++a) m[a] = 0.5 * (local[sg[0]][a] + local[sg[1]][a]);
+            vertices.push_back(Vec3{base[0] + d.domain.h * m[0], base[1] + d.domain.h * m[1], base[2] + d.domain.h * m[2]});
+        }
+    }
+}
+
+// Cube (i, j, k), which has a sign change: its patches, their vertices, its tunnel faces.
+void add_cube(const DualGrid& d, int i, int j, int k, UnfoldedPlanes* planes, Slab& slab,
+              std::atomic<long long>& boundary_cube) {
+    double value[8];
+    d.cube_values(i, j, k, value);
+    const int mask = d.cube_mask(value);
+    double gv[8];
+    interpolated_values(d, i, j, k, value, planes, gv);
+    const CubeTopology ct = cube_topology(d.tab, mask, gv);
+    note_boundary_crossing(d, i, j, k, ct.topo, boundary_cube);
+
+    CubeRecord rec;
+    rec.cell = std::uint32_t(i) + std::uint32_t(d.cx) * std::uint32_t(j);
+    rec.first = std::uint32_t(slab.vertices.size());
+    rec.topo = ct.topo;
+    Vec3 local[12];  // the crossings, in cube sides
+    for (int e = 0; e < 12; ++e) {
+        if (patch_of(ct.topo, e) == kNone) continue;
+        const int c0 = edge_corner(e), axis = e / 4;
+        local[e] = corner_pos(c0);
+        local[e][axis] += crossing(gv[c0], gv[c0 | 1 << axis], 0.0);
+    }
+    const Vec3 base = d.domain.cell_center(i, j, k);
+    patch_vertices(local, ct.topo, gv, base, d.domain.h, slab.vertices);
+    tunnel_faces(d, i, j, k, mask, ct, local, base, rec, slab.vertices);
+    slab.cubes.push_back(rec);
+}
+
+// Pass 1 for slab k: its cubes with a sign change, in order.
+void classify_slab(const DualGrid& d, int k, UnfoldedPlanes* planes, Slab& slab,
+                   std::atomic<long long>& boundary_cube) {
+    std::size_t count = 0;  // to size the slab's lists once
+    for (int j = 0; j < d.cy; ++j)
+        for (int w = 0; w < d.g.words; ++w) count += std::size_t(contour::popcount(d.mixed_cubes(j, k, w)));
+    slab.cubes.reserve(count);
+    slab.vertices.reserve(count + count / 8);
+    for (int j = 0; j < d.cy; ++j)
+        for (int w = 0; w < d.g.words; ++w)
+            for (std::uint64_t mixed = d.mixed_cubes(j, k, w); mixed; mixed &= mixed - 1)
+                add_cube(d, 64 * w + ctz(mixed), j, k, planes, slab, boundary_cube);
+}
+
+// Pass 1, one slab of cubes at a time: patches, their vertices, tunnel faces.
+std::vector<Slab> classify_cubes(const DualGrid& d, const std::string& who) {
+    std::vector<Slab> slabs(d.cz);
     std::atomic<long long> boundary_cube{-1};
-    std::vector<std::unique_ptr<UnfoldedPlanes>> thread_planes(static_cast<std::size_t>(max_threads()));
+    std::vector<std::unique_ptr<UnfoldedPlanes>> thread_planes(static_cast<std::size_t>(detail::threads_here()));
     // Slabs in runs of neighbours, so that a thread's planes serve the next slab (one
     // slab at a time, two threads each took every other slab and unfolded every plane
     // twice: 1.5x from the second thread instead of 2x).
-#pragma omp parallel for schedule(dynamic, kSlabRun) if (parallel)
-    for (int k = 0; k < cz; ++k) {
-        Slab& slab = slabs[k];
-        std::unique_ptr<UnfoldedPlanes>& mine = thread_planes[std::size_t(thread())];
-        if (unfolded && !mine) mine = std::make_unique<UnfoldedPlanes>(std::size_t(g.nx) * std::size_t(g.ny));
-        UnfoldedPlanes* planes = mine.get();
-        // Cubes of row j whose corners are not all on one side, 64 at a time.
-        const auto mixed_cubes = [&](int j, int w) {
-            std::uint64_t any = 0, all = ~std::uint64_t(0);
-            for (int c = 0; c < 8; ++c) {
-                const std::uint64_t bits = sb.word(j + (c >> 1 & 1), k + (c >> 2), w, c & 1);
-                any |= bits;
-                all &= bits;
-            }
-            return any & ~all & sb.valid(w, 1);
-        };
-        std::size_t count = 0;  // to size the slab's lists once
-        for (int j = 0; j < cy; ++j)
-            for (int w = 0; w < g.words; ++w) count += std::size_t(contour::popcount(mixed_cubes(j, w)));
-        slab.cubes.reserve(count);
-        slab.vertices.reserve(count + count / 8);
-        for (int j = 0; j < cy; ++j)
-            for (int w = 0; w < g.words; ++w) {
-                for (std::uint64_t mixed = mixed_cubes(j, w); mixed; mixed &= mixed - 1) {
-                    const int i = 64 * w + ctz(mixed);
-                    double value[8];
-                    cube_values(i, j, k, value);
-                    const int mask = cube_mask(value);
-                    // Values minus iso in the space the crossings interpolate in.
-                    double gv[8];
-                    for (int c = 0; c < 8; ++c)
-                        gv[c] = (unfolded ? planes->at(k + (c >> 2),
-                                                      std::size_t(i + (c & 1)) + std::size_t(g.nx) * (j + (c >> 1 & 1)),
-                                                      value[c])
-                                          : value[c]) -
-                                iso_g;
-                    const CubeTopology ct = cube_topology(tab, mask, gv);
-
-                    // A crossing on the grid boundary would leave the mesh open there.
-                    const int lo[3] = {i, j, k}, hi[3] = {cx, cy, cz};
-                    for (int n = 0; n < 3; ++n)
-                        for (int side = 0; side < 2; ++side) {
-                            if (side ? lo[n] != hi[n] - 1 : lo[n] != 0) continue;
-                            const Face& fc = tab.faces[2 * n + side];
-                            for (int e : {fc.u0, fc.u1, fc.v0, fc.v1})
-                                if (patch_of(ct.topo, e) != kNone)
-                                    boundary_cube = (long long)(i) + (long long)(g.nx) * (j + (long long)(g.ny) * k);
-                        }
-
-                    CubeRecord rec;
-                    rec.cell = std::uint32_t(i) + std::uint32_t(cx) * std::uint32_t(j);
-                    rec.first = std::uint32_t(slab.vertices.size());
-                    rec.topo = ct.topo;
-                    Vec3 local[12];
-                    for (int e = 0; e < 12; ++e) {
-                        if (patch_of(ct.topo, e) == kNone) continue;
-                        const int c0 = edge_corner(e), axis = e / 4;
-                        local[e] = corner_pos(c0);
-                        local[e][axis] += crossing(gv[c0], gv[c0 | 1 << axis], 0.0);
-                    }
-                    const int patches = patch_count(ct.topo);
-                    Vec3 sum[4] = {};
-                    int count[4] = {};
-                    for (int e = 0; e < 12; ++e) {
-                        const int p = patch_of(ct.topo, e);
-                        if (p == kNone) continue;
-                        for (int d = 0; d < 3; ++d) sum[p][d] += local[e][d];
-                        ++count[p];
-                    }
-                    const Vec3 base = domain.cell_center(i, j, k);
-                    const auto world = [&](const Vec3& l) {
-                        return Vec3{base[0] + domain.h * l[0], base[1] + domain.h * l[1], base[2] + domain.h * l[2]};
-                    };
-                    // The mean of a curved patch's crossings lies towards its centre of
-                    // curvature; a one-patch cube moves it onto the surface.  Several
-                    // patches keep the mean: their interpolant may pull it to another patch.
-                    for (int p = 0; p < patches; ++p) {
-                        const Vec3 mean{sum[p][0] / count[p], sum[p][1] / count[p], sum[p][2] / count[p]};
-                        slab.vertices.push_back(world(patches == 1 ? project(gv, mean) : mean));
-                    }
-
-                    // Tunnel faces at +n: ambiguous, and one patch holds all four crossings on both sides.
-                    for (int n = 0; n < 3; ++n) {
-                        const Face& fc = tab.faces[2 * n + 1];
-                        if (!(tab.ambiguous[mask] >> (2 * n + 1) & 1) || lo[n] + 1 >= hi[n]) continue;
-                        const int p = patch_of(ct.topo, fc.u0);
-                        if (patch_of(ct.topo, fc.u1) != p || patch_of(ct.topo, fc.v0) != p ||
-                            patch_of(ct.topo, fc.v1) != p)
-                            continue;
-                        double other[8];
-                        cube_values(i + (n == 0), j + (n == 1), k + (n == 2), other);
-                        const Topology ot = cube_topology(tab, cube_mask(other), other, iso, interpolation).topo;
-                        const Face& oc = tab.faces[2 * n];
-                        const int q = patch_of(ot, oc.u0);
-                        if (patch_of(ot, oc.u1) != q || patch_of(ot, oc.v0) != q || patch_of(ot, oc.v1) != q) continue;
-                        const bool cut00 = bool(mask >> fc.corner[0] & 1) != bool(ct.decisions >> (2 * n + 1) & 1);
-                        rec.doubled |= std::uint8_t(1 << n);
-                        rec.cut00 |= std::uint8_t(cut00 << n);
-                        const int segs[2][2] = {{fc.u0, cut00 ? fc.v0 : fc.v1}, {fc.u1, cut00 ? fc.v1 : fc.v0}};
-                        for (const auto& sg : segs) {
-                            Vec3 m;
-                            for (int d = 0; d < 3; ++d) m[d] = 0.5 * (local[sg[0]][d] + local[sg[1]][d]);
-                            slab.vertices.push_back(world(m));
-                        }
-                    }
-                    slab.cubes.push_back(rec);
-                }
-            }
+#pragma omp parallel for schedule(dynamic, kSlabRun) if (d.parallel)
+    for (int k = 0; k < d.cz; ++k) {
+        std::unique_ptr<UnfoldedPlanes>& mine = thread_planes[std::size_t(detail::thread_number())];
+        if (d.unfolded && !mine) mine = std::make_unique<UnfoldedPlanes>(std::size_t(d.g.nx) * std::size_t(d.g.ny));
+        classify_slab(d, k, mine.get(), slabs[k], boundary_cube);
     }
     if (boundary_cube >= 0) {
         const long long c = boundary_cube;
+        const Grid& g = d.g;
         throw InputError(who + "the field crosses iso on the boundary of the grid (at sample " +
                          std::to_string(c % g.nx) + ", " + std::to_string(c / g.nx % g.ny) + ", " +
                          std::to_string(c / g.nx / g.ny) +
                          "), which would leave the mesh open; the field must stay on one side of iso there");
     }
+    return slabs;
+}
 
+// The slabs' vertices into the mesh, in slab order; returns each slab's first vertex.
+std::vector<std::size_t> gather_vertices(const DualGrid& d, std::vector<Slab>& slabs, Mesh& mesh,
+                                         const std::string& who) {
+    const int cz = d.cz;
     std::vector<std::size_t> vbase(cz + 1, 0);
     for (int k = 0; k < cz; ++k) vbase[k + 1] = vbase[k] + slabs[k].vertices.size();
     if (vbase[cz] >= std::numeric_limits<std::uint32_t>::max())
         throw ResourceError(who + "more than 2^32 vertices");
     mesh.vertices.resize(vbase[cz]);
-#pragma omp parallel for schedule(dynamic) if (parallel)
+#pragma omp parallel for schedule(dynamic) if (d.parallel)
     for (int k = 0; k < cz; ++k) {
         std::copy(slabs[k].vertices.begin(), slabs[k].vertices.end(), mesh.vertices.begin() + std::ptrdiff_t(vbase[k]));
         std::vector<Vec3>().swap(slabs[k].vertices);
     }
+    return vbase;
+}
 
-    // Pass 2, one plane of samples at a time: a polygon across each sign-changing
-    // edge leaving it (along x and y within it, along z to the next plane).
-    std::vector<std::vector<Tri>> plane_tris(g.nz);
-    // Per axis of an edge: (b, c) with b x c = axis; the four cubes around the edge
-    // counter-clockwise seen from +axis (offsets, and the edge's index in each); for each
-    // cube t and the next, u, the normal axis n of the face they share and which of the
-    // two cubes is on its low side.
-    struct Around {
-        int b, c;
-        int off[4][3], local[4], n[4], low[4];
-    };
-    Around around[3];
+// Per axis of an edge: (b, c) with b x c = axis; the four cubes around the edge
+// counter-clockwise seen from +axis (offsets, and the edge's index in each); for each
+// cube t and the next, u, the normal axis n of the face they share and which of the
+// two cubes is on its low side.
+struct Around {
+    int b, c;
+    int off[4][3], local[4], n[4], low[4];
+};
+
+std::array<Around, 3> around_edges() {
+    std::array<Around, 3> around{};
     for (int axis = 0; axis < 3; ++axis) {
         Around& a = around[axis];
         a.b = (axis + 1) % 3;
@@ -501,123 +536,153 @@ Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double is
             a.low[t] = a.off[t][a.n[t]] < a.off[u][a.n[t]] ? t : u;
         }
     }
-#pragma omp parallel if (parallel)
+    return around;
+}
+
+// A quad's two triangles: split where the two triangles' normals agree best (no
+// fold); on a near tie, along the shorter diagonal.
+void split_quad(const std::uint32_t ring[4], const std::vector<Vec3>& vertices, std::vector<Tri>& tris) {
+    const Vec3* p[4];
+    for (int t = 0; t < 4; ++t) p[t] = &vertices[ring[t]];
+    const auto sub = [](const Vec3& x, const Vec3& y) { return Vec3{x[0] - y[0], x[1] - y[1], x[2] - y[2]}; };
+    const auto cross = [](const Vec3& x, const Vec3& y) {
+        return Vec3{x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+    };
+    const auto dot = [](const Vec3& x, const Vec3& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+    const auto agreement = [&](int a0, int a1, int a2, int b0, int b1, int b2) {
+        const Vec3 na = cross(sub(*p[a1], *p[a0]), sub(*p[a2], *p[a0]));
+        const Vec3 nb = cross(sub(*p[b1], *p[b0]), sub(*p[b2], *p[b0]));
+        const double l = std::sqrt(dot(na, na) * dot(nb, nb));
+        return l > 0 ? dot(na, nb) / l : -1.0;
+    };
+    const double a02 = agreement(0, 1, 2, 0, 2, 3), a13 = agreement(0, 1, 3, 1, 2, 3);
+    bool split02 = a02 > a13;
+    if (std::abs(a02 - a13) < 1e-3) {
+        const Vec3 d02 = sub(*p[2], *p[0]), d13 = sub(*p[3], *p[1]);
+        split02 = dot(d02, d02) <= dot(d13, d13);
+    }
+    if (split02) {
+        tris.push_back({ring[0], ring[1], ring[2]});
+        tris.push_back({ring[0], ring[2], ring[3]});
+    } else {
+        tris.push_back({ring[0], ring[1], ring[3]});
+        tris.push_back({ring[1], ring[2], ring[3]});
+    }
+}
+
+// Pass 2 for plane k: a polygon across each sign-changing edge leaving it. below and
+// above: record index by cube for the slabs below and above the plane.
+struct PlanePolygons {
+    const DualGrid& d;
+    const std::vector<Slab>& slabs;
+    const std::vector<std::size_t>& vbase;
+    const std::array<Around, 3>& around;
+    const std::vector<Vec3>& vertices;
+    const std::uint32_t* below;
+    const std::uint32_t* above;
+    int k;
+    std::vector<Tri>& tris;
+
+    void run() const {
+        std::size_t count = 0;  // two triangles per polygon but for rare fans
+        for (int j = 0; j < d.g.ny; ++j)
+            for (int w = 0; w < d.g.words; ++w) {
+                std::uint64_t change[3];
+                d.changes(j, k, w, change);
+                for (int axis = 0; axis < 3; ++axis) count += std::size_t(contour::popcount(change[axis]));
+            }
+        tris.reserve(2 * count);
+        for (int j = 0; j < d.g.ny; ++j)
+            for (int w = 0; w < d.g.words; ++w) {
+                std::uint64_t change[3];
+                const std::uint64_t here = d.changes(j, k, w, change);
+                for (int axis = 0; axis < 3; ++axis)
+                    for (std::uint64_t bits = change[axis]; bits; bits &= bits - 1) {
+                        const int i = 64 * w + ctz(bits);
+                        if (axis != 0 && (i == 0 || i + 1 == d.g.nx)) continue;  // on the grid boundary
+                        emit(i, j, axis, here >> (i - 64 * w) & 1);
+                    }
+            }
+    }
+
+    // Edge (i, j, k) along `axis`: the patches around it, ordered and oriented from its
+    // inside end outward, with the tunnel vertices on the faces between them.
+    void emit(int i, int j, int axis, bool inside_low) const {
+        const Around& a = around[axis];
+        const auto& off = a.off;
+        const auto& local = a.local;
+        const CubeRecord* rec[4];
+        std::size_t first[4];
+        for (int t = 0; t < 4; ++t) {
+            const int ck = k + off[t][2];
+            const std::uint32_t cell = std::uint32_t(i + off[t][0]) + std::uint32_t(d.cx) * std::uint32_t(j + off[t][1]);
+            rec[t] = &slabs[ck].cubes[(ck == k ? above : below)[cell]];
+            first[t] = vbase[ck] + rec[t]->first;
+        }
+        std::uint32_t ring[8];
+        int size = 0, fan = -1;
+        for (int t = 0; t < 4; ++t) {
+            ring[size++] = std::uint32_t(first[t] + std::size_t(patch_of(rec[t]->topo, local[t])));
+            const int n = a.n[t], low = a.low[t];
+            const CubeRecord& lr = *rec[low];
+            if (!(lr.doubled >> n & 1)) continue;
+            const Face& fc = d.tab.faces[2 * n + 1];
+            const int e = local[low];
+            const int seg = e == fc.u0 || e == ((lr.cut00 >> n & 1) ? fc.v0 : fc.v1) ? 0 : 1;
+            const int rank = __builtin_popcount(unsigned(lr.doubled) & ((1u << n) - 1));
+            if (fan < 0) fan = size;
+            ring[size++] =
+                std::uint32_t(vbase[k + (off[low][2])] + lr.first + std::uint32_t(patch_count(lr.topo) + 2 * rank + seg));
+        }
+        if (!inside_low) std::reverse(ring, ring + size);
+        if (size > 4) {  // fan from a tunnel vertex: it shares no other polygon's vertices
+            const int m = inside_low ? fan : size - 1 - fan;
+            for (int q = 1; q + 1 < size; ++q) tris.push_back({ring[m], ring[(m + q) % size], ring[(m + q + 1) % size]});
+            return;
+        }
+        split_quad(ring, vertices, tris);
+    }
+};
+
+// Pass 2, one plane of samples at a time: a polygon across each sign-changing
+// edge leaving it (along x and y within it, along z to the next plane).
+std::vector<std::vector<Tri>> polygons(const DualGrid& d, const std::vector<Slab>& slabs,
+                                       const std::vector<std::size_t>& vbase, const std::vector<Vec3>& vertices) {
+    std::vector<std::vector<Tri>> plane_tris(d.g.nz);
+    const std::array<Around, 3> around = around_edges();
+#pragma omp parallel if (d.parallel)
     {
-        // Record index by cube for the slabs below and above the plane.  Stale
-        // entries are harmless: only cubes around sign-changing edges are read.
-        const std::size_t cells = std::size_t(cx) * cy;
+        // Stale entries are harmless: only cubes around sign-changing edges are read.
+        const std::size_t cells = std::size_t(d.cx) * d.cy;
         const std::unique_ptr<std::uint32_t[]> below(new std::uint32_t[cells]);
         const std::unique_ptr<std::uint32_t[]> above(new std::uint32_t[cells]);
 #pragma omp for schedule(dynamic)
-        for (int k = 0; k < g.nz; ++k) {
+        for (int k = 0; k < d.g.nz; ++k) {
             if (k >= 1)
                 for (std::size_t r = 0; r < slabs[k - 1].cubes.size(); ++r)
                     below[slabs[k - 1].cubes[r].cell] = std::uint32_t(r);
-            if (k < cz)
+            if (k < d.cz)
                 for (std::size_t r = 0; r < slabs[k].cubes.size(); ++r) above[slabs[k].cubes[r].cell] = std::uint32_t(r);
-            std::vector<Tri>& tris = plane_tris[k];
-
-            // Edge (i, j, k) along `axis`; (b, c) with b x c = axis lists the
-            // cubes around it counter-clockwise seen from +axis.
-            const auto emit = [&](int i, int j, int axis, bool inside_low) {
-                const Around& a = around[axis];
-                const auto& off = a.off;
-                const auto& local = a.local;
-                const CubeRecord* rec[4];
-                std::size_t first[4];
-                for (int t = 0; t < 4; ++t) {
-                    const int ck = k + off[t][2];
-                    const std::uint32_t cell =
-                        std::uint32_t(i + off[t][0]) + std::uint32_t(cx) * std::uint32_t(j + off[t][1]);
-                    rec[t] = &slabs[ck].cubes[(ck == k ? above : below)[cell]];
-                    first[t] = vbase[ck] + rec[t]->first;
-                }
-                std::uint32_t ring[8];
-                int size = 0, fan = -1;
-                for (int t = 0; t < 4; ++t) {
-                    ring[size++] = std::uint32_t(first[t] + std::size_t(patch_of(rec[t]->topo, local[t])));
-                    const int n = a.n[t], low = a.low[t];
-                    const CubeRecord& lr = *rec[low];
-                    if (!(lr.doubled >> n & 1)) continue;
-                    const Face& fc = tab.faces[2 * n + 1];
-                    const int e = local[low];
-                    const int seg = e == fc.u0 || e == ((lr.cut00 >> n & 1) ? fc.v0 : fc.v1) ? 0 : 1;
-                    const int rank = __builtin_popcount(unsigned(lr.doubled) & ((1u << n) - 1));
-                    if (fan < 0) fan = size;
-                    ring[size++] = std::uint32_t(vbase[k + (off[low][2])] + lr.first +
-                                                 std::uint32_t(patch_count(lr.topo) + 2 * rank + seg));
-                }
-                if (!inside_low) std::reverse(ring, ring + size);
-                if (size > 4) {  // fan from a tunnel vertex: it shares no other polygon's vertices
-                    const int m = inside_low ? fan : size - 1 - fan;
-                    for (int q = 1; q + 1 < size; ++q)
-                        tris.push_back({ring[m], ring[(m + q) % size], ring[(m + q + 1) % size]});
-                    return;
-                }
-                const Vec3 *p[4];
-                for (int t = 0; t < 4; ++t) p[t] = &mesh.vertices[ring[t]];
-                const auto sub = [](const Vec3& x, const Vec3& y) { return Vec3{x[0] - y[0], x[1] - y[1], x[2] - y[2]}; };
-                const auto cross = [](const Vec3& x, const Vec3& y) {
-                    return Vec3{x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
-                };
-                const auto dot = [](const Vec3& x, const Vec3& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
-                const auto agreement = [&](int a0, int a1, int a2, int b0, int b1, int b2) {
-                    const Vec3 na = cross(sub(*p[a1], *p[a0]), sub(*p[a2], *p[a0]));
-                    const Vec3 nb = cross(sub(*p[b1], *p[b0]), sub(*p[b2], *p[b0]));
-                    const double l = std::sqrt(dot(na, na) * dot(nb, nb));
-                    return l > 0 ? dot(na, nb) / l : -1.0;
-                };
-                // Split where the two triangles' normals agree best (no fold); on a
-                // near tie, along the shorter diagonal.
-                const double a02 = agreement(0, 1, 2, 0, 2, 3), a13 = agreement(0, 1, 3, 1, 2, 3);
-                bool split02 = a02 > a13;
-                if (std::abs(a02 - a13) < 1e-3) {
-                    const Vec3 d02 = sub(*p[2], *p[0]), d13 = sub(*p[3], *p[1]);
-                    split02 = dot(d02, d02) <= dot(d13, d13);
-                }
-                if (split02) {
-                    tris.push_back({ring[0], ring[1], ring[2]});
-                    tris.push_back({ring[0], ring[2], ring[3]});
-                } else {
-                    tris.push_back({ring[0], ring[1], ring[3]});
-                    tris.push_back({ring[1], ring[2], ring[3]});
-                }
-            };
-
-            // Sign changes along x, y, z leaving the samples of word w of row j.
-            const auto changes = [&](int j, int w, std::uint64_t change[3]) {
-                const std::uint64_t here = sb.word(j, k, w, 0);
-                change[0] = change[1] = change[2] = 0;
-                if (k >= 1 && k + 1 < g.nz) {
-                    if (j >= 1 && j + 1 < g.ny) change[0] = (here ^ sb.word(j, k, w, 1)) & sb.valid(w, 1);
-                    if (j + 1 < g.ny) change[1] = (here ^ sb.word(j + 1, k, w, 0)) & sb.valid(w, 0);
-                }
-                if (k + 1 < g.nz && j >= 1 && j + 1 < g.ny) change[2] = (here ^ sb.word(j, k + 1, w, 0)) & sb.valid(w, 0);
-                return here;
-            };
-            std::size_t count = 0;  // two triangles per polygon but for rare fans
-            for (int j = 0; j < g.ny; ++j)
-                for (int w = 0; w < g.words; ++w) {
-                    std::uint64_t change[3];
-                    changes(j, w, change);
-                    for (int axis = 0; axis < 3; ++axis) count += std::size_t(contour::popcount(change[axis]));
-                }
-            tris.reserve(2 * count);
-            for (int j = 0; j < g.ny; ++j)
-                for (int w = 0; w < g.words; ++w) {
-                    std::uint64_t change[3];
-                    const std::uint64_t here = changes(j, w, change);
-                    for (int axis = 0; axis < 3; ++axis)
-                        for (std::uint64_t bits = change[axis]; bits; bits &= bits - 1) {
-                            const int i = 64 * w + ctz(bits);
-                            if (axis != 0 && (i == 0 || i + 1 == g.nx)) continue;  // on the grid boundary
-                            emit(i, j, axis, here >> (i - 64 * w) & 1);
-                        }
-                }
+            PlanePolygons{d, slabs, vbase, around, vertices, below.get(), above.get(), k, plane_tris[k]}.run();
         }
     }
+    return plane_tris;
+}
 
-    contour::concatenate_in_order(plane_tris, mesh.triangles, parallel);
+}  // namespace
+
+Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double iso, Interpolation interpolation) {
+    const std::string who = "extract_dual_isosurface: ";
+    contour::check_field(field, domain, who);
+    Mesh mesh;
+    if (field.nx < 2 || field.ny < 2 || field.nz < 2) return mesh;  // no cubes
+    if (std::size_t(field.nx) * std::size_t(field.ny) >= std::numeric_limits<std::uint32_t>::max())
+        throw ResourceError(who + "grid planes too large for 32-bit cube keys");
+    const DualGrid d(field, domain, iso, interpolation);
+    std::vector<Slab> slabs = classify_cubes(d, who);
+    const std::vector<std::size_t> vbase = gather_vertices(d, slabs, mesh, who);
+    std::vector<std::vector<Tri>> plane_tris = polygons(d, slabs, vbase, mesh.vertices);
+    contour::concatenate_in_order(plane_tris, mesh.triangles, d.parallel);
     return mesh;
 }
 

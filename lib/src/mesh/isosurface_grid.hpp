@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <type_traits>
 #include <vector>
 
+#include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 
 namespace snvr::contour {
@@ -103,6 +105,16 @@ private:
     const Grid& g_;
     std::vector<std::uint64_t> bits_;
 };
+
+// The field's grid matches the domain's and its values are valid; who: the message's start.
+inline void check_field(const Field& field, const Domain& domain, const std::string& who) {
+    if (field.nx != domain.nx || field.ny != domain.ny || field.nz != domain.nz)
+        throw ParameterError(who + "field is " + std::to_string(field.nx) + "x" + std::to_string(field.ny) + "x" +
+                             std::to_string(field.nz) + " but the domain is " + std::to_string(domain.nx) + "x" +
+                             std::to_string(domain.ny) + "x" + std::to_string(domain.nz));
+    if (field.nx < 0 || field.ny < 0 || field.nz < 0) throw ParameterError(who + "negative grid size");
+    field.validate(who);
+}
 
 inline int ctz(std::uint64_t x) { return __builtin_ctzll(x); }
 // Set bits of x, inline (without a popcnt instruction the builtin is a library call).

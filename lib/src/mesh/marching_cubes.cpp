@@ -176,17 +176,101 @@ std::vector<std::uint32_t> plane_edges(const Grid& g, const SignBits& sb, int k)
     return keys;
 }
 
+// Crossing vertex `key` of plane k (its edge), in world coordinates.
+Vec3 place_vertex(const Field& field, const Domain& domain, double iso, Interpolation interpolation, const Grid& g,
+                  int k, std::uint32_t key) {
+    const std::uint32_t cell = key / kDirs;
+    const int dir = int(key % kDirs) + 1;
+    const int i = int(cell % std::uint32_t(g.nx)), j = int(cell / std::uint32_t(g.nx));
+    const int dx = dir & 1, dy = dir >> 1 & 1, dz = dir >> 2;
+    const double t = crossing(field.at(i, j, k), field.at(i + dx, j + dy, k + dz), iso, interpolation);
+    const Vec3 a = domain.cell_center(i, j, k), b = domain.cell_center(i + dx, j + dy, k + dz);
+    return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
+}
+
+// The triangles of the mixed cubes of slab k (between planes k and k + 1); lower and
+// upper: vertex index by edge key for the slab's two planes.
+struct SlabTriangles {
+    const Field& field;
+    double iso;
+    Interpolation interpolation;
+    const Grid& g;
+    const Tables& tab;
+    const SignBits& sb;
+    const std::uint32_t* lower;
+    const std::uint32_t* upper;
+    int k;
+    std::vector<Tri>& tris;
+
+    void run() const {
+        for (int j = 0; j + 1 < g.ny; ++j)
+            for (int w = 0; w < g.words; ++w) {
+                std::uint64_t corner_bits[8], any = 0, all = ~std::uint64_t(0);
+                for (int c = 0; c < 8; ++c) {
+                    corner_bits[c] = sb.word(j + (c >> 1 & 1), k + (c >> 2), w, c & 1);
+                    any |= corner_bits[c];
+                    all &= corner_bits[c];
+                }
+                for (std::uint64_t mixed = any & ~all & sb.valid(w, 1); mixed; mixed &= mixed - 1) {
+                    const int b = ctz(mixed), i = 64 * w + b;
+                    int mask = 0;
+                    double value[8];
+                    for (int c = 0; c < 8; ++c) {
+                        mask |= int(corner_bits[c] >> b & 1) << c;
+                        value[c] = field.at(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2));
+                    }
+                    cube(i, j, mask, value);
+                }
+            }
+    }
+
+    // Cube (i, j, k)'s polygons, quads split along the shorter diagonal.
+    void cube(int i, int j, int mask, const double value[8]) const {
+        const auto vertex_of = [&](int e) {
+            const CubeEdge ce = tab.edges[e];
+            const std::size_t cell = std::size_t(i + (ce.corner & 1)) + std::size_t(g.nx) * (j + (ce.corner >> 1 & 1));
+            return ce.corner >> 2 ? upper[cell * kPlaneDirs + ce.dir - 1] : lower[cell * kDirs + ce.dir - 1];
+        };
+        // Crossing point in cube-local coordinates, for choosing quad diagonals.
+        const auto local_point = [&](int e) {
+            const CubeEdge ce = tab.edges[e];
+            const double t = crossing(value[ce.corner], value[ce.corner | ce.dir], iso, interpolation);
+            Vec3 p = corner_pos(ce.corner);
+            for (int d = 0; d < 3; ++d) p[d] += t * double(ce.dir >> d & 1);
+            return p;
+        };
+        const CubeCase& cc = tab.cases[mask];
+        for (int p = 0; p < cc.count; ++p) {
+            const Polygon& poly = cc.poly[p];
+            const std::uint32_t v0 = vertex_of(poly.edge[0]), v1 = vertex_of(poly.edge[1]), v2 = vertex_of(poly.edge[2]);
+            if (poly.size == 3) {
+                tris.push_back({v0, v1, v2});
+                continue;
+            }
+            const std::uint32_t v3 = vertex_of(poly.edge[3]);
+            Vec3 q[4];
+            for (int c = 0; c < 4; ++c) q[c] = local_point(poly.edge[c]);
+            double d02 = 0, d13 = 0;
+            for (int d = 0; d < 3; ++d) {
+                d02 += (q[2][d] - q[0][d]) * (q[2][d] - q[0][d]);
+                d13 += (q[3][d] - q[1][d]) * (q[3][d] - q[1][d]);
+            }
+            // The shorter diagonal gives better-shaped triangles; either keeps the orientation.
+            if (d02 <= d13) {
+                tris.push_back({v0, v1, v2});
+                tris.push_back({v0, v2, v3});
+            } else {
+                tris.push_back({v0, v1, v3});
+                tris.push_back({v1, v2, v3});
+            }
+        }
+    }
+};
+
 }  // namespace
 
 Mesh extract_isosurface(const Field& field, const Domain& domain, double iso, Interpolation interpolation) {
-    if (field.nx != domain.nx || field.ny != domain.ny || field.nz != domain.nz)
-        throw ParameterError("extract_isosurface: field is " + std::to_string(field.nx) + "x" +
-                             std::to_string(field.ny) + "x" + std::to_string(field.nz) + " but the domain is " +
-                             std::to_string(domain.nx) + "x" + std::to_string(domain.ny) + "x" +
-                             std::to_string(domain.nz));
-    if (field.nx < 0 || field.ny < 0 || field.nz < 0)
-        throw ParameterError("extract_isosurface: negative grid size");
-    field.validate("extract_isosurface: ");
+    contour::check_field(field, domain, "extract_isosurface: ");
     Mesh mesh;
     if (field.nx < 2 || field.ny < 2 || field.nz < 2) return mesh;  // no cubes
     if (std::size_t(field.nx) * std::size_t(field.ny) * kDirs > std::numeric_limits<std::uint32_t>::max())
@@ -207,16 +291,6 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso, In
         throw ResourceError("extract_isosurface: more than 2^32 vertices");
     mesh.vertices.resize(base[g.nz]);
 
-    const auto place_vertex = [&](int k, std::uint32_t key) -> Vec3 {
-        const std::uint32_t cell = key / kDirs;
-        const int dir = int(key % kDirs) + 1;
-        const int i = int(cell % std::uint32_t(g.nx)), j = int(cell / std::uint32_t(g.nx));
-        const int dx = dir & 1, dy = dir >> 1 & 1, dz = dir >> 2;
-        const double t = crossing(field.at(i, j, k), field.at(i + dx, j + dy, k + dz), iso, interpolation);
-        const Vec3 a = domain.cell_center(i, j, k), b = domain.cell_center(i + dx, j + dy, k + dz);
-        return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
-    };
-
     // Pass 2, one slab of cubes between planes k and k+1 at a time: place the
     // vertices owned by plane k, then triangulate the slab's mixed cubes.
     std::vector<std::vector<Tri>> slab_tris(g.nz - 1);
@@ -232,76 +306,16 @@ Mesh extract_isosurface(const Field& field, const Domain& domain, double iso, In
         for (int k = 0; k < g.nz - 1; ++k) {
             for (std::size_t n = 0; n < keys[k].size(); ++n) {
                 lower[keys[k][n]] = std::uint32_t(base[k] + n);
-                mesh.vertices[base[k] + n] = place_vertex(k, keys[k][n]);
+                mesh.vertices[base[k] + n] = place_vertex(field, domain, iso, interpolation, g, k, keys[k][n]);
             }
             const bool last = k + 1 == g.nz - 1;  // the top plane has no slab of its own
             for (std::size_t n = 0; n < keys[k + 1].size(); ++n) {
                 const std::uint32_t key = keys[k + 1][n], d = key % kDirs;
                 if (d >= kPlaneDirs) continue;  // edges going up from plane k+1 belong to the next slab
                 upper[key / kDirs * kPlaneDirs + d] = std::uint32_t(base[k + 1] + n);
-                if (last) mesh.vertices[base[k + 1] + n] = place_vertex(k + 1, key);
+                if (last) mesh.vertices[base[k + 1] + n] = place_vertex(field, domain, iso, interpolation, g, k + 1, key);
             }
-
-            std::vector<Tri>& tris = slab_tris[k];
-            for (int j = 0; j + 1 < g.ny; ++j)
-                for (int w = 0; w < g.words; ++w) {
-                    std::uint64_t corner_bits[8], any = 0, all = ~std::uint64_t(0);
-                    for (int c = 0; c < 8; ++c) {
-                        corner_bits[c] = sb.word(j + (c >> 1 & 1), k + (c >> 2), w, c & 1);
-                        any |= corner_bits[c];
-                        all &= corner_bits[c];
-                    }
-                    for (std::uint64_t mixed = any & ~all & sb.valid(w, 1); mixed; mixed &= mixed - 1) {
-                        const int b = ctz(mixed), i = 64 * w + b;
-                        int mask = 0;
-                        double value[8];
-                        for (int c = 0; c < 8; ++c) {
-                            mask |= int(corner_bits[c] >> b & 1) << c;
-                            value[c] = field.at(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2));
-                        }
-                        const auto vertex_of = [&](int e) {
-                            const CubeEdge ce = tab.edges[e];
-                            const std::size_t cell =
-                                std::size_t(i + (ce.corner & 1)) + std::size_t(g.nx) * (j + (ce.corner >> 1 & 1));
-                            return ce.corner >> 2 ? upper[cell * kPlaneDirs + ce.dir - 1]
-                                                  : lower[cell * kDirs + ce.dir - 1];
-                        };
-                        // Crossing point in cube-local coordinates, for choosing quad diagonals.
-                        const auto local_point = [&](int e) {
-                            const CubeEdge ce = tab.edges[e];
-                            const double t = crossing(value[ce.corner], value[ce.corner | ce.dir], iso, interpolation);
-                            Vec3 p = corner_pos(ce.corner);
-                            for (int d = 0; d < 3; ++d) p[d] += t * double(ce.dir >> d & 1);
-                            return p;
-                        };
-                        const CubeCase& cc = tab.cases[mask];
-                        for (int p = 0; p < cc.count; ++p) {
-                            const Polygon& poly = cc.poly[p];
-                            const std::uint32_t v0 = vertex_of(poly.edge[0]), v1 = vertex_of(poly.edge[1]),
-                                                v2 = vertex_of(poly.edge[2]);
-                            if (poly.size == 3) {
-                                tris.push_back({v0, v1, v2});
-                                continue;
-                            }
-                            const std::uint32_t v3 = vertex_of(poly.edge[3]);
-                            Vec3 q[4];
-                            for (int c = 0; c < 4; ++c) q[c] = local_point(poly.edge[c]);
-                            double d02 = 0, d13 = 0;
-                            for (int d = 0; d < 3; ++d) {
-                                d02 += (q[2][d] - q[0][d]) * (q[2][d] - q[0][d]);
-                                d13 += (q[3][d] - q[1][d]) * (q[3][d] - q[1][d]);
-                            }
-                            // The shorter diagonal gives better-shaped triangles; either keeps the orientation.
-                            if (d02 <= d13) {
-                                tris.push_back({v0, v1, v2});
-                                tris.push_back({v0, v2, v3});
-                            } else {
-                                tris.push_back({v0, v1, v3});
-                                tris.push_back({v1, v2, v3});
-                            }
-                        }
-                    }
-                }
+            SlabTriangles{field, iso, interpolation, g, tab, sb, lower.get(), upper.get(), k, slab_tris[k]}.run();
         }
     }
 

@@ -4,7 +4,7 @@
 // are skipped only when a bound, with room for rounding, shows they cannot win.
 #include "mesh/cell_rings.hpp"
 #include "mesh/float_rounding.hpp"
-#include "mesh/threads_here.hpp"
+#include "threads_here.hpp"
 #include "mesh/triangle_grid.hpp"
 
 #include <omp.h>
@@ -332,11 +332,17 @@ private:
 };
 
 TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
-    const auto& V = mesh.vertices;
-    const auto& T = mesh.triangles;
-    const std::size_t nt = T.size();
+    const std::size_t nt = mesh.triangles.size();
     if (nt == 0) return;
     if (nt >= std::numeric_limits<std::uint32_t>::max()) throw ResourceError("TriangleGrid: more than 2^32 triangles");
+    size_cells();
+    fill_cells();
+}
+
+void TriangleGrid::size_cells() {
+    const auto& V = mesh_.vertices;
+    const auto& T = mesh_.triangles;
+    const std::size_t nt = T.size();
     // Bounds and summed largest box side in fixed chunks, so that the grid does
     // not depend on the number of threads.
     constexpr std::size_t kChunk = 1 << 14;
@@ -390,32 +396,39 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
     // Far above the rounding of coordinates and of the exact tests, far below a triangle.
     margin_ = (1e-7 * (diag + size_) + 1e-12 * max_abs) * inv_size_;
     tiny_sq_ = 1e-10 * size_ * size_;
+}
 
-    // Calls visit(cell index, x, y, z, box) for every cell (x, y, z) with z in
-    // [z_lo, z_hi) that triangle t's box meets (grown by a sliver, so that a point on
-    // a cell face finds the triangle from both cells whatever the rounding); box is
-    // the box in cells from lo_ (lo x y z, hi x y z). Worked out again from the
-    // corners by each pass: cheaper than keeping them.
-    const auto for_box_cells = [&](std::size_t t, int z_lo, int z_hi, auto&& visit) {
-        const Vec3 &a = V[T[t][0]], &b = V[T[t][1]], &c = V[T[t][2]];
-        const double z_min = (std::min({a[2], b[2], c[2]}) - lo_[2]) * inv_size_;
-        const double z_max = (std::max({a[2], b[2], c[2]}) - lo_[2]) * inv_size_;
-        const int z0 = std::max(z_lo, clamp_cell(z_min - 1e-9, n_[2]));
-        const int z1 = std::min(z_hi - 1, clamp_cell(z_max + 1e-9, n_[2]));
-        if (z0 > z1) return;
-        const double x_min = (std::min({a[0], b[0], c[0]}) - lo_[0]) * inv_size_;
-        const double x_max = (std::max({a[0], b[0], c[0]}) - lo_[0]) * inv_size_;
-        const double y_min = (std::min({a[1], b[1], c[1]}) - lo_[1]) * inv_size_;
-        const double y_max = (std::max({a[1], b[1], c[1]}) - lo_[1]) * inv_size_;
-        const int y0 = clamp_cell(y_min - 1e-9, n_[1]), y1 = clamp_cell(y_max + 1e-9, n_[1]);
-        const int x0 = clamp_cell(x_min - 1e-9, n_[0]), x1 = clamp_cell(x_max + 1e-9, n_[0]);
-        const std::array<double, 6> box{x_min, y_min, z_min, x_max, y_max, z_max};
-        for (int z = z0; z <= z1; ++z)
-            for (int y = y0; y <= y1; ++y) {
-                const std::size_t row = index(0, y, z);
-                for (int x = x0; x <= x1; ++x) visit(row + std::size_t(x), x, y, z, box);
-            }
-    };
+// Calls visit(cell index, x, y, z, box) for every cell (x, y, z) with z in
+// [z_lo, z_hi) that triangle t's box meets (grown by a sliver, so that a point on
+// a cell face finds the triangle from both cells whatever the rounding); box is
+// the box in cells from lo_ (lo x y z, hi x y z). Worked out again from the
+// corners by each pass: cheaper than keeping them.
+template <class Visit>
+void TriangleGrid::for_box_cells(std::size_t t, int z_lo, int z_hi, Visit&& visit) const {
+    const auto& V = mesh_.vertices;
+    const auto& T = mesh_.triangles;
+    const Vec3 &a = V[T[t][0]], &b = V[T[t][1]], &c = V[T[t][2]];
+    const double z_min = (std::min({a[2], b[2], c[2]}) - lo_[2]) * inv_size_;
+    const double z_max = (std::max({a[2], b[2], c[2]}) - lo_[2]) * inv_size_;
+    const int z0 = std::max(z_lo, clamp_cell(z_min - 1e-9, n_[2]));
+    const int z1 = std::min(z_hi - 1, clamp_cell(z_max + 1e-9, n_[2]));
+    if (z0 > z1) return;
+    const double x_min = (std::min({a[0], b[0], c[0]}) - lo_[0]) * inv_size_;
+    const double x_max = (std::max({a[0], b[0], c[0]}) - lo_[0]) * inv_size_;
+    const double y_min = (std::min({a[1], b[1], c[1]}) - lo_[1]) * inv_size_;
+    const double y_max = (std::max({a[1], b[1], c[1]}) - lo_[1]) * inv_size_;
+    const int y0 = clamp_cell(y_min - 1e-9, n_[1]), y1 = clamp_cell(y_max + 1e-9, n_[1]);
+    const int x0 = clamp_cell(x_min - 1e-9, n_[0]), x1 = clamp_cell(x_max + 1e-9, n_[0]);
+    const std::array<double, 6> box{x_min, y_min, z_min, x_max, y_max, z_max};
+    for (int z = z0; z <= z1; ++z)
+        for (int y = y0; y <= y1; ++y) {
+            const std::size_t row = index(0, y, z);
+            for (int x = x0; x <= x1; ++x) visit(row + std::size_t(x), x, y, z, box);
+        }
+}
+
+void TriangleGrid::fill_cells() {
+    const std::size_t nt = mesh_.triangles.size();
     // Counted and filled in slabs of z, one thread each, every slab in triangle
     // order: each cell lists its triangles in ascending order whatever the threads.
     const std::size_t n_cells = std::size_t(n_[0]) * std::size_t(n_[1]) * std::size_t(n_[2]);

@@ -52,6 +52,11 @@ public:
     std::size_t count_crossings(const Vec3& origin, const Vec3& dir) const;
 
 private:
+    // The construction's steps: the box, cell size and margins; each cell's triangles.
+    void size_cells();
+    void fill_cells();
+    template <class Visit>
+    void for_box_cells(std::size_t t, int z_lo, int z_hi, Visit&& visit) const;
     class RayBoxes;
     class PointBoxes;
 

@@ -2,6 +2,7 @@
 // the default offset, and a memory estimate made before anything is allocated.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -44,21 +45,9 @@ int round_up(int n, int m) { return (n + m - 1) / m * m; }
 // A length option at most this many times the points' longest extent.
 constexpr double kMaxLengthRatio = 1000;
 
-}  // namespace
-
-DomainPlan plan_domain(const PointSet& points, const Parameters& params) {
-    if (points.empty()) throw InputError("the point set is empty");
-    return plan_domain(PointCloud(points), params);
-}
-
-DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
-    params.validate();
-    if (points.empty()) throw InputError("the point set is empty");
-    const std::array<Vec3, 2> cloud_box = points.box();
-    const Box box = params.box ? Box{(*params.box)[0], (*params.box)[1]} : Box{cloud_box[0], cloud_box[1]};
-
-    // Lengths far beyond the points' box mean nothing (a shell around a speck) and their
-    // sums would overflow: each given one is held to kMaxLengthRatio times the box.
+// Lengths far beyond the points' box mean nothing (a shell around a speck) and their
+// sums would overflow: each given one is held to kMaxLengthRatio times the box.
+void check_lengths(const Parameters& params, const Box& box) {
     const double extent = box.longest();
     for (const auto& [length, name] : {std::pair{params.offset, "the offset (--offset)"},
                                        {params.thickness, "the thickness (--thickness)"},
@@ -68,37 +57,32 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
             throw ParameterError(std::string(name) + " " + fmt(*length) + " is more than " + fmt(kMaxLengthRatio) +
                                  " times the points' extent " + fmt(extent) + ": give a length at most " +
                                  fmt(kMaxLengthRatio * extent));
+}
 
-    DomainPlan plan;
-    plan.gap = sampling_gap(detail::tree_of(points));
-    std::optional<double> offset = params.offset;
-    if (params.thickness) offset = *params.thickness / 2;
+// The voxel size: from the box and resolution, given, or fitted to the resolution.
+double voxel_size(const PointCloud& points, const Parameters& params, const Box& box,
+                  const std::optional<double>& offset, double gap) {
+    if (params.box) return box.longest() / params.resolution;
+    if (params.voxel) return *params.voxel;
+    // N h = E + 2 (l + pad h): solve for h with the offset fixed (given or gap), or l = 2.5 h.
+    const double E = box.longest();
+    const double pad = padding_cells(params.xi ? 4.0 : params.xi_cells);
+    const double free_cells = params.resolution - 2 * pad;
+    if (free_cells < 8)
+        throw ParameterError("resolution " + std::to_string(params.resolution) +
+                             " leaves no room for the points inside the padding; use at least " +
+                             std::to_string(int(2 * pad + 16)));
+    const double fixed_l = offset ? *offset : gap;
+    double h = (E + 2 * fixed_l) / free_cells;
+    if (!offset && gap < params.offset_cells * h) h = E / (free_cells - 2 * params.offset_cells);
+    if (!(h > 0))
+        throw InputError("all " + std::to_string(points.size()) +
+                         " points coincide: give --voxel or --offset to set the scale");
+    return h;
+}
 
-    // xi in cells, whether given in cells or in world units (then it depends on h).
-    auto xi_in_cells = [&](double h) { return params.xi ? *params.xi / eps_of_cells(1.0, h) : params.xi_cells; };
-
-    double h = 0;
-    if (params.box) {
-        h = box.longest() / params.resolution;
-    } else if (params.voxel) {
-        h = *params.voxel;
-    } else {
-        // N h = E + 2 (l + pad h): solve for h with the offset fixed (given or gap), or l = 2.5 h.
-        const double E = box.longest();
-        const double pad = padding_cells(params.xi ? 4.0 : params.xi_cells);
-        const double free_cells = params.resolution - 2 * pad;
-        if (free_cells < 8)
-            throw ParameterError("resolution " + std::to_string(params.resolution) +
-                                 " leaves no room for the points inside the padding; use at least " +
-                                 std::to_string(int(2 * pad + 16)));
-        const double fixed_l = offset ? *offset : plan.gap;
-        h = (E + 2 * fixed_l) / free_cells;
-        if (!offset && plan.gap < params.offset_cells * h) h = E / (free_cells - 2 * params.offset_cells);
-        if (!(h > 0))
-            throw InputError("all " + std::to_string(points.size()) +
-                             " points coincide: give --voxel or --offset to set the scale");
-    }
-
+// The offset (given, the sampling gap, or the default in voxels) and why.
+void choose_offset(DomainPlan& plan, const Parameters& params, const std::optional<double>& offset, double h) {
     if (offset) {
         plan.offset = *offset;
         plan.offset_reason = "given";
@@ -115,22 +99,20 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
     if (plan.offset < h)
         throw ParameterError("offset " + fmt(plan.offset) + " is smaller than one voxel (" + fmt(h) +
                              "): the shell cannot be resolved; raise the offset or the resolution");
+}
 
-    // A width or a time step given in world or normalised units, in cells: held to the
-    // ranges of the same in cells.
-    const auto in_cells = [&](double cells, double most, const char* name, const std::string& value, const char* unit) {
-        if (!(cells > 0 && cells <= most))
-            throw ParameterError(std::string(name) + " " + value + " is " + fmt(cells) + unit + " at voxel " + fmt(h) +
-                                 ": it must be above 0 and at most " + fmt(most) + unit);
-    };
-    const double xi_cells = xi_in_cells(h);
-    if (params.xi) in_cells(xi_cells, ParameterLimits::max_width_cells, "xi (--xi)", fmt(*params.xi), " cells");
-    if (params.eps)
-        in_cells(*params.eps / eps_of_cells(1.0, h), ParameterLimits::max_width_cells, "eps (--eps)", fmt(*params.eps),
-                 " cells");
-    plan.xi = eps_of_cells(xi_cells, h);
-    plan.eps = params.eps ? *params.eps : eps_of_cells(params.eps_cells, h);
+// A width or a time step given in world or normalised units, in cells: held to the
+// ranges of the same in cells.
+void check_in_cells(double cells, double most, const char* name, const std::string& value, const char* unit,
+                    double h) {
+    if (!(cells > 0 && cells <= most))
+        throw ParameterError(std::string(name) + " " + value + " is " + fmt(cells) + unit + " at voxel " + fmt(h) +
+                             ": it must be above 0 and at most " + fmt(most) + unit);
+}
 
+// The grid: the box and its padding in cells, each axis a multiple of the coarsest
+// level's cell, centred on the box.
+void fit_grid(DomainPlan& plan, const Parameters& params, const Box& box, double h, double xi_cells) {
     Domain& d = plan.domain;
     d.h = h;
     int n[3];
@@ -155,30 +137,66 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
     d.nx = n[0];
     d.ny = n[1];
     d.nz = n[2];
+}
 
-    const double L = d.length_scale();
+// The time step and the number of steps for the flow time.
+void plan_steps(DomainPlan& plan, const Parameters& params) {
+    const double h = plan.domain.h, L = plan.domain.length_scale();
     plan.dt = params.dt ? *params.dt : params.dt_cells * (h / L) * (h / L);
     const double dt_cells = plan.dt / ((h / L) * (h / L));
-    if (params.dt) in_cells(dt_cells, ParameterLimits::max_dt_cells, "dt (--dt)", fmt(*params.dt), " h^2");
-    if (!params.steps) {
-        const double steps = std::ceil(params.smoothing_cells / dt_cells - 1e-9);
-        if (!(steps <= ParameterLimits::max_steps))
-            throw ParameterError("the flow time (--smoothing) " + fmt(params.smoothing_cells) + " h^2 in steps of " +
-                                 fmt(dt_cells) + " h^2 (--dt-cells or --dt) would take " + fmt(steps) +
-                                 " steps: at most " + std::to_string(ParameterLimits::max_steps) +
-                                 "; give a shorter flow time or a longer step");
-        plan.planned_steps = int(steps);
-    } else {
+    if (params.dt) check_in_cells(dt_cells, ParameterLimits::max_dt_cells, "dt (--dt)", fmt(*params.dt), " h^2", h);
+    if (params.steps) {
         plan.planned_steps = *params.steps;
+        return;
     }
+    const double steps = std::ceil(params.smoothing_cells / dt_cells - 1e-9);
+    if (!(steps <= ParameterLimits::max_steps))
+        throw ParameterError("the flow time (--smoothing) " + fmt(params.smoothing_cells) + " h^2 in steps of " +
+                             fmt(dt_cells) + " h^2 (--dt-cells or --dt) would take " + fmt(steps) + " steps: at most " +
+                             std::to_string(ParameterLimits::max_steps) + "; give a shorter flow time or a longer step");
+    plan.planned_steps = int(steps);
+}
+
+}  // namespace
+
+DomainPlan plan_domain(const PointSet& points, const Parameters& params) {
+    if (points.empty()) throw InputError("the point set is empty");
+    return plan_domain(PointCloud(points), params);
+}
+
+DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
+    params.validate();
+    if (points.empty()) throw InputError("the point set is empty");
+    const std::array<Vec3, 2> cloud_box = points.box();
+    const Box box = params.box ? Box{(*params.box)[0], (*params.box)[1]} : Box{cloud_box[0], cloud_box[1]};
+    check_lengths(params, box);
+
+    DomainPlan plan;
+    plan.gap = sampling_gap(detail::tree_of(points));
+    std::optional<double> offset = params.offset;
+    if (params.thickness) offset = *params.thickness / 2;
+    const double h = voxel_size(points, params, box, offset, plan.gap);
+    choose_offset(plan, params, offset, h);
+
+    // xi in cells, whether given in cells or in world units (then it depends on h).
+    const double xi_cells = params.xi ? *params.xi / eps_of_cells(1.0, h) : params.xi_cells;
+    if (params.xi)
+        check_in_cells(xi_cells, ParameterLimits::max_width_cells, "xi (--xi)", fmt(*params.xi), " cells", h);
+    if (params.eps)
+        check_in_cells(*params.eps / eps_of_cells(1.0, h), ParameterLimits::max_width_cells, "eps (--eps)",
+                       fmt(*params.eps), " cells", h);
+    plan.xi = eps_of_cells(xi_cells, h);
+    plan.eps = params.eps ? *params.eps : eps_of_cells(params.eps_cells, h);
+    fit_grid(plan, params, box, h, xi_cells);
+    plan_steps(plan, params);
     if (params.keep_offset) {
         plan.tube_inner = params.tube_inner * plan.offset;
         plan.tube_outer = params.tube_outer * plan.offset;
     }
 
     // The solver's fields follow the band and are checked once it is known (the session).
-    plan.estimated_bytes = estimate_plan_bytes(d);
-    require_memory(plan.estimated_bytes, d);
+    plan.estimated_bytes = estimate_plan_bytes(plan.domain);
+    require_memory(plan.estimated_bytes, plan.domain);
     return plan;
 }
 
