@@ -72,6 +72,7 @@ struct Field {
 private:
     template <class Real>
     static Field make(int nx, int ny, int nz, const std::vector<Real>& values, Precision precision);
+    static Field shaped(int nx, int ny, int nz, Precision precision, std::vector<std::uint32_t> table);
     std::vector<std::uint32_t> brick_;
     std::vector<double> f64_;  // used when precision == Double
     std::vector<float> f32_;   // used when precision == Single

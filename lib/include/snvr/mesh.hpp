@@ -74,6 +74,9 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointCloud& points, double d
 DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel,
                                   double lone = std::numeric_limits<double>::infinity());  // makes a PointCloud
 
+// How many of the points lie strictly inside the closed mesh (odd crossing count of a ray).
+std::size_t count_points_inside(const Mesh& mesh, const PointSet& points);
+
 // Which solid pieces of a closed, outward mesh to keep: a piece is an outward component
 // with the cavities (inward components) inside it, its volume the material between.
 struct PieceFilter {

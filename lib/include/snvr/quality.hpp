@@ -32,9 +32,6 @@ struct MeshReport {
 
 MeshReport check_mesh(const Mesh& mesh);
 
-// How many of the points lie strictly inside the closed mesh (odd crossing count of a ray).
-std::size_t count_points_inside(const Mesh& mesh, const PointSet& points);
-
 // Lengths are in the units named by each field: "h" (voxel), "l" (offset),
 // "2l" (the shell's intended thickness) or degrees. NaN marks a figure with no
 // data (say, depth when no point is inside).

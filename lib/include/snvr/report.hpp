@@ -30,27 +30,14 @@ struct CycleTotals {
     int total = 0, most_in_a_step = 0, not_converged = 0;
 };
 
+// The run as its views see it: the shell (held by reference: it must outlive the
+// report), the files around it, and what is taken once for every view.
 struct RunReport {
-    DomainPlan plan;                      // grid, offset and why, gap, eps, xi, dt, tube
-    std::string backend;
-    std::size_t active_cells = 0, solver_bytes = 0, peak_rss_bytes = 0;
-    std::size_t steps = 0;
-    CycleTotals cycles;
-    StageSeconds run_seconds;             // domain, distance, init, steps
-    ShellSeconds shell_seconds;           // outliers, mesh, check
-    double read_seconds = 0, write_seconds = 0, total_seconds = 0;
-    MeshQuality quality;
-    PieceReport pieces;
-    std::size_t points = 0, outliers = 0, clusters = 0;
-    double outlier_link = 0;              // 0: the outlier rules did not run
-    Vec3 shift{0, 0, 0};
-    bool shift_by_default = false;
-    Vec3 size{0, 0, 0};                   // the shell's extent, mm
-    std::string units = "mm";
-    double to_millimetres = 1;
-    std::string input, outliers_file;
-    std::vector<RunFiles::Output> outputs;
-    std::vector<std::string> warnings;
+    const Shell& shell;
+    RunFiles files;
+    CycleTotals cycles;                   // over shell.run.steps
+    std::size_t peak_rss_bytes = 0;       // this process's, when the report was made
+    double total_seconds = 0;             // files.total_seconds, or the read, the shell and the write
 };
 
 RunReport make_report(const Shell& shell, const RunFiles& files = {});

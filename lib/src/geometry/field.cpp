@@ -61,11 +61,7 @@ std::vector<Real> brick_values(const Field& f, const std::vector<Real>& values, 
 template <class Real>
 Field Field::make(int nx, int ny, int nz, const std::vector<Real>& values, Precision precision) {
     if (nx < 0 || ny < 0 || nz < 0) throw ParameterError("Field::from_dense: negative grid size");
-    Field f;
-    f.nx = nx;
-    f.ny = ny;
-    f.nz = nz;
-    f.precision = precision;
+    Field f = shaped(nx, ny, nz, precision, {});
     if (values.size() != f.size())
         throw ParameterError("Field::from_dense: " + std::to_string(values.size()) + " values for a " +
                              std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) + " grid");
@@ -92,26 +88,26 @@ Field Field::from_dense(int nx, int ny, int nz, const std::vector<float>& values
 }
 
 Field Field::from_bricks(int nx, int ny, int nz, std::vector<std::uint32_t> table, std::vector<double> stored) {
-    Field f;
-    f.nx = nx;
-    f.ny = ny;
-    f.nz = nz;
-    f.precision = Precision::Double;
-    f.brick_ = std::move(table);
+    Field f = shaped(nx, ny, nz, Precision::Double, std::move(table));
     f.f64_ = std::move(stored);
     f.validate("Field::from_bricks: ");
     return f;
 }
 
 Field Field::from_bricks(int nx, int ny, int nz, std::vector<std::uint32_t> table, std::vector<float> stored) {
+    Field f = shaped(nx, ny, nz, Precision::Single, std::move(table));
+    f.f32_ = std::move(stored);
+    f.validate("Field::from_bricks: ");
+    return f;
+}
+
+Field Field::shaped(int nx, int ny, int nz, Precision precision, std::vector<std::uint32_t> table) {
     Field f;
     f.nx = nx;
     f.ny = ny;
     f.nz = nz;
-    f.precision = Precision::Single;
+    f.precision = precision;
     f.brick_ = std::move(table);
-    f.f32_ = std::move(stored);
-    f.validate("Field::from_bricks: ");
     return f;
 }
 

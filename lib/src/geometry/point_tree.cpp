@@ -2,28 +2,17 @@
 // order, and the queries every stage shares.
 #include "geometry/point_tree.hpp"
 #include "parallel_sizes.hpp"
+#include "threads_here.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <utility>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 namespace snvr::detail {
 namespace {
 
 constexpr int kBits = 21;  // per axis: a 63-bit key
-
-int threads() {
-#ifdef _OPENMP
-    return omp_get_max_threads();
-#else
-    return 1;
-#endif
-}
 
 // Each byte spread to every third bit of 24 (three lookups make a key's axis: the
 // shifts and masks took a fifth of the tree's build).
@@ -128,7 +117,7 @@ PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> 
     const int bits = std::clamp(int(std::log2(std::max(1.0, double(n) / 8)) / 3), 1, 7);
     const int shift = 3 * (kBits - bits);
     const std::size_t cells = std::size_t(1) << (3 * bits);
-    const int parts = n > (1u << 16) ? threads() : 1;
+    const int parts = n > (1u << 16) ? threads_here() : 1;
     std::vector<std::uint32_t> count(std::size_t(parts) * cells, 0);
     const auto part_begin = [&](int t) { return n * std::size_t(t) / std::size_t(parts); };
 #pragma omp parallel for num_threads(parts) schedule(static, 1)
@@ -266,10 +255,10 @@ void PointTree::build_nodes(const std::uint64_t* keys) {
     // The top levels here; the subtrees below them in parallel, then appended.
     std::vector<NodeBuilder::Task> tasks;
     NodeBuilder top{keys, nodes};
-    const bool parallel = n > (1u << 16) && threads() > 1;
+    const bool parallel = n > (1u << 16) && threads_here() > 1;
     if (parallel) {
         top.tasks = &tasks;
-        top.task_size = std::max<std::uint32_t>(kLeafSize, n / std::uint32_t(32 * threads()));
+        top.task_size = std::max<std::uint32_t>(kLeafSize, n / std::uint32_t(32 * threads_here()));
     }
     top.fill(0, 0);
     std::vector<std::vector<Node>> local(tasks.size());

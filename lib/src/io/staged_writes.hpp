@@ -7,10 +7,8 @@
 
 #include "io/atomic_file.hpp"
 #include "snvr/domain.hpp"
-#include "snvr/mesh_io.hpp"
-#include "snvr/point_io.hpp"
 #include "snvr/field.hpp"
-#include "snvr/mesh.hpp"
+#include "snvr/geometry.hpp"
 
 namespace snvr::detail {
 

@@ -9,15 +9,12 @@
 #include <utility>
 #include <vector>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "snvr/mesh.hpp"
 #include "snvr/point_cloud.hpp"
 #include "geometry/point_tree.hpp"
 #include "mesh/vertex_lists.hpp"
 #include "parallel_sizes.hpp"
+#include "threads_here.hpp"
 
 namespace snvr {
 namespace {
@@ -27,10 +24,7 @@ namespace {
 // vertex, so that it knows where its items go and every list keeps triangle order.
 void rings_and_fans(const Mesh& m, detail::VertexLists& ring, detail::VertexLists* fan) {
     const std::size_t nv = m.vertices.size(), nt = m.triangles.size();
-    int parts = 1;
-#ifdef _OPENMP
-    if (std::ptrdiff_t(nt) > 16 * detail::kParallelItems) parts = std::min(4, omp_get_max_threads());
-#endif
+    const int parts = std::ptrdiff_t(nt) > 16 * detail::kParallelItems ? std::min(4, detail::threads_here()) : 1;
     const auto first = [&](int part) { return nt * std::size_t(part) / std::size_t(parts); };
     std::vector<std::vector<std::size_t>> at(std::size_t(parts), std::vector<std::size_t>(nv, 0));
 #pragma omp parallel for num_threads(parts) schedule(static, 1)

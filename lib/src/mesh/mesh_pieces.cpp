@@ -10,7 +10,6 @@
 #include "geometry/disjoint_sets.hpp"
 #include "geometry/vec3_math.hpp"
 #include "snvr/error.hpp"
-#include "snvr/quality.hpp"
 #include "snvr/mesh.hpp"
 
 namespace snvr {

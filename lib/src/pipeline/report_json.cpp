@@ -11,21 +11,23 @@
 
 namespace snvr {
 
-std::string report_json(const RunReport& run) {
+std::string report_json(const RunReport& report) {
     using nlohmann::json;
-    const DomainPlan& r = run.plan;
+    const Shell& run = report.shell;
+    const Result& r = run.run;
+    const RunFiles& files = report.files;
     const Domain& d = r.domain;
-    const CycleTotals& cycles = run.cycles;
+    const CycleTotals& cycles = report.cycles;
     const MeshReport& m = run.quality.report;
     const double L = d.length_scale(), dt_cells = r.dt * (L / d.h) * (L / d.h);
 
     json outputs = json::array();
-    for (const RunFiles::Output& o : run.outputs) outputs.push_back({{"path", o.path}, {"kind", o.kind}, {"bytes", o.bytes}});
-    const json report = {
+    for (const RunFiles::Output& o : files.outputs) outputs.push_back({{"path", o.path}, {"kind", o.kind}, {"bytes", o.bytes}});
+    const json doc = {
         {"snvr_version", SNVR_VERSION},
         {"units", "mm"},  // every length below, and every output
         {"input",
-         {{"path", run.input},
+         {{"path", files.input},
           {"points", run.points},
           {"units", run.units},
           {"to_millimetres", run.to_millimetres},
@@ -33,38 +35,38 @@ std::string report_json(const RunReport& run) {
           {"origin_shift_why", run.shift == Vec3{0, 0, 0} ? "none"
                                : run.shift_by_default       ? "float32 output far from the origin (default)"
                                                             : "--origin center"}}},
-        {"outliers", {{"dropped", run.outliers}, {"link", run.outlier_link}, {"file", run.outliers_file}}},
+        {"outliers", {{"dropped", run.outliers.points.size()}, {"link", run.outliers.link}, {"file", files.outliers_file}}},
         {"point_clusters", run.clusters},
         {"pieces_dropped", {{"count", run.pieces.dropped}, {"volume", run.pieces.dropped_volume}}},
         {"outputs", outputs},
         {"grid",
          {{"nx", d.nx}, {"ny", d.ny}, {"nz", d.nz}, {"cells", d.cells()}, {"voxel", d.h}, {"levels", d.levels},
           {"origin", {d.origin[0], d.origin[1], d.origin[2]}},
-          {"active_cells", run.active_cells}}},
+          {"active_cells", r.active_cells}}},
         {"offset", {{"length", r.offset}, {"voxels", r.offset / d.h}, {"thickness", 2 * r.offset}, {"why", r.offset_reason}}},
         {"sampling_gap", r.gap},
         {"eps", r.eps},
         {"xi", r.xi},
         {"flow",
-         {{"steps", run.steps},
+         {{"steps", r.steps.size()},
           {"dt", r.dt},
           {"dt_cells", dt_cells},
           {"free_flow", !(r.tube_inner > 0)},
           {"tube", {r.offset - r.tube_inner, r.offset + r.tube_outer}}}},
-        {"backend", run.backend},
-        {"memory", {{"solver_bytes", run.solver_bytes}, {"peak_rss_bytes", run.peak_rss_bytes}}},
+        {"backend", r.backend},
+        {"memory", {{"solver_bytes", r.solver_bytes}, {"peak_rss_bytes", report.peak_rss_bytes}}},
         {"v_cycles", {{"total", cycles.total}, {"most_in_a_step", cycles.most_in_a_step}, {"not_converged", cycles.not_converged}}},
         {"seconds",
-         {{"read", run.read_seconds},
-          {"outliers", run.shell_seconds.outliers},
-          {"domain", run.run_seconds.domain},
-          {"distance", run.run_seconds.distance},
-          {"init", run.run_seconds.init},
-          {"steps", run.run_seconds.steps},
-          {"mesh", run.shell_seconds.mesh},
-          {"write", run.write_seconds},
-          {"check", run.shell_seconds.check},
-          {"total", run.total_seconds}}},
+         {{"read", files.read_seconds},
+          {"outliers", run.seconds.outliers},
+          {"domain", r.seconds.domain},
+          {"distance", r.seconds.distance},
+          {"init", r.seconds.init},
+          {"steps", r.seconds.steps},
+          {"mesh", run.seconds.mesh},
+          {"write", files.write_seconds},
+          {"check", run.seconds.check},
+          {"total", report.total_seconds}}},
         {"size", {run.size[0], run.size[1], run.size[2]}},
         {"mesh",
          {{"triangles", m.triangles},
@@ -78,7 +80,7 @@ std::string report_json(const RunReport& run) {
         {"check", json::parse(quality_json(run.quality))},
         {"warnings", run.warnings},
     };
-    return report.dump(2) + "\n";
+    return doc.dump(2) + "\n";
 }
 
 }  // namespace snvr

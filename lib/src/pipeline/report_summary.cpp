@@ -15,8 +15,10 @@ const char* yes_no(bool b) { return b ? "yes" : "no"; }
 
 }  // namespace
 
-std::string report_summary(const RunReport& run) {
-    const DomainPlan& r = run.plan;
+std::string report_summary(const RunReport& report) {
+    const Shell& run = report.shell;
+    const Result& r = run.run;
+    const RunFiles& files = report.files;
     const Domain& d = r.domain;
     const double cells = double(d.cells());
     std::string out;
@@ -25,11 +27,11 @@ std::string report_summary(const RunReport& run) {
                std::string(17 - std::min<std::size_t>(17, std::char_traits<char>::length(key)), ' ') +
                printable(value) + '\n';
     };
-    if (run.outlier_link > 0)
+    if (run.outliers.link > 0)
         row("outliers", format_text("%s dropped, %s used (sparse, lone points standing off the surface, or in clusters of under %zu points apart by over %.3g mm)%s",
-                            grouped(run.outliers).c_str(), grouped(run.points).c_str(),
-                            OutlierSettings{}.min_cluster, run.outlier_link,
-                            run.outliers_file.empty() ? "" : (": written to " + run.outliers_file).c_str()));
+                            grouped(run.outliers.points.size()).c_str(), grouped(run.points).c_str(),
+                            OutlierSettings{}.min_cluster, run.outliers.link,
+                            files.outliers_file.empty() ? "" : (": written to " + files.outliers_file).c_str()));
     row("grid", format_text("%d x %d x %d (%s cells), voxel %.6g, %d multigrid levels", d.nx, d.ny, d.nz,
                     grouped(d.cells()).c_str(), d.h, d.levels));
     if (run.shift != Vec3{0, 0, 0})
@@ -45,23 +47,23 @@ std::string report_summary(const RunReport& run) {
     const double per_cell = eps_of_cells(1, d.h);
     row("eps, xi", format_text("%.6g (%.3g cells), %.6g (%.3g cells)", r.eps, r.eps / per_cell, r.xi, r.xi / per_cell));
     const double L = d.length_scale(), dt_cells = r.dt * (L / d.h) * (L / d.h);
-    row("flow", format_text("%zu steps of dt %.3g (%.3g h^2): time %.3g h^2; %s", run.steps, r.dt, dt_cells,
-                    dt_cells * double(run.steps),
+    row("flow", format_text("%zu steps of dt %.3g (%.3g h^2): time %.3g h^2; %s", r.steps.size(), r.dt, dt_cells,
+                    dt_cells * double(r.steps.size()),
                     r.tube_inner > 0 ? format_text("surface kept between %.3g and %.3g voxels from the points", (r.offset - r.tube_inner) / d.h,
                                            (r.offset + r.tube_outer) / d.h).c_str()
                                      : "free flow"));
-    row("backend", run.backend);
-    row("active cells", format_text("%s (%.1f%% of the grid)", grouped(run.active_cells).c_str(),
-                            cells > 0 ? 100.0 * double(run.active_cells) / cells : 0.0));
-    row("memory", format_text("solver %.1f MiB, peak RSS %.1f MiB", mib(run.solver_bytes), mib(run.peak_rss_bytes)));
-    const CycleTotals& c = run.cycles;
-    row("V-cycles", format_text("%d in %zu steps, at most %d in a step%s", c.total, run.steps, c.most_in_a_step,
+    row("backend", r.backend);
+    row("active cells", format_text("%s (%.1f%% of the grid)", grouped(r.active_cells).c_str(),
+                            cells > 0 ? 100.0 * double(r.active_cells) / cells : 0.0));
+    row("memory", format_text("solver %.1f MiB, peak RSS %.1f MiB", mib(r.solver_bytes), mib(report.peak_rss_bytes)));
+    const CycleTotals& c = report.cycles;
+    row("V-cycles", format_text("%d in %zu steps, at most %d in a step%s", c.total, r.steps.size(), c.most_in_a_step,
                         c.not_converged ? format_text(", %d not converged", c.not_converged).c_str() : ""));
-    const StageSeconds& s = run.run_seconds;
+    const StageSeconds& s = r.seconds;
     row("seconds", format_text("read %.2f, outliers %.2f, domain %.2f, distance %.2f, init %.2f, steps %.2f,",
-                       run.read_seconds, run.shell_seconds.outliers, s.domain, s.distance, s.init, s.steps));
-    row("", format_text("mesh %.2f, write %.2f, check %.2f; total %.2f", run.shell_seconds.mesh, run.write_seconds,
-                run.shell_seconds.check, run.total_seconds));
+                       files.read_seconds, run.seconds.outliers, s.domain, s.distance, s.init, s.steps));
+    row("", format_text("mesh %.2f, write %.2f, check %.2f; total %.2f", run.seconds.mesh, files.write_seconds,
+                run.seconds.check, report.total_seconds));
     const MeshQuality& q = run.quality;
     const MeshReport& m = q.report;
     row("size", format_text("%.4g x %.4g x %.4g mm%s", run.size[0], run.size[1], run.size[2],
@@ -87,7 +89,7 @@ std::string report_summary(const RunReport& run) {
     else
         row("surface", format_text("genus %ld (distance to the offset and smoothness: --measure)", q.genus));
     std::string wrote;
-    for (const RunFiles::Output& o : run.outputs) wrote += (wrote.empty() ? "" : ", ") + o.path;
+    for (const RunFiles::Output& o : files.outputs) wrote += (wrote.empty() ? "" : ", ") + o.path;
     if (!wrote.empty()) row("wrote", wrote);
     return out;
 }

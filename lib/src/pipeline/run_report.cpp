@@ -53,37 +53,9 @@ std::string grouped(std::size_t n) {
 }
 
 RunReport make_report(const Shell& shell, const RunFiles& files) {
-    const Result& run = shell.run;
-    RunReport r;
-    r.plan = run;  // the plan's part of the result
-    r.backend = run.backend;
-    r.active_cells = run.active_cells;
-    r.solver_bytes = run.solver_bytes;
-    r.peak_rss_bytes = peak_rss_bytes();
-    r.steps = run.steps.size();
-    r.cycles = cycle_totals(run.steps);
-    r.run_seconds = run.seconds;
-    r.shell_seconds = shell.seconds;
-    r.read_seconds = files.read_seconds;
-    r.write_seconds = files.write_seconds;
-    r.total_seconds = files.total_seconds > 0 ? files.total_seconds
-                                              : files.read_seconds + shell.seconds.total + files.write_seconds;
-    r.quality = shell.quality;
-    r.pieces = shell.pieces;
-    r.points = shell.points;
-    r.outliers = shell.outliers.points.size();
-    r.clusters = shell.clusters;
-    r.outlier_link = shell.outliers.link;
-    r.shift = shell.shift;
-    r.shift_by_default = shell.shift_by_default;
-    r.size = shell.size;
-    r.units = shell.units;
-    r.to_millimetres = shell.to_millimetres;
-    r.input = files.input;
-    r.outliers_file = files.outliers_file;
-    r.outputs = files.outputs;
-    r.warnings = shell.warnings;
-    return r;
+    const double total = files.total_seconds > 0 ? files.total_seconds
+                                                 : files.read_seconds + shell.seconds.total + files.write_seconds;
+    return RunReport{shell, files, cycle_totals(shell.run.steps), peak_rss_bytes(), total};
 }
 
 }  // namespace snvr
