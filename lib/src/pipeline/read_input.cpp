@@ -1,4 +1,4 @@
-// read_input (io.hpp): the points to reconstruct from, read from a point file or
+// read_input (shell.hpp): the points to reconstruct from, read from a point file or
 // sampled from a mesh's triangles at half a voxel.
 #include <algorithm>
 #include <array>
