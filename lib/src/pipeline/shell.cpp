@@ -32,19 +32,23 @@ std::string written_file(const std::string& written_as) {
 // Survey scans arrive far from the origin and slicers ignore absolute placement: a print
 // format (STL, 3MF) is centred where its float32 would otherwise move the shell (the
 // run's voxel taken at its smallest, the points' box over the resolution; the shell
-// reaches an offset beyond the points). PLY is not a print format and is kept.
-bool print_format_needs_centring(const std::string& written_as, const PointCloud& points, const Parameters& params) {
+// reaches an offset beyond the points). PLY is not a print format and is kept. The points
+// and the lengths are in their units; to_mm takes them to the millimetres written.
+bool print_format_needs_centring(const std::string& written_as, const PointCloud& points, const Parameters& params,
+                                 double to_mm) {
     const std::string as = written_file(written_as);
     const std::string ext = detail::lower_extension(as);
     if ((ext != ".stl" && ext != ".3mf") || points.empty()) return false;
     const std::array<Vec3, 2> box = points.box();
     double longest = 0, farthest = 0;
     for (int a = 0; a < 3; ++a) {
-        longest = std::max(longest, box[1][a] - box[0][a]);
-        farthest = std::max({farthest, std::abs(box[0][a]), std::abs(box[1][a])});
+        longest = std::max(longest, (box[1][a] - box[0][a]) * to_mm);
+        farthest = std::max({farthest, std::abs(box[0][a]) * to_mm, std::abs(box[1][a]) * to_mm});
     }
-    const double voxel = params.voxel ? *params.voxel : longest / params.resolution;
-    const double offset = params.offset ? *params.offset : params.thickness ? *params.thickness / 2 : 3 * voxel;
+    const double voxel = params.voxel ? *params.voxel * to_mm : longest / params.resolution;
+    const double offset = params.offset      ? *params.offset * to_mm
+                          : params.thickness ? *params.thickness * to_mm / 2
+                                             : 3 * voxel;
     return voxel > 0 && !holds_faithfully(farthest + offset, as, voxel);
 }
 
@@ -93,19 +97,19 @@ Shell make_shell(PointCloud points, const ShellSettings& given, const ProgressCa
     };
     given.validate();
     if (points.empty()) throw InputError("the point set is empty");
-    // From here on every length is in millimetres: the points, the settings, the shell.
-    ShellSettings settings = given;
     shell.units = given.units;
     shell.to_millimetres = given.to_millimetres();
     const double to_mm = shell.to_millimetres;
+    // Decided on the points as given, before any is dropped.
+    const bool centre = given.origin == ShellOrigin::Centre ||
+                        (given.origin == ShellOrigin::Auto &&
+                         print_format_needs_centring(given.written_as, points, given.params, to_mm));
+    shell.shift_by_default = centre && given.origin == ShellOrigin::Auto;
+    // From here on every length is in millimetres: the points, the settings, the shell.
+    ShellSettings settings = given;
     if (to_mm != 1) points.scale(to_mm);
     scale_lengths(settings.params, to_mm);
     settings.pieces.min_volume *= to_mm * to_mm * to_mm;
-    // Decided on the points as given, before any is dropped.
-    const bool centre = settings.origin == ShellOrigin::Centre ||
-                        (settings.origin == ShellOrigin::Auto &&
-                         print_format_needs_centring(settings.written_as, points, settings.params));
-    shell.shift_by_default = centre && settings.origin == ShellOrigin::Auto;
 
     enter("outliers");
     if (settings.drop_outliers) shell.outliers = drop_outliers(points, settings.params, settings.outliers);
