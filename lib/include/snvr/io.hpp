@@ -100,6 +100,13 @@ private:
     std::vector<std::unique_ptr<AtomicFile>> files_;
 };
 
+// What is done with a file format, for format_extensions.
+enum class FormatUse { ReadPoints, ReadMesh, WriteMesh, WritePoints, WriteField };
+
+// The extensions the readers or writers take for `use`, for help texts: ".stl, .ply,
+// .obj or .3mf" for WriteMesh. The readers also take each of theirs gzipped (".gz" added).
+std::string format_extensions(FormatUse use);
+
 // Removes the named temporary files this process's writers have open (most have none:
 // on Linux a temporary has no name until its final rename). Async-signal-safe, for a
 // SIGINT or SIGTERM handler that then ends the process.

@@ -12,7 +12,7 @@
 #include "snvr/error.hpp"
 #include "snvr/io.hpp"
 #include "snvr/stopwatch.hpp"
-#include "io/io_common.hpp"
+#include "io/formats.hpp"
 
 namespace snvr {
 namespace {
@@ -34,8 +34,7 @@ std::string written_file(const std::string& written_as) {
 // reaches an offset beyond the points). PLY is not a print format and is kept.
 bool print_format_needs_centring(const std::string& written_as, const PointCloud& points, const Parameters& params) {
     const std::string as = written_file(written_as);
-    const std::string ext = detail::lower_extension(as);
-    if ((ext != ".stl" && ext != ".3mf") || points.empty()) return false;
+    if (!detail::is_print_format(as) || points.empty()) return false;
     const std::array<Vec3, 2> box = points.box();
     double longest = 0, farthest = 0;
     for (int a = 0; a < 3; ++a) {
