@@ -13,6 +13,7 @@
 
 #include "report.hpp"
 #include "snvr/error.hpp"
+#include "snvr/formats.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shell.hpp"
@@ -207,15 +208,22 @@ Command reconstruct_command(ReconstructOptions& o) {
     };
     Command c;
     c.usage = "snvr-cl reconstruct INPUT -o OUTPUT [options]";
+    // The formats from the library's table, so that the help lists what the readers take.
     c.description =
         "Reconstructs a thin closed shell (a narrow volume of thickness 2L around the\n"
         "points) by the Allen-Cahn method of Li et al. 2014 and writes it as a mesh.\n"
-        "INPUT: points as .ply, .xyz/.pts/.txt, .obj or .off. Lengths are in the\n"
-        "points' (world) units unless the option says cells.\n";
+        "INPUT: points as " + snvr::format_extensions(snvr::FormatUse::ReadPoints) + ",\n"
+        "or a mesh (with faces; thickened by its triangles) as " + snvr::format_extensions(snvr::FormatUse::ReadMesh) +
+        ";\neach also gzipped (.gz). Lengths are in the points' (world) units unless\n"
+        "the option says cells.\n";
     c.options = {
-        {"--output", "-o", "FILE", "mesh to write (required): .stl (binary), .ply (binary), .obj\nor .3mf (millimetres)",
+        {"--output", "-o", "FILE",
+         "mesh to write (required): " + snvr::format_extensions(snvr::FormatUse::WriteMesh) +
+             "\n(STL and PLY binary, 3MF in millimetres)",
          store(o.output), "Output"},
-        {"--volume", "", "FILE", "also write the final phase field phi: .vti or .nrrd", store(o.volume)},
+        {"--volume", "", "FILE",
+         "also write the final phase field phi: " + snvr::format_extensions(snvr::FormatUse::WriteField),
+         store(o.volume)},
         {"--report", "", "FILE", "also write the summary and the warnings as JSON (.json)", store(o.report)},
         {"--preview", "", "FILE",
          "also write a picture (.png): the shell shaded, and a cut\nthrough its middle across y (walls dark, voids white)",
@@ -453,7 +461,7 @@ void print_main_help(std::ostream& out) {
            "(Allen-Cahn surface embedding narrow volume reconstruction, Li et al. 2014).\n"
            "\n"
            "Usage:\n"
-           "  snvr-cl reconstruct INPUT -o OUTPUT [options]   points -> shell mesh (.stl/.ply/.obj)\n"
+           "  snvr-cl reconstruct INPUT -o OUTPUT [options]   points -> shell mesh\n"
            "  snvr-cl devices                                 list the devices that can run the solver\n"
            "  snvr-cl sample SHAPE -o OUTPUT [--spacing S]    points on an analytic test shape\n"
            "  snvr-cl --help | --version\n"

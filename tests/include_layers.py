@@ -22,7 +22,7 @@ RANKS = {
 HEADER_FOLDER = {
     "error": "", "domain": "", "stopwatch": "",
     "geometry": "geometry", "point_cloud": "geometry", "field": "geometry", "shapes": "geometry",
-    "point_io": "io", "mesh_io": "io",
+    "point_io": "io", "mesh_io": "io", "formats": "io",
     "mesh": "mesh",
     "parameters": "solver", "reconstruct": "solver",
     "quality": "check", "render": "render", "devices": "devices",

@@ -7,6 +7,7 @@
 #include "snvr/domain.hpp"
 #include "snvr/error.hpp"
 #include "snvr/field.hpp"
+#include "snvr/formats.hpp"
 #include "snvr/geometry.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/mesh_io.hpp"

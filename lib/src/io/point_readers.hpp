@@ -1,5 +1,5 @@
 // The point readers: read_float_points and the format parsers behind it (and behind
-// read_points and read_input). Each parser gets the file's bytes and its path (for
+// read_points and read_input), which the format table (formats.hpp) holds per format. Each parser gets the file's bytes and its path (for
 // messages) and throws InputError naming the place of a problem, or the first point
 // floats cannot hold (non-finite, or beyond float range from the origin).
 #pragma once
@@ -47,9 +47,20 @@ struct ParseOptions {
 // and unmapped before this returns: the points alone remain.
 FloatPoints read_float_points(const std::string& path, const ParseOptions& options = {});
 
-// The file's points (its bytes already read and inflated), by its extension, checked
+// The file's points (its bytes already read and inflated), by its format, checked
 // (not empty, all held): read_float_points without the reading.
 FloatPoints parse_points(std::string_view data, const std::string& path, const ParseOptions& options = {});
+
+// What an input file holds, by its format (formats.hpp): a mesh where the format reads
+// meshes and the file holds faces (STL always), else its points as read_float_points
+// reads them. Throws as read_float_points or read_mesh; the file is released before
+// this returns.
+struct PointsOrMesh {
+    bool is_mesh = false;
+    FloatPoints points;  // when not a mesh
+    Mesh mesh;           // when one
+};
+PointsOrMesh read_points_or_mesh(const std::string& path);
 
 // World coordinates in doubles: origin + xyz.
 PointSet world_points(const FloatPoints& points);

@@ -15,16 +15,19 @@
 #include <utility>
 #include <vector>
 
+#include "io/formats.hpp"
 #include "io/io_common.hpp"
 #include "io/mesh_readers.hpp"
+#include "io/ply_header.hpp"
 #include "io/read_whole_file.hpp"
+#include "io/text_scan.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
-#include "io/text_scan.hpp"
 
 namespace snvr {
 namespace {
 
+namespace ply = detail::ply;
 using detail::in_quotes;
 using detail::next_token;
 using detail::parse_number;
@@ -145,7 +148,9 @@ Mesh read_ascii_stl(std::string_view data, const std::string& path) {
     return mesh;
 }
 
-Mesh read_stl(std::string_view data, const std::string& path) {
+}  // namespace
+
+Mesh detail::read_stl_mesh(std::string_view data, const std::string& path) {
     if (data.size() >= 84) {
         const auto n = detail::load_bytes<std::uint32_t>(data.data() + 80, !detail::host_is_little_endian());
         const std::uint64_t expected = 84 + 50 * std::uint64_t(n);
@@ -168,47 +173,15 @@ Mesh read_stl(std::string_view data, const std::string& path) {
     return read_ascii_stl(data, path);
 }
 
+namespace {
+
 // ---- PLY
-
-enum class Type { I8, U8, I16, U16, I32, U32, F32, F64 };
-
-bool type_of(std::string_view name, Type& t) {
-    static const std::pair<const char*, Type> names[] = {
-        {"char", Type::I8},   {"int8", Type::I8},   {"uchar", Type::U8},   {"uint8", Type::U8},
-        {"short", Type::I16}, {"int16", Type::I16}, {"ushort", Type::U16}, {"uint16", Type::U16},
-        {"int", Type::I32},   {"int32", Type::I32}, {"uint", Type::U32},   {"uint32", Type::U32},
-        {"float", Type::F32}, {"float32", Type::F32}, {"double", Type::F64}, {"float64", Type::F64}};
-    for (const auto& [n, type] : names)
-        if (name == n) {
-            t = type;
-            return true;
-        }
-    return false;
-}
-
-struct Property {
-    std::string name;
-    Type type = Type::F32;
-    bool list = false;
-    Type count_type = Type::U8;
-};
-
-struct Element {
-    std::string name;
-    std::uint64_t count = 0;
-    std::vector<Property> properties;
-};
-
-std::size_t type_size(Type type) {
-    static const std::size_t sizes[] = {1, 1, 2, 2, 4, 4, 4, 8};
-    return sizes[int(type)];
-}
 
 // The fewest bytes a record of e can take: its binary words (a list's count alone), or
 // in text a character and a separator per value.
-std::uint64_t least_record_bytes(const Element& e, bool ascii) {
+std::uint64_t least_record_bytes(const ply::Element& e, bool ascii) {
     std::uint64_t bytes = 0;
-    for (const Property& p : e.properties) bytes += ascii ? 2 : type_size(p.list ? p.count_type : p.type);
+    for (const ply::Property& p : e.properties) bytes += ascii ? 2 : ply::scalar_size(p.is_list ? p.count_type : p.type);
     return std::max<std::uint64_t>(bytes, 1);
 }
 
@@ -218,21 +191,11 @@ public:
     ValueReader(std::string_view body, bool ascii, bool swap) : rest_(body), ascii_(ascii), swap_(swap) {}
 
     // False at the end of the data (or, for text, on a token that is no number).
-    bool read(Type type, double& out) {
+    bool read(ply::Scalar type, double& out) {
         if (ascii_) return parse_number(next_token(rest_), out);
-        const std::size_t size = type_size(type);
+        const std::size_t size = ply::scalar_size(type);
         if (rest_.size() < size) return false;
-        const char* p = rest_.data();
-        switch (type) {
-            case Type::I8: out = detail::load_bytes<std::int8_t>(p, false); break;
-            case Type::U8: out = detail::load_bytes<std::uint8_t>(p, false); break;
-            case Type::I16: out = detail::load_bytes<std::int16_t>(p, swap_); break;
-            case Type::U16: out = detail::load_bytes<std::uint16_t>(p, swap_); break;
-            case Type::I32: out = detail::load_bytes<std::int32_t>(p, swap_); break;
-            case Type::U32: out = detail::load_bytes<std::uint32_t>(p, swap_); break;
-            case Type::F32: out = detail::load_bytes<float>(p, swap_); break;
-            case Type::F64: out = detail::load_bytes<double>(p, swap_); break;
-        }
+        out = ply::load_scalar(type, rest_.data(), swap_);
         rest_.remove_prefix(size);
         return true;
     }
@@ -242,137 +205,120 @@ private:
     bool ascii_, swap_;
 };
 
-Mesh read_ply(std::string_view data, const std::string& path) {
-    detail::LineScanner lines(data);
-    std::string_view line;
-    const auto header_error = [&](const std::string& what) {
-        return InputError(path + ": header line " + std::to_string(lines.line_number()) + ": " + what);
-    };
-    if (!lines.next(line) || line != "ply") throw InputError(path + ": not a PLY file (no 'ply' on the first line)");
-    std::vector<Element> elements;
-    bool ascii = false, swap = false, have_format = false, ended = false;
-    while (!ended && lines.next(line)) {
-        std::string_view rest = line;
-        const std::string_view word = next_token(rest);
-        if (word == "format") {
-            const std::string_view kind = next_token(rest);
-            if (kind == "ascii") ascii = true;
-            else if (kind == "binary_little_endian") swap = !detail::host_is_little_endian();
-            else if (kind == "binary_big_endian") swap = detail::host_is_little_endian();
-            else throw header_error("unknown format " + in_quotes(kind));
-            have_format = true;
-        } else if (word == "element") {
-            Element e;
-            e.name = std::string(next_token(rest));
-            if (e.name.empty() || !detail::parse_count(next_token(rest), e.count))
-                throw header_error("expected 'element NAME COUNT'");
-            elements.push_back(e);
-        } else if (word == "property") {
-            if (elements.empty()) throw header_error("property before any element");
-            Property p;
-            std::string_view type = next_token(rest);
-            if (type == "list") {
-                p.list = true;
-                if (!type_of(next_token(rest), p.count_type) || !type_of(next_token(rest), p.type))
-                    throw header_error("expected 'property list COUNT_TYPE TYPE NAME'");
-            } else if (!type_of(type, p.type)) {
-                throw header_error("unknown property type " + in_quotes(type));
-            }
-            p.name = std::string(next_token(rest));
-            if (p.name.empty()) throw header_error("property without a name");
-            elements.back().properties.push_back(p);
-        } else if (word == "end_header") {
-            ended = true;
-        } else if (word != "comment" && word != "obj_info" && !word.empty()) {
-            throw header_error("unexpected " + in_quotes(word));
-        }
-    }
-    if (!ended) throw InputError(path + ": PLY header has no 'end_header' line");
-    if (!have_format) throw InputError(path + ": PLY header has no 'format' line");
+// A PLY mesh, its elements read in file order: the vertices' x, y, z and the faces'
+// index lists, every other value skipped.
+class PlyMeshReader {
+public:
+    PlyMeshReader(std::string_view data, const std::string& path)
+        : header_(ply::parse_header(data, path)),
+          ascii_(header_.encoding == ply::Encoding::Ascii),
+          body_(data.substr(header_.data_offset)),
+          values_(body_, ascii_, !ascii_ && (header_.encoding == ply::Encoding::BinaryLittle) != detail::host_is_little_endian()),
+          path_(path) {}
 
-    Mesh mesh;
-    const std::string_view body = data.substr(lines.offset());
-    ValueReader values(body, ascii, swap);
-    bool have_vertices = false, have_faces = false;
-    for (const Element& e : elements) {
-        // A count the file cannot hold is refused before anything is reserved for it.
-        const std::uint64_t room = (body.size() + (ascii ? 1 : 0)) / least_record_bytes(e, ascii);  // text may end unterminated
-        if (e.count > room)
-            throw InputError(path + ": the header's element '" + e.name + "' claims " + std::to_string(e.count) +
-                             " records, but the " + std::to_string(body.size()) +
-                             " bytes after the header hold at most " + std::to_string(room));
-        const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-        std::array<int, 3> xyz{-1, -1, -1};
-        int indices = -1;
-        for (std::size_t k = 0; k < e.properties.size(); ++k) {
-            const Property& p = e.properties[k];
-            if (is_vertex && !p.list && p.name.size() == 1 && p.name[0] >= 'x' && p.name[0] <= 'z')
-                xyz[p.name[0] - 'x'] = int(k);
-            if (is_face && p.list && (p.name == "vertex_indices" || p.name == "vertex_index")) indices = int(k);
+    Mesh read() {
+        for (const ply::Element& e : header_.elements) {
+            require_room(e);
+            const ply::Property* indices = start(e);
+            const bool is_vertex = &e == &header_.elements[header_.vertex];
+            for (std::uint64_t i = 0; i < e.count; ++i) read_record(e, is_vertex, indices, i);
         }
-        if (is_vertex) {
-            if (std::min({xyz[0], xyz[1], xyz[2]}) < 0) throw InputError(path + ": vertex element lacks x, y or z");
-            if (e.count >= kNone) throw InputError(path + ": too many vertices (" + std::to_string(e.count) + ")");
-            mesh.vertices.reserve(e.count);
-            have_vertices = true;
-        }
-        if (is_face) {
-            if (indices < 0) throw InputError(path + ": face element has no 'vertex_indices' list");
-            if (!have_vertices) throw InputError(path + ": face element before the vertex element");
-            mesh.triangles.reserve(e.count);
-            have_faces = true;
-        }
-        const auto ends = [&](std::uint64_t i) {
-            return InputError(path + ": " + detail::ends_early(e.count, i, e.name + " records") +
-                              (ascii ? " or has a malformed value" : ""));
-        };
-        std::vector<std::uint32_t> polygon;
-        for (std::uint64_t i = 0; i < e.count; ++i) {
-            Vec3 p{0, 0, 0};
-            for (std::size_t k = 0; k < e.properties.size(); ++k) {
-                const Property& prop = e.properties[k];
-                double value;
-                if (!prop.list) {
-                    if (!values.read(prop.type, value)) throw ends(i);
-                    for (int d = 0; d < 3; ++d)
-                        if (int(k) == xyz[d]) p[d] = value;
-                    continue;
-                }
-                double n;
-                if (!values.read(prop.count_type, n)) throw ends(i);
-                if (!(n >= 0) || n != std::floor(n))
-                    throw InputError(path + ": " + e.name + " " + std::to_string(i) + ": bad list length");
-                polygon.clear();
-                for (std::uint64_t j = 0; j < std::uint64_t(n); ++j) {
-                    if (!values.read(prop.type, value)) throw ends(i);
-                    if (int(k) != indices) continue;
-                    if (!(value >= 0 && value < double(mesh.vertices.size())) || value != std::floor(value))
-                        throw InputError(path + ": face " + std::to_string(i) + ": vertex index " +
-                                         detail::format_number(value) + " out of range (" +
-                                         std::to_string(mesh.vertices.size()) + " vertices)");
-                    polygon.push_back(std::uint32_t(value));
-                }
-                if (int(k) != indices) continue;
-                if (polygon.size() < 3)
-                    throw InputError(path + ": face " + std::to_string(i) + " has " + std::to_string(polygon.size()) +
-                                     " vertices, needs 3");
-                for (std::size_t j = 1; j + 1 < polygon.size(); ++j)
-                    mesh.triangles.push_back({polygon[0], polygon[j], polygon[j + 1]});
-            }
-            if (is_vertex) {
-                if (!finite(p)) throw InputError(path + ": vertex " + std::to_string(i) + ": non-finite coordinate");
-                mesh.vertices.push_back(p);
-            }
-        }
+        if (!have_vertices_ || !have_faces_) throw InputError(path_ + ": PLY needs a 'vertex' and a 'face' element");
+        require_triangles(mesh_, path_);
+        return std::move(mesh_);
     }
-    if (!have_vertices || !have_faces) throw InputError(path + ": PLY needs a 'vertex' and a 'face' element");
-    require_triangles(mesh, path);
-    return mesh;
+
+private:
+    // A count the file cannot hold is refused before anything is reserved for it.
+    void require_room(const ply::Element& e) const {
+        const std::uint64_t room = (body_.size() + (ascii_ ? 1 : 0)) / least_record_bytes(e, ascii_);  // text may end unterminated
+        if (e.count > room)
+            throw InputError(path_ + ": the header's element '" + e.name + "' claims " + std::to_string(e.count) +
+                             " records, but the " + std::to_string(body_.size()) +
+                             " bytes after the header hold at most " + std::to_string(room));
+    }
+
+    // Checks and reserves for the vertex or face element; the face's index list, if it is that.
+    const ply::Property* start(const ply::Element& e) {
+        if (e.name == "vertex") {
+            if (e.count >= kNone) throw InputError(path_ + ": too many vertices (" + std::to_string(e.count) + ")");
+            mesh_.vertices.reserve(e.count);
+            have_vertices_ = true;
+        }
+        if (e.name != "face") return nullptr;
+        const ply::Property* indices = ply::face_indices(e);
+        if (!indices) throw InputError(path_ + ": face element has no 'vertex_indices' list");
+        if (!have_vertices_) throw InputError(path_ + ": face element before the vertex element");
+        mesh_.triangles.reserve(e.count);
+        have_faces_ = true;
+        return indices;
+    }
+
+    InputError ends(const ply::Element& e, std::uint64_t i) const {
+        return InputError(path_ + ": " + detail::ends_early(e.count, i, e.name + " records") +
+                          (ascii_ ? " or has a malformed value" : ""));
+    }
+
+    void read_record(const ply::Element& e, bool is_vertex, const ply::Property* indices, std::uint64_t i) {
+        Vec3 p{0, 0, 0};
+        for (const ply::Property& prop : e.properties) {
+            double value;
+            if (prop.is_list) {
+                read_list(e, prop, &prop == indices, i);
+                continue;
+            }
+            if (!values_.read(prop.type, value)) throw ends(e, i);
+            if (is_vertex && prop.axis >= 0) p[std::size_t(prop.axis)] = value;
+        }
+        if (!is_vertex) return;
+        if (!finite(p)) throw InputError(path_ + ": vertex " + std::to_string(i) + ": non-finite coordinate");
+        mesh_.vertices.push_back(p);
+    }
+
+    // A list's values; a face's index list becomes a fan of triangles.
+    void read_list(const ply::Element& e, const ply::Property& prop, bool is_indices, std::uint64_t i) {
+        double n, value;
+        if (!values_.read(prop.count_type, n)) throw ends(e, i);
+        if (!(n >= 0) || n != std::floor(n))
+            throw InputError(path_ + ": " + e.name + " " + std::to_string(i) + ": bad list length");
+        polygon_.clear();
+        for (std::uint64_t j = 0; j < std::uint64_t(n); ++j) {
+            if (!values_.read(prop.type, value)) throw ends(e, i);
+            if (!is_indices) continue;
+            if (!(value >= 0 && value < double(mesh_.vertices.size())) || value != std::floor(value))
+                throw InputError(path_ + ": face " + std::to_string(i) + ": vertex index " + detail::format_number(value) +
+                                 " out of range (" + std::to_string(mesh_.vertices.size()) + " vertices)");
+            polygon_.push_back(std::uint32_t(value));
+        }
+        if (!is_indices) return;
+        if (polygon_.size() < 3)
+            throw InputError(path_ + ": face " + std::to_string(i) + " has " + std::to_string(polygon_.size()) +
+                             " vertices, needs 3");
+        for (std::size_t j = 1; j + 1 < polygon_.size(); ++j)
+            mesh_.triangles.push_back({polygon_[0], polygon_[j], polygon_[j + 1]});
+    }
+
+    const ply::Header header_;
+    const bool ascii_;
+    const std::string_view body_;
+    ValueReader values_;
+    const std::string& path_;
+    Mesh mesh_;
+    std::vector<std::uint32_t> polygon_;
+    bool have_vertices_ = false, have_faces_ = false;
+};
+
+}  // namespace
+
+Mesh detail::read_ply_mesh(std::string_view data, const std::string& path) { return PlyMeshReader(data, path).read(); }
+
+bool detail::ply_has_faces(std::string_view data, const std::string& path) {
+    return ply::has_faces(ply::parse_header(data, path));
 }
 
 // ---- OBJ
 
-Mesh read_obj(std::string_view data, const std::string& path) {
+Mesh detail::read_obj_mesh(std::string_view data, const std::string& path) {
     Mesh mesh;
     detail::LineScanner lines(data);
     std::string_view line;
@@ -417,7 +363,7 @@ Mesh read_obj(std::string_view data, const std::string& path) {
 // ---- OFF
 
 // "OFF" (or COFF, NOFF, ...), the counts, the vertices, then "k i1 .. ik" per face.
-Mesh read_off(std::string_view data, const std::string& path) {
+Mesh detail::read_off_mesh(std::string_view data, const std::string& path) {
     detail::LineScanner lines(data);
     std::string_view line;
     const auto fail = [&](const std::string& what) {
@@ -469,59 +415,32 @@ Mesh read_off(std::string_view data, const std::string& path) {
     return mesh;
 }
 
-}  // namespace
-
-Mesh detail::parse_mesh(std::string_view data, const std::string& path) {
-    const std::string ext = detail::lower_extension(detail::format_name(path));
-    if (ext == ".stl") return read_stl(data, path);
-    if (ext == ".ply") return read_ply(data, path);
-    if (ext == ".obj") return read_obj(data, path);
-    if (ext == ".off") return read_off(data, path);
-    throw InputError(path + ": unsupported mesh file extension '" + ext + "' (supported: .stl, .ply, .obj, .off)");
-}
-
-bool detail::has_faces(std::string_view data, const std::string& path) {
-    const std::string ext = detail::lower_extension(detail::format_name(path));
-    if (ext == ".stl") return true;
+bool detail::obj_has_faces(std::string_view data, const std::string&) {  // any "f" line
     detail::LineScanner lines(data);
     std::string_view line;
-    if (ext == ".ply") {  // an "element face N", N > 0, with a vertex index list, in the header
-        bool in_faces = false;
-        while (lines.next(line)) {
-            std::string_view rest = line;
-            const std::string_view key = next_token(rest);
-            if (key == "end_header") return false;
-            std::uint64_t n = 0;
-            if (key == "element")
-                in_faces = next_token(rest) == "face" && detail::parse_count(next_token(rest), n) && n > 0;
-            if (in_faces && key == "property" && next_token(rest) == "list") {
-                next_token(rest);
-                next_token(rest);
-                const std::string_view name = next_token(rest);
-                if (name == "vertex_indices" || name == "vertex_index") return true;
-            }
-        }
-        return false;
-    }
-    if (ext == ".obj") {  // any "f" line
-        while (lines.next(line)) {
-            std::string_view rest = line;
-            if (next_token(rest) == "f") return true;
-        }
-        return false;
-    }
-    if (ext == ".off") {  // a face count above 0 after the header
-        std::string_view tokens[4];
-        std::size_t n = 0;
-        while (n < 3 && lines.next(line)) {
-            std::string_view rest = detail::strip_comment(line);
-            for (std::string_view t = next_token(rest); !t.empty() && n < 4; t = next_token(rest)) tokens[n++] = t;
-        }
-        // A count that is not one (-1, garbage) goes to the mesh reader, which names it.
-        std::uint64_t faces = 0;
-        return n >= 3 && (!detail::parse_count(tokens[2], faces) || faces > 0);
+    while (lines.next(line)) {
+        std::string_view rest = line;
+        if (next_token(rest) == "f") return true;
     }
     return false;
+}
+
+bool detail::off_has_faces(std::string_view data, const std::string&) {  // a face count above 0 after the header
+    detail::LineScanner lines(data);
+    std::string_view line;
+    std::string_view tokens[4];
+    std::size_t n = 0;
+    while (n < 3 && lines.next(line)) {
+        std::string_view rest = detail::strip_comment(line);
+        for (std::string_view t = next_token(rest); !t.empty() && n < 4; t = next_token(rest)) tokens[n++] = t;
+    }
+    // A count that is not one (-1, garbage) goes to the mesh reader, which names it.
+    std::uint64_t faces = 0;
+    return n >= 3 && (!detail::parse_count(tokens[2], faces) || faces > 0);
+}
+
+Mesh detail::parse_mesh(std::string_view data, const std::string& path) {
+    return format_for(path, FormatUse::ReadMesh).read.mesh(data, path);
 }
 
 Mesh read_mesh(const std::string& path) {

@@ -1,9 +1,11 @@
-// read_float_points and read_points: pick the parser from the file extension, map the
-// file (parsers work on memory, not streams), and reject sets no later stage could use.
+// read_float_points, read_points and read_points_or_mesh: pick the parser by the format
+// table, map the file (parsers work on memory, not streams), and reject sets no later
+// stage could use.
 #include <cstddef>
 #include <string>
 #include <utility>
 
+#include "io/formats.hpp"
 #include "io/io_common.hpp"
 #include "io/point_readers.hpp"
 #include "io/read_whole_file.hpp"
@@ -14,22 +16,6 @@
 namespace snvr {
 namespace {
 
-using Parser = detail::FloatPoints (*)(std::string_view, const std::string&, const detail::ParseOptions&);
-
-Parser parser_for(const std::string& path) {
-    const std::string ext = detail::lower_extension(detail::format_name(path));  // "a.xyz.gz": ".xyz"
-    if (ext == ".ply") return detail::parse_ply;
-    if (ext == ".xyz" || ext == ".pts" || ext == ".txt" || ext == ".csv") return detail::parse_xyz;
-    if (ext == ".obj") return detail::parse_obj;
-    if (ext == ".off") return detail::parse_off;
-    if (ext == ".las") return detail::parse_las;
-    if (ext == ".laz")
-        throw InputError(path + ": LAZ (compressed LAS) is not read; decompress it first, e.g. laszip -i " + path +
-                         " -o points.las");
-    throw InputError(path + ": unsupported point file extension '" + ext +
-                     "' (supported: .ply, .xyz, .pts, .txt, .csv, .obj, .off, .las, each also gzipped as .gz)");
-}
-
 // A UTF-8 byte-order mark, as some Windows tools write before text.
 std::string_view without_bom(std::string_view data) {
     return data.substr(0, 3) == "\xEF\xBB\xBF" ? data.substr(3) : data;
@@ -38,16 +24,34 @@ std::string_view without_bom(std::string_view data) {
 }  // namespace
 
 detail::FloatPoints detail::parse_points(std::string_view data, const std::string& path, const ParseOptions& options) {
-    FloatPoints points = parser_for(path)(without_bom(data), path, options);
+    FloatPoints points = format_for(path, FormatUse::ReadPoints).read.points(without_bom(data), path, options);
     if (points.xyz.empty()) throw InputError(path + ": no points (the point cloud is empty)");
     return points;
 }
 
 detail::FloatPoints detail::read_float_points(const std::string& path, const ParseOptions& options) {
-    require_regular_file(path);  // before the extension: "'dir' is a directory"
-    parser_for(path);            // an unknown extension fails before any read
+    require_regular_file(path);               // before the extension: "'dir' is a directory"
+    format_for(path, FormatUse::ReadPoints);  // an unknown extension fails before any read
     const InputBytes bytes(path);
     return parse_points(bytes.view(), path, options);  // unmapped on the way out
+}
+
+detail::PointsOrMesh detail::read_points_or_mesh(const std::string& path) {
+    require_regular_file(path);
+    const Format* format = read_format(path);
+    PointsOrMesh content;
+    if (!format || !format->read.mesh) {
+        content.points = read_float_points(path);
+        return content;
+    }
+    const InputBytes bytes(path);
+    const std::string_view data = bytes.view();
+    content.is_mesh = format->read.faces && format->read.faces(without_bom(data), path);
+    if (content.is_mesh)
+        content.mesh = format->read.mesh(data, path);
+    else
+        content.points = parse_points(data, path);
+    return content;  // unmapped on the way out
 }
 
 PointSet detail::world_points(const FloatPoints& points) {

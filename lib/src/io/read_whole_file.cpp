@@ -12,6 +12,7 @@
 #include <exception>
 #include <string>
 
+#include "io/formats.hpp"
 #include "io/gunzip.hpp"
 #include "io/io_common.hpp"
 #include "snvr/error.hpp"
@@ -96,31 +97,10 @@ std::string format_name(const std::string& path) {
     return lower_extension(path) == ".gz" ? path.substr(0, path.size() - 3) : path;
 }
 
-namespace {
-
-// Whether the first inflated bytes can start a file of the format its name gives: a
-// PLY header, a LAS signature, or, for text formats, no NUL byte. Binary STL (any 80
-// bytes, then a count) is taken as it comes.
-void require_plausible_start(std::string_view first, const std::string& path) {
-    const std::string ext = lower_extension(format_name(path));
-    const auto refuse = [&](const std::string& what) {
-        throw InputError(path + ": the inflated data does not start as " + what + " does");
-    };
-    if (ext == ".ply") {
-        if (first.substr(0, 3) != "ply") refuse("a PLY file ('ply')");
-    } else if (ext == ".las") {
-        if (first.substr(0, 4) != "LASF") refuse("a LAS file ('LASF')");
-    } else if (ext != ".stl") {
-        if (first.find('\0') != std::string_view::npos) refuse("text (it holds NUL bytes)");
-    }
-}
-
-}  // namespace
-
 std::string read_input_bytes(const std::string& path) {
     std::string data = read_whole_file(path);
     if (lower_extension(path) != ".gz") return data;
-    return gunzip(data, path, [&path](std::string_view first) { require_plausible_start(first, path); });
+    return gunzip(data, path, [&path](std::string_view first) { require_signature(first, path); });
 }
 
 InputBytes::InputBytes(const std::string& path) {

@@ -9,7 +9,7 @@
 #include <Model/COM/NMR_DLLInterfaces.h>
 
 #include "io/atomic_file.hpp"
-#include "io/mesh_writers.hpp"
+#include "io/writers.hpp"
 #include "snvr/error.hpp"
 
 namespace snvr::detail {

@@ -6,15 +6,15 @@
 #include <vector>
 
 #include "io/atomic_file.hpp"
-#include "io/staged_writes.hpp"
+#include "io/formats.hpp"
 #include "io/io_common.hpp"
+#include "io/staged_writes.hpp"
+#include "io/writers.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
 
 namespace snvr {
 namespace {
-
-using Writer = void (*)(const Field&, const Domain&, AtomicFile&);
 
 void validate_field(const Field& field, const Domain& domain, const std::string& path) {
     auto dims = [](int x, int y, int z) {
@@ -58,7 +58,9 @@ void write_samples(const Field& field, AtomicFile& out) {
         write_le_samples(field, field.stored_f32(), out);
 }
 
-void write_vti(const Field& field, const Domain& domain, AtomicFile& out) {
+}  // namespace
+
+void detail::write_vti(const Field& field, const Domain& domain, AtomicFile& out) {
     const Vec3 origin = domain.cell_center(0, 0, 0);
     const std::string extent = "0 " + std::to_string(field.nx - 1) + " 0 " + std::to_string(field.ny - 1) + " 0 " +
                                std::to_string(field.nz - 1);
@@ -83,7 +85,7 @@ void write_vti(const Field& field, const Domain& domain, AtomicFile& out) {
     out.write("\n  </AppendedData>\n</VTKFile>\n");
 }
 
-void write_nrrd(const Field& field, const Domain& domain, AtomicFile& out) {
+void detail::write_nrrd(const Field& field, const Domain& domain, AtomicFile& out) {
     // NRRD's space origin is the centre of the first sample, as here.
     const Vec3 origin = domain.cell_center(0, 0, 0);
     const double h = domain.h;
@@ -96,17 +98,8 @@ void write_nrrd(const Field& field, const Domain& domain, AtomicFile& out) {
     write_samples(field, out);
 }
 
-Writer writer_for(const std::string& path) {
-    const std::string ext = detail::lower_extension(path);
-    if (ext == ".vti") return write_vti;
-    if (ext == ".nrrd") return write_nrrd;
-    throw InputError(path + ": unsupported field file extension '" + ext + "' (supported: .vti, .nrrd)");
-}
-
-}  // namespace
-
 std::unique_ptr<AtomicFile> detail::stage_field(const Field& field, const Domain& domain, const std::string& path) {
-    const Writer write = writer_for(path);
+    const detail::FieldWriter write = detail::format_for(path, FormatUse::WriteField).write.field;
     validate_field(field, domain, path);
     auto out = std::make_unique<AtomicFile>(path);
     write(field, domain, *out);

@@ -7,16 +7,15 @@
 #include <string>
 
 #include "io/atomic_file.hpp"
-#include "io/mesh_writers.hpp"
-#include "io/staged_writes.hpp"
+#include "io/formats.hpp"
 #include "io/io_common.hpp"
+#include "io/staged_writes.hpp"
+#include "io/writers.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
 
 namespace snvr {
 namespace {
-
-using Writer = void (*)(const Mesh&, AtomicFile&);
 
 void validate_mesh(const Mesh& mesh, const std::string& path) {
     if (mesh.triangles.empty()) throw InputError(path + ": mesh has no triangles");
@@ -45,7 +44,9 @@ void store_vec3_f32(const Vec3& v, char* p) {
     for (std::size_t i = 0; i < 3; ++i) detail::store_le(float(v[i]), p + 4 * i);
 }
 
-void write_stl(const Mesh& mesh, AtomicFile& out) {
+}  // namespace
+
+void detail::write_stl(const Mesh& mesh, AtomicFile& out) {
     // The header must not begin with "solid", or readers take the file for ASCII STL.
     char header[80] = {};
     const std::string label = "binary STL written by libsnvr";
@@ -65,7 +66,7 @@ void write_stl(const Mesh& mesh, AtomicFile& out) {
     }
 }
 
-void write_ply(const Mesh& mesh, AtomicFile& out) {
+void detail::write_ply(const Mesh& mesh, AtomicFile& out) {
     if (mesh.vertices.size() > std::size_t(std::numeric_limits<std::int32_t>::max()))
         throw InputError(out.target() + ": too many vertices for PLY 'int' vertex indices");
     out.write("ply\nformat binary_little_endian 1.0\ncomment written by libsnvr\nelement vertex " +
@@ -84,7 +85,7 @@ void write_ply(const Mesh& mesh, AtomicFile& out) {
     }
 }
 
-void write_obj(const Mesh& mesh, AtomicFile& out) {
+void detail::write_obj(const Mesh& mesh, AtomicFile& out) {
     out.write("# written by libsnvr\n");
     std::string line;  // reused so that each line costs no allocation
     for (const Vec3& v : mesh.vertices) {
@@ -104,19 +105,8 @@ void write_obj(const Mesh& mesh, AtomicFile& out) {
     }
 }
 
-Writer writer_for(const std::string& path) {
-    const std::string ext = detail::lower_extension(path);
-    if (ext == ".stl") return write_stl;
-    if (ext == ".ply") return write_ply;
-    if (ext == ".obj") return write_obj;
-    if (ext == ".3mf") return detail::write_3mf;
-    throw InputError(path + ": unsupported mesh file extension '" + ext + "' (supported: .stl, .ply, .obj, .3mf)");
-}
-
-}  // namespace
-
 std::unique_ptr<AtomicFile> detail::stage_mesh(const Mesh& mesh, const std::string& path) {
-    const Writer write = writer_for(path);
+    const detail::MeshWriter write = detail::format_for(path, FormatUse::WriteMesh).write.mesh;
     validate_mesh(mesh, path);
     auto out = std::make_unique<AtomicFile>(path);
     write(mesh, *out);

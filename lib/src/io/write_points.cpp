@@ -4,45 +4,47 @@
 #include <string>
 
 #include "io/atomic_file.hpp"
-#include "io/staged_writes.hpp"
+#include "io/formats.hpp"
 #include "io/io_common.hpp"
+#include "io/staged_writes.hpp"
+#include "io/writers.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
 #include "snvr/point_io.hpp"
 
 namespace snvr {
 
+void detail::write_ply_points(const PointSet& points, const std::string& comment, AtomicFile& out) {
+    out.write("ply\nformat binary_little_endian 1.0\n" + (comment.empty() ? "" : "comment " + comment + "\n") +
+              "element vertex " + std::to_string(points.size()) +
+              "\nproperty float x\nproperty float y\nproperty float z\nend_header\n");
+    char record[12];
+    for (const Vec3& p : points) {
+        for (std::size_t a = 0; a < 3; ++a) detail::store_le(float(p[a]), record + 4 * a);
+        out.write(record, sizeof record);
+    }
+}
+
+void detail::write_text_points(const PointSet& points, const std::string&, AtomicFile& out) {  // text has no comment
+    std::string line;
+    for (const Vec3& p : points) {
+        line.clear();
+        for (std::size_t a = 0; a < 3; ++a) {
+            if (a) line += ' ';
+            detail::append_number(line, p[a]);
+        }
+        line += '\n';
+        out.write(line);
+    }
+}
+
 std::unique_ptr<AtomicFile> detail::stage_points(const PointSet& points, const std::string& path,
                                                  const std::string& comment) {
-    const std::string ext = detail::lower_extension(path);
-    const bool ply = ext == ".ply";
-    if (!ply && ext != ".xyz" && ext != ".pts" && ext != ".txt")
-        throw InputError(path + ": unsupported point file extension '" + ext + "' (supported: .ply, .xyz, .pts, .txt)");
+    const PointsWriter write = format_for(path, FormatUse::WritePoints).write.points;
     if (comment.find('\n') != std::string::npos) throw InputError(path + ": the comment must be one line");
     auto file = std::make_unique<AtomicFile>(path);
-    AtomicFile& out = *file;
-    if (ply) {
-        out.write("ply\nformat binary_little_endian 1.0\n" + (comment.empty() ? "" : "comment " + comment + "\n") +
-                  "element vertex " + std::to_string(points.size()) +
-                  "\nproperty float x\nproperty float y\nproperty float z\nend_header\n");
-        char record[12];
-        for (const Vec3& p : points) {
-            for (std::size_t a = 0; a < 3; ++a) detail::store_le(float(p[a]), record + 4 * a);
-            out.write(record, sizeof record);
-        }
-    } else {
-        std::string line;
-        for (const Vec3& p : points) {
-            line.clear();
-            for (std::size_t a = 0; a < 3; ++a) {
-                if (a) line += ' ';
-                detail::append_number(line, p[a]);
-            }
-            line += '\n';
-            out.write(line);
-        }
-    }
-    out.finish();
+    write(points, comment, *file);
+    file->finish();
     return file;
 }
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <string>
 
-#include "io/io_common.hpp"
+#include "io/formats.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
 
@@ -17,21 +17,19 @@ namespace {
 // (the fairing moves vertices by ~0.1 voxel), and no zero-area triangle comes of it.
 constexpr double kLargestMove = 0.01;
 
-// How each format holds a coordinate: STL and PLY as float32; 3MF (lib3mf 1.x) as
-// float32 printed with six decimals; OBJ with every digit.
-enum class Holds { Exactly, Float32, Float32SixDecimals };
+using detail::Stores;
 
-Holds holds(const std::string& path) {
-    const std::string ext = detail::lower_extension(path);
-    if (ext == ".stl" || ext == ".ply") return Holds::Float32;
-    if (ext == ".3mf") return Holds::Float32SixDecimals;
-    return Holds::Exactly;
+// How the format holds a coordinate (formats.cpp): STL and PLY as float32; 3MF (lib3mf
+// 1.x) as float32 printed with six decimals; OBJ with every digit.
+Stores holds(const std::string& path) {
+    const detail::Format* format = detail::format_of(path);
+    return format ? format->write.stores : Stores::Exactly;
 }
 
-double as_held(double x, Holds how) {
-    if (how == Holds::Exactly) return x;
+double as_held(double x, Stores how) {
+    if (how == Stores::Exactly) return x;
     const double f = double(float(x));
-    return how == Holds::Float32 ? f : std::round(f * 1e6) / 1e6;
+    return how == Stores::Float32 ? f : std::round(f * 1e6) / 1e6;
 }
 
 std::string short_number(double v) {
@@ -43,16 +41,16 @@ std::string short_number(double v) {
 }  // namespace
 
 Mesh as_written(Mesh mesh, const std::string& path) {
-    const Holds how = holds(path);
-    if (how != Holds::Exactly)
+    const Stores how = holds(path);
+    if (how != Stores::Exactly)
         for (Vec3& v : mesh.vertices)
             for (double& x : v) x = as_held(x, how);
     return mesh;
 }
 
 void require_written_precision(const Mesh& mesh, const std::string& path, double voxel) {
-    const Holds how = holds(path);
-    if (how == Holds::Exactly) return;
+    const Stores how = holds(path);
+    if (how == Stores::Exactly) return;
     double largest = 0, farthest = 0;
     for (const Vec3& v : mesh.vertices)
         for (double x : v) {
@@ -61,7 +59,7 @@ void require_written_precision(const Mesh& mesh, const std::string& path, double
         }
     if (largest <= kLargestMove * voxel) return;
     throw IoError("cannot write '" + path + "' faithfully: the format stores 32-bit floats" +
-                     std::string(how == Holds::Float32SixDecimals ? " with six decimals" : "") +
+                     std::string(how == Stores::Float32SixDecimals ? " with six decimals" : "") +
                      ", which at coordinates up to " +
                      short_number(farthest) + " move vertices by up to " +
                      short_number(largest / voxel) + " voxels (" + short_number(largest) +
@@ -70,10 +68,10 @@ void require_written_precision(const Mesh& mesh, const std::string& path, double
 }
 
 bool holds_faithfully(double farthest, const std::string& path, double voxel) {
-    const Holds how = holds(path);
-    if (how == Holds::Exactly) return true;
+    const Stores how = holds(path);
+    if (how == Stores::Exactly) return true;
     // float32 rounds by at most 2^-24 of the coordinate; six decimals by 5e-7 more.
-    const double move = std::ldexp(std::fabs(farthest), -24) + (how == Holds::Float32SixDecimals ? 5e-7 : 0.0);
+    const double move = std::ldexp(std::fabs(farthest), -24) + (how == Stores::Float32SixDecimals ? 5e-7 : 0.0);
     return move <= kLargestMove * voxel;
 }
 

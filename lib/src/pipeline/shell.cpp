@@ -13,7 +13,7 @@
 
 #include "snvr/error.hpp"
 #include "snvr/stopwatch.hpp"
-#include "io/io_common.hpp"
+#include "io/formats.hpp"
 
 namespace snvr {
 namespace {
@@ -37,8 +37,7 @@ std::string written_file(const std::string& written_as) {
 bool print_format_needs_centring(const std::string& written_as, const PointCloud& points, const Parameters& params,
                                  double to_mm) {
     const std::string as = written_file(written_as);
-    const std::string ext = detail::lower_extension(as);
-    if ((ext != ".stl" && ext != ".3mf") || points.empty()) return false;
+    if (!detail::is_print_format(as) || points.empty()) return false;
     const std::array<Vec3, 2> box = points.box();
     double longest = 0, farthest = 0;
     for (int a = 0; a < 3; ++a) {
