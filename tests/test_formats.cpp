@@ -13,6 +13,7 @@
 #include "snvr/formats.hpp"
 #include "snvr/mesh_io.hpp"
 #include "snvr/point_io.hpp"
+#include "snvr/shell.hpp"
 #include "temp_dir.hpp"
 #include "test_files.hpp"
 
