@@ -190,20 +190,21 @@ const char* const kExitCodes =
     "solver or device errors, an empty result); 2 usage error.\n";
 
 Command reconstruct_command(ReconstructOptions& o) {
-    snvr::Parameters& p = o.params;
+    snvr::ShellSettings& shell = o.shell;
+    snvr::Parameters& p = shell.params;
     const snvr::Parameters defaults;
     auto precision = [&p](const std::string& option, const std::string& value) {
         if (value == "double") p.precision = snvr::Precision::Double;
         else if (value == "float") p.precision = snvr::Precision::Single;
         else bad_value(option, value, "double or float");
     };
-    auto units = [&o](const std::string& option, const std::string& value) {
+    auto units = [&shell](const std::string& option, const std::string& value) {
         if (!snvr::millimetres_per_unit(value)) bad_value(option, value, "mm, cm, m or in");
-        o.units = value;
+        shell.units = value;
     };
-    auto origin = [&o](const std::string& option, const std::string& value) {
-        if (value == "center") o.centre_origin = true;
-        else if (value == "keep") o.centre_origin = false;
+    auto origin = [&shell](const std::string& option, const std::string& value) {
+        if (value == "center") shell.origin = snvr::ShellOrigin::Centre;
+        else if (value == "keep") shell.origin = snvr::ShellOrigin::Keep;
         else bad_value(option, value, "center or keep");
     };
     Command c;
@@ -232,18 +233,18 @@ Command reconstruct_command(ReconstructOptions& o) {
          "the input's length unit (default mm); every output is written\nin millimetres, the unit slicers assume (3MF says so)",
          units},
         {"--scale", "", "S", "multiply the input's coordinates by S (default 1), e.g. to\nprint a model at 1:100",
-         store(o.scale)},
+         store(shell.scale)},
         {"--outliers", "", "FILE",
          "write the points dropped as outliers (.ply or .xyz)", store(o.outliers)},
         {"--keep-outliers", "", "",
          snvr::format_text("use every point: by default points far sparser than the\nsurface, lone points standing off a flat surface, and\nclusters of under %zu points (and under 1%%) that the shell\nwould leave apart as loose beads, are dropped",
-             snvr::OutlierSettings{}.min_cluster),
-         set_flag(o.keep_outliers)},
+             shell.outliers.min_cluster),
+         [&shell](const std::string&, const std::string&) { shell.drop_outliers = false; }},
         {"--min-piece-volume", "", "V",
          "drop solid pieces (each with its cavities) of less volume,\nin the input's units cubed (default 0: keep all)",
-         store(o.pieces.min_volume)},
+         store(shell.pieces.min_volume)},
         {"--keep-largest", "", "N", "keep only the N largest solid pieces (default 0: all)",
-         store(o.pieces.keep_largest)},
+         store(shell.pieces.keep_largest)},
         {"--origin", "", "center|keep",
          "center: shift the points by their box centre, rounded\n(shown in the summary), so that far coordinates such as\nsurvey data keep their precision in float32 STL and PLY;\nkeep: coordinates as read (default: keep, but center for\nSTL and 3MF where float32 would move the shell)",
          origin},
@@ -293,11 +294,11 @@ Command reconstruct_command(ReconstructOptions& o) {
          "see 'snvr-cl devices'",
          store(p.device)},
         {"--fairing", "", "N",
-         snvr::format_text("passes of Taubin smoothing over the mesh, 0 for the raw\nisosurface (default %d)", snvr::MeshFairing{}.passes),
-         store(o.fairing.passes), "Mesh"},
+         snvr::format_text("passes of Taubin smoothing over the mesh, 0 for the raw\nisosurface (default %d)", shell.fairing.passes),
+         store(shell.fairing.passes), "Mesh"},
         {"--measure", "", "",
          "the check also measures the surface: distance to the points\nminus the offset, dihedral and normal noise (the check\ntakes about 1.4 times as long)",
-         set_flag(o.measure)},
+         set_flag(shell.measure)},
         {"--quiet", "", "", "no progress or summary (errors and warnings still show)", set_flag(o.quiet),
          "Other"},
         help_option(),
@@ -364,6 +365,12 @@ void require_extension(const std::string& what, const std::string& path, std::in
     throw UsageError(what + " '" + path + "' must end in one of " + list);
 }
 
+// A file for `use`: its extension one of a format the library's table says serves it.
+void require_format(const std::string& what, const std::string& path, snvr::FormatUse use) {
+    if (!snvr::format_serves(path, use))
+        throw UsageError(what + " '" + path + "' must end in " + snvr::format_extensions(use));
+}
+
 std::string only_positional(const std::vector<std::string>& positional, const char* what) {
     if (positional.empty()) throw UsageError(std::string("missing ") + what);
     if (positional.size() > 1) throw UsageError("unexpected argument '" + positional[1] + "'");
@@ -412,19 +419,21 @@ std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::strin
         throw UsageError("points from standard input ('-') are not supported: give the points' file (its extension "
                          "names the format)");
     if (o.output.empty()) throw UsageError("missing output: give -o FILE");
-    require_extension("output", o.output, {".stl", ".ply", ".obj", ".3mf"});
-    if (!o.volume.empty()) require_extension("--volume", o.volume, {".vti", ".nrrd"});
+    require_format("output", o.output, snvr::FormatUse::WriteMesh);
+    if (!o.volume.empty()) require_format("--volume", o.volume, snvr::FormatUse::WriteField);
     if (!o.report.empty()) require_extension("--report", o.report, {".json"});
     if (!o.preview.empty()) require_extension("--preview", o.preview, {".png"});
     if (!o.outliers.empty()) require_extension("--outliers", o.outliers, {".ply", ".xyz"});
-    if (!o.outliers.empty() && o.keep_outliers) throw UsageError("--outliers and --keep-outliers exclude each other");
-    if (!(o.scale >= snvr::ShellSettings::min_scale && o.scale <= snvr::ShellSettings::max_scale))
-        bad_value("--scale", snvr::format_text("%g", o.scale), snvr::ShellSettings::scale_range);
+    if (!o.outliers.empty() && !o.shell.drop_outliers)
+        throw UsageError("--outliers and --keep-outliers exclude each other");
+    const double scale = o.shell.scale;
+    if (!(scale >= snvr::ShellSettings::min_scale && scale <= snvr::ShellSettings::max_scale))
+        bad_value("--scale", snvr::format_text("%g", scale), snvr::ShellSettings::scale_range);
+    o.shell.written_as = o.output;
+    o.shell.keep_field = !o.volume.empty();
     // Out-of-range values are the command line's fault, so a usage error, not a failure.
     try {
-        o.pieces.validate();
-        o.params.validate();
-        o.fairing.validate();
+        o.shell.validate();
     } catch (const snvr::ParameterError& e) {
         throw UsageError(e.what());
     }

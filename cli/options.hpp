@@ -8,8 +8,7 @@
 #include <vector>
 
 #include "snvr/error.hpp"
-#include "snvr/mesh.hpp"
-#include "snvr/parameters.hpp"
+#include "snvr/shell.hpp"
 
 namespace cli {
 
@@ -25,16 +24,9 @@ int parse_int(const std::string& option, const std::string& text);
 
 struct ReconstructOptions {
     std::string input, output, volume, report, outliers, preview;  // outliers: where the dropped points go
-    bool keep_outliers = false;
-    snvr::PieceFilter pieces;  // --min-piece-volume (input units cubed), --keep-largest
-    snvr::Parameters params;
-    snvr::MeshFairing fairing;
-    // --origin center (true) or keep (false); unset: centred where a print format (STL,
-    // 3MF) could not hold the coordinates faithfully, as survey scans need.
-    std::optional<bool> centre_origin;
-    std::string units = "mm";    // the input's length unit (--units)
-    double scale = 1;            // --scale: input lengths times this
-    bool measure = false;  // the check adds the surface figures (measure_quality, not measure_shell)
+    // What the options say of the shell, as the library takes it: lengths in the input's
+    // units (--units, --scale), written_as the output, keep_field when --volume is given.
+    snvr::ShellSettings shell;
     bool quiet = false;
 };
 

@@ -84,24 +84,6 @@ void check_outputs(const ReconstructOptions& o) {
     }
 }
 
-// The library's settings from the options (lengths in the input's units).
-snvr::ShellSettings shell_settings(const ReconstructOptions& o) {
-    snvr::ShellSettings s;
-    s.params = o.params;
-    s.drop_outliers = !o.keep_outliers;
-    s.origin = !o.centre_origin ? snvr::ShellOrigin::Auto
-               : *o.centre_origin ? snvr::ShellOrigin::Centre
-                                  : snvr::ShellOrigin::Keep;
-    s.fairing = o.fairing;
-    s.pieces = o.pieces;
-    s.measure = o.measure;
-    s.written_as = o.output;
-    s.keep_field = !o.volume.empty();
-    s.units = o.units;
-    s.scale = o.scale;
-    return s;
-}
-
 // Errors about the points name the input too (a file's own errors name their file).
 [[noreturn]] void rethrow_naming_input(const std::string& input) {
     try {
@@ -129,7 +111,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
 
     Stopwatch total, stage;
     check_outputs(o);
-    const snvr::ShellSettings settings = shell_settings(o);
+    const snvr::ShellSettings& settings = o.shell;
     snvr::RunFiles files;
     files.input = o.input;
 

@@ -11,5 +11,7 @@ enum class FormatUse { ReadPoints, ReadMesh, WriteMesh, WritePoints, WriteField 
 // The extensions the readers or writers take for `use`, for help texts: ".stl, .ply,
 // .obj or .3mf" for WriteMesh. The readers also take each of theirs gzipped (".gz" added).
 std::string format_extensions(FormatUse use);
+// Whether path's extension names a format that serves `use` (".gz" after it for reading).
+bool format_serves(const std::string& path, FormatUse use);
 
 }  // namespace snvr

@@ -115,4 +115,10 @@ namespace snvr {
 
 std::string format_extensions(FormatUse use) { return detail::extension_list(use, " or "); }
 
+bool format_serves(const std::string& path, FormatUse use) {
+    const bool reading = use == FormatUse::ReadPoints || use == FormatUse::ReadMesh;
+    const detail::Format* format = reading ? detail::read_format(path) : detail::format_of(path);
+    return format && detail::serves(*format, use);
+}
+
 }  // namespace snvr

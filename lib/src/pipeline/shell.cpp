@@ -1,28 +1,22 @@
 // make_shell (shell.hpp): the job snvr-cl runs, in the order it runs it. Each stage
 // tells the progress callback first, so that a cancel stops before the next one.
-#include "snvr/mesh_io.hpp"
-#include "snvr/point_cloud.hpp"
 #include "snvr/shell.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <utility>
 
-#include "snvr/error.hpp"
-#include "snvr/stopwatch.hpp"
 #include "io/formats.hpp"
+#include "snvr/error.hpp"
+#include "snvr/mesh_io.hpp"
+#include "snvr/point_cloud.hpp"
+#include "snvr/report.hpp"
+#include "snvr/stopwatch.hpp"
 
 namespace snvr {
 namespace {
-
-std::string format(const char* pattern, double a, double b = 0, double c = 0) {
-    char text[256];
-    std::snprintf(text, sizeof text, pattern, a, b, c);
-    return text;
-}
 
 // The file name written_as stands for: a bare extension names a file of that format.
 std::string written_file(const std::string& written_as) {
@@ -79,7 +73,7 @@ void ShellSettings::validate() const {
     pieces.validate();
     if (!millimetres_per_unit(units)) throw ParameterError("unknown length unit '" + units + "': expected mm, cm, m or in");
     if (!(scale >= min_scale && scale <= max_scale))
-        throw ParameterError(std::string("the scale must be ") + scale_range + format(", got %g", scale));
+        throw ParameterError(std::string("the scale must be ") + scale_range + format_text(", got %g", scale));
 }
 
 Shell make_shell(const PointSet& points, const ShellSettings& settings, const ProgressCallback& progress) {
@@ -135,18 +129,18 @@ Shell make_shell(PointCloud points, const ShellSettings& given, const ProgressCa
     const double depth = 1 - run.tube_inner / run.offset;
     if (shell.guard.shallow_points)
         shell.warnings.push_back(std::to_string(shell.guard.shallow_points) + " points stay shallower than " +
-                                 format("%.3g", depth) + " x offset after " +
+                                 format_text("%.3g", depth) + " x offset after " +
                                  std::to_string(shell.guard.repair_rounds) + " repair rounds");
     shell.pieces = filter_pieces(shell.mesh, settings.pieces);
     if (shell.mesh.triangles.empty() && shell.pieces.dropped)
         throw Error("every solid piece of the shell (" + std::to_string(shell.pieces.dropped) +
-                    format(", %.4g in all) is smaller than the least volume kept, %g (--min-piece-volume): nothing "
+                    format_text(", %.4g in all) is smaller than the least volume kept, %g (--min-piece-volume): nothing "
                            "to write",
                            shell.pieces.dropped_volume, settings.pieces.min_volume));
     if (shell.mesh.triangles.empty())
         throw Error("the reconstructed shell is empty (no triangles on the " + std::to_string(run.domain.nx) + " x " +
                     std::to_string(run.domain.ny) + " x " + std::to_string(run.domain.nz) + " grid, " +
-                    format("offset %.6g, voxel %.6g); try a larger --offset or a finer --resolution", run.offset,
+                    format_text("offset %.6g, voxel %.6g); try a larger --offset or a finer --resolution", run.offset,
                            run.domain.h));
     if (!settings.written_as.empty()) {
         const std::string as = written_file(settings.written_as);
@@ -170,7 +164,7 @@ Shell make_shell(PointCloud points, const ShellSettings& given, const ProgressCa
     shell.size = extent(shell.mesh);
     const double across = std::max({shell.size[0], shell.size[1], shell.size[2]});
     if (across < 2)
-        shell.warnings.push_back(format("the shell is only %.3g mm across: if the points are not in millimetres, give "
+        shell.warnings.push_back(format_text("the shell is only %.3g mm across: if the points are not in millimetres, give "
                                         "--units (m, cm or in)",
                                         across));
     shell.seconds.check = stage.lap();
