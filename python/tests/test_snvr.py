@@ -214,3 +214,21 @@ def test_units_and_scale_as_the_cli(tmp_path):
         snvr.shell(str(points), resolution=32, device="openmp", units="furlong")
     with pytest.raises(ValueError, match="scale"):
         snvr.shell(str(points), resolution=32, device="openmp", scale=0)
+
+
+def test_a_file_that_changes_while_read_raises_oserror(tmp_path, monkeypatch):
+    points = tmp_path / "points.ply"
+    subprocess.run([CLI, "sample", "sphere", "-o", str(points), "--spacing", "0.03"], check=True, capture_output=True)
+    data = points.read_bytes()
+    # The library's test hook cuts the file short at a chosen byte while it is read.
+    for fault, words in ((f"shrink:{len(data) // 2}", "shrank"), ("grow:10", "grew"), ("eio:10", "Input/output")):
+        points.write_bytes(data)
+        monkeypatch.setenv("SNVR_TEST_READ_FAULT", fault)
+        with pytest.raises(OSError, match=words):
+            snvr.shell(str(points), resolution=16, device="openmp")
+        points.write_bytes(data)
+        with pytest.raises(OSError, match=words):
+            snvr.read_points(str(points))
+    monkeypatch.delenv("SNVR_TEST_READ_FAULT")
+    points.write_bytes(data)
+    assert len(snvr.read_points(str(points))) > 0

@@ -1,13 +1,16 @@
 // read_whole_file and InputBytes: one regular file into memory, for the readers that
-// parse from memory.
+// parse from memory; read, not mapped, and refused when it changes meanwhile.
 #include "io/read_whole_file.hpp"
 
 #include <fcntl.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cerrno>
+#include <cstdlib>
+#include <new>
 #include <cstring>
 #include <exception>
 #include <string>
@@ -37,32 +40,125 @@ void require_regular(const std::string& path, const struct stat& st) {
         throw IoError("cannot read '" + path + "': it is " + kind_of(st.st_mode) + ", not a regular file");
 }
 
-// A regular file open for reading, with the size it had when opened.
+// A regular file open for reading, as it was when opened.
 struct OpenFile {
     int fd = -1;
     std::size_t size = 0;
+    struct stat opened {};
 
     explicit OpenFile(const std::string& path) {
         // O_NONBLOCK: opening a named pipe must not wait for a writer; the type is then
         // taken from the open file itself, whatever the path names by now.
         fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
         if (fd < 0) throw IoError("cannot open '" + path + "': " + system_reason(errno));
-        struct stat st {};
-        if (::fstat(fd, &st) != 0) {
+        if (::fstat(fd, &opened) != 0) {
             const int err = errno;
             ::close(fd);
             throw IoError("cannot read '" + path + "': " + system_reason(err));
         }
-        if (!S_ISREG(st.st_mode)) {
+        if (!S_ISREG(opened.st_mode)) {
             ::close(fd);
-            require_regular(path, st);
+            require_regular(path, opened);
         }
-        size = std::size_t(st.st_size);
+        size = std::size_t(opened.st_size);
     }
     ~OpenFile() { ::close(fd); }
     OpenFile(const OpenFile&) = delete;
     OpenFile& operator=(const OpenFile&) = delete;
 };
+
+// A file that another process cuts short, extends or rewrites while it is read (a
+// scanner or a copy still writing it) is refused, naming the change: its size and
+// modification time after the read must be those it had when opened.
+void require_unchanged(const OpenFile& file, const std::string& path, std::size_t got) {
+    struct stat now {};
+    if (::fstat(file.fd, &now) != 0) throw IoError("cannot read '" + path + "': " + system_reason(errno));
+    const std::size_t size = std::size_t(now.st_size);
+    const bool same_time = now.st_mtim.tv_sec == file.opened.st_mtim.tv_sec &&
+                           now.st_mtim.tv_nsec == file.opened.st_mtim.tv_nsec;
+    if (size == file.size && same_time && got == file.size) return;
+    const std::string how = size < file.size   ? "it shrank from " + std::to_string(file.size) + " to " + std::to_string(size) + " bytes"
+                            : size > file.size ? "it grew from " + std::to_string(file.size) + " to " + std::to_string(size) + " bytes"
+                                               : "it was rewritten";
+    throw IoError(path + ": the file changed while it was read (" + how + "); read it once it is complete");
+}
+
+// For tests only: SNVR_TEST_READ_FAULT=shrink:K, grow:K or eio:K makes the read of the
+// byte at offset K meet what another process or a failing disk would do there: the file
+// truncated to K bytes, 4096 bytes appended to it, or the read failing with EIO. Real
+// truncation and growth, on the file itself, at a chosen place instead of a chosen time.
+struct ReadFault {
+    enum Kind { None, Shrink, Grow, Eio } kind = None;
+    std::size_t at = 0;
+    std::atomic<bool> fired{false};
+
+    ReadFault() {
+        const char* text = std::getenv("SNVR_TEST_READ_FAULT");
+        if (!text) return;
+        const std::string spec = text;
+        const std::size_t colon = spec.find(':');
+        if (colon == std::string::npos) return;
+        const std::string name = spec.substr(0, colon);
+        kind = name == "shrink" ? Shrink : name == "grow" ? Grow : name == "eio" ? Eio : None;
+        at = std::size_t(std::strtoull(spec.c_str() + colon + 1, nullptr, 10));
+    }
+    // Whether the read of [begin, end) meets the fault: it happens then (once), and true
+    // means the read itself fails with EIO.
+    bool meet(const std::string& path, std::size_t begin, std::size_t end) {
+        if (kind == None || at < begin || at >= end || fired.exchange(true)) return false;
+        if (kind == Shrink) {
+            if (::truncate(path.c_str(), off_t(at)) != 0) return false;
+        } else if (kind == Grow) {
+            const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+            if (fd >= 0) {
+                const std::string more(4096, '\n');
+                [[maybe_unused]] const ssize_t n = ::write(fd, more.data(), more.size());
+                ::close(fd);
+            }
+        }
+        return kind == Eio;
+    }
+};
+
+// Reads the file's bytes as it was opened into `to` (file.size of them), in parallel
+// parts where it is large, then refuses it if it changed meanwhile. No mapping: a file
+// cut short while mapped ends the process with SIGBUS, and a library must not.
+void read_all(const OpenFile& file, const std::string& path, char* to) {
+    constexpr std::size_t kPart = std::size_t(4) << 20;
+    const std::size_t parts = (file.size + kPart - 1) / kPart;
+    ReadFault fault;
+    std::atomic<int> failed{0};         // the first errno met
+    std::atomic<std::size_t> short_at{file.size};  // where a part found the file ending
+    const auto read_part = [&](std::size_t p) {
+        const std::size_t begin = p * kPart, end = std::min(file.size, begin + kPart);
+        if (fault.meet(path, begin, end)) {
+            int none = 0;
+            failed.compare_exchange_strong(none, EIO);
+            return;
+        }
+        for (std::size_t at = begin; at < end;) {
+            const ssize_t n = ::pread(file.fd, to + at, end - at, off_t(at));
+            if (n < 0 && errno == EINTR) continue;
+            if (n < 0) {
+                int none = 0;
+                failed.compare_exchange_strong(none, errno);
+                return;
+            }
+            if (n == 0) {  // cut short: require_unchanged names it
+                std::size_t was = short_at.load();
+                while (at < was && !short_at.compare_exchange_weak(was, at)) {
+                }
+                return;
+            }
+            at += std::size_t(n);
+        }
+    };
+    const bool parallel = parts > 4;
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
+    for (std::ptrdiff_t p = 0; p < std::ptrdiff_t(parts); ++p) read_part(std::size_t(p));
+    if (failed.load() != 0) throw IoError("cannot read '" + path + "': " + system_reason(failed.load()));
+    require_unchanged(file, path, short_at.load());
+}
 
 }  // namespace
 
@@ -81,15 +177,7 @@ std::string read_whole_file(const std::string& path) {
         throw ResourceError("cannot read '" + path + "': its " + std::to_string(file.size) +
                             " bytes do not fit in memory");
     }
-    std::size_t got = 0;
-    while (got < data.size()) {
-        const ssize_t n = ::read(file.fd, &data[got], data.size() - got);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) throw IoError("cannot read '" + path + "': " + system_reason(errno));
-        if (n == 0) break;  // shrunk since it was opened: what is there is all there is
-        got += std::size_t(n);
-    }
-    data.resize(got);
+    read_all(file, path, data.data());
     return data;
 }
 
@@ -109,26 +197,20 @@ InputBytes::InputBytes(const std::string& path) {
         view_ = owned_;
         return;
     }
-    {
-        const OpenFile file(path);
-        if (file.size == 0) return;  // nothing to map (mmap refuses a length of 0)
-        void* at = ::mmap(nullptr, file.size, PROT_READ, MAP_PRIVATE, file.fd, 0);
-        if (at != MAP_FAILED) {
-            mapped_ = at;
-            mapped_size_ = file.size;
-            ::madvise(at, file.size, MADV_WILLNEED);  // advice only: read ahead what is not cached
-            view_ = std::string_view(static_cast<const char*>(at), file.size);
-            return;
-        }
+    const OpenFile file(path);
+    if (file.size == 0) return;
+    try {
+        read_ = large_array<char>(file.size);  // left unset: the read fills it
+    } catch (const std::bad_alloc&) {
+        throw ResourceError("cannot read '" + path + "': its " + std::to_string(file.size) +
+                            " bytes do not fit in memory");
     }
-    owned_ = read_whole_file(path);  // a file system that cannot map
-    view_ = owned_;
+    read_all(file, path, read_.get());
+    view_ = std::string_view(read_.get(), file.size);
 }
 
 void InputBytes::release() {
-    if (mapped_) ::munmap(mapped_, mapped_size_);
-    mapped_ = nullptr;
-    mapped_size_ = 0;
+    read_.reset();
     std::string().swap(owned_);
     view_ = {};
 }

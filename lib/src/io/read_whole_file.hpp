@@ -1,9 +1,11 @@
-// The whole of a file as bytes: read in one read of the size the file system gives, or
-// mapped where a parser needs only to look at them.
+// The whole of a file as bytes, read (in parallel parts where it is large) at the size it
+// had when opened; a file that shrinks, grows or is rewritten meanwhile is refused.
 #pragma once
 #include <cstddef>
 #include <string>
 #include <string_view>
+
+#include "large_array.hpp"
 
 namespace snvr::detail {
 
@@ -13,8 +15,8 @@ namespace snvr::detail {
 void require_regular_file(const std::string& path);
 
 // Throws IoError naming the file and the system's reason when it cannot be opened
-// or read, or when it is not a regular file. Reads no more than the size the file
-// had when opened, so a file that grows meanwhile cannot keep it reading.
+// or read, or when it is not a regular file, and naming the change when another process
+// cut it short, extended it or rewrote it while it was read.
 std::string read_whole_file(const std::string& path);
 
 // read_whole_file, inflated when the name ends in ".gz" (see format_name).
@@ -23,11 +25,11 @@ std::string read_input_bytes(const std::string& path);
 // path without a trailing ".gz": the name whose extension picks the format.
 std::string format_name(const std::string& path);
 
-// The bytes read_input_bytes gives, without copying a plain file: it is mapped read-only
-// (read whole where it cannot be mapped); a .gz file is inflated into memory. Whichever,
-// released by release() or the destructor, so that parsed points need not share memory
-// with them. Throws as read_whole_file. (Like any mapping, a file cut short by another
-// process while mapped ends this one with SIGBUS; one that grows is read at its old size.)
+// The bytes read_input_bytes gives: a plain file read into storage left unset (no zeroing,
+// huge pages where offered), a .gz file inflated into memory. Whichever, released by
+// release() or the destructor, so that parsed points need not share memory with them.
+// Throws as read_whole_file. (Not mapped: a mapped file cut short by another process ends
+// the process with SIGBUS.)
 class InputBytes {
 public:
     explicit InputBytes(const std::string& path);
@@ -39,9 +41,8 @@ public:
     void release();
 
 private:
-    void* mapped_ = nullptr;
-    std::size_t mapped_size_ = 0;
-    std::string owned_;  // inflated, or read where mapping failed
+    LargeArray<char> read_;  // a plain file's bytes
+    std::string owned_;      // inflated
     std::string_view view_;
 };
 
