@@ -98,3 +98,30 @@ TEST_CASE("the library: a large file read in parallel parts, changed in one, thr
     t.file("many.ply", bytes);
     CHECK(snvr::read_point_cloud(path).size() == many.size());  // unchanged: read whole
 }
+
+TEST_CASE("snvr-cl under address-space limits: a run, or our error naming memory and the limit; never the runtime's") {
+    TempDir t;
+    const std::string bunny = std::string(SNVR_DATA_DIR) + "/bunny.ply";
+    if (!fs::exists(bunny)) return;  // the scans sit beside the checkout
+    // From too small for a second thread to too small for the grid, in our words every time.
+    for (const long mib : {20L, 30L, 45L, 70L, 100L})
+        for (const int resolution : {24, 96}) {
+            const std::string command = "prlimit --as=" + std::to_string(mib << 20) + " " + SNVR_CLI + " reconstruct " +
+                                        bunny + " -o " + t.out() + " --resolution " + std::to_string(resolution) +
+                                        " --device auto --quiet";
+            CAPTURE(command);
+            const Run r = run_command(command);
+            CAPTURE(r.output);
+            CHECK((r.code == 0 || r.code == 1));
+            CHECK(r.output.find("libgomp") == std::string::npos);
+            CHECK(r.output.find("error: Resource temporarily unavailable") == std::string::npos);
+            if (r.code == 1) {
+                CHECK(r.output.find("memory") != std::string::npos);
+                CHECK(r.output.find("limited to") != std::string::npos);
+                CHECK(!fs::exists(t.out()));
+            }
+            if (r.output.find("running on one thread") != std::string::npos)
+                CHECK(r.output.find("limited to") != std::string::npos);
+            fs::remove(t.out());
+        }
+}

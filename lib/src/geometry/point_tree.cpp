@@ -2,6 +2,7 @@
 // order, and the queries every stage shares.
 #include "geometry/point_tree.hpp"
 #include "parallel_sizes.hpp"
+#include "process_limits.hpp"
 #include "threads_here.hpp"
 
 #include <algorithm>
@@ -104,6 +105,7 @@ std::uint64_t PointTree::Frame::key(const Vec3f& p) const {
 }
 
 PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> order, const Vec3& at) : origin(at) {
+    settle_threads();  // every stage's first parallel region is here or after a read
     const std::size_t n = coordinates.size();
     if (n == 0) return;
     Vec3f lo, hi;

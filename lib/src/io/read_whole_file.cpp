@@ -17,6 +17,7 @@
 
 #include "io/formats.hpp"
 #include "io/gunzip.hpp"
+#include "process_limits.hpp"
 #include "io/io_common.hpp"
 #include "snvr/error.hpp"
 
@@ -153,6 +154,7 @@ void read_all(const OpenFile& file, const std::string& path, char* to) {
             at += std::size_t(n);
         }
     };
+    settle_threads();  // before the first parallel region: the OpenMP runtime cannot fail softly
     const bool parallel = parts > 4;
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
     for (std::ptrdiff_t p = 0; p < std::ptrdiff_t(parts); ++p) read_part(std::size_t(p));

@@ -3,12 +3,14 @@
 // io's read_points_or_mesh; here is only the policy for a mesh.
 #include <cmath>
 #include <limits>
+#include <new>
 #include <string>
 #include <utility>
 
 #include "geometry/vec3_math.hpp"
 #include "io/io_common.hpp"
 #include "io/point_readers.hpp"
+#include "process_limits.hpp"
 #include "snvr/error.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/shell.hpp"
@@ -35,9 +37,8 @@ void require_float_range(const Mesh& mesh, const std::string& path) {
                                  (std::isfinite(x) ? "lies beyond 32-bit float range" : "has a non-finite coordinate"));
 }
 
-}  // namespace
-
-InputPoints read_input(const std::string& path, const Parameters& params) {
+// The file's points, or its mesh sampled at half the run's voxel.
+InputPoints read_or_sample(const std::string& path, const Parameters& params) {
     detail::PointsOrMesh content = detail::read_points_or_mesh(path);
     if (!content.is_mesh) return {PointCloud(std::move(content.points.xyz), content.points.origin), 0, 0};
     const Mesh& mesh = content.mesh;
@@ -48,6 +49,17 @@ InputPoints read_input(const std::string& path, const Parameters& params) {
     if (!(in.spacing > 0)) return {PointCloud(mesh.vertices), in.triangles, 0};  // all at one place: the vertices will do
     in.points = PointCloud(sample_triangles(mesh, in.spacing));
     return in;
+}
+
+}  // namespace
+
+InputPoints read_input(const std::string& path, const Parameters& params) {
+    try {
+        return read_or_sample(path, params);
+    } catch (const std::bad_alloc&) {
+        const std::string limit = detail::memory_limit_text();
+        throw ResourceError(path + ": out of memory reading the points" + (limit.empty() ? "" : " (" + limit + ")"));
+    }
 }
 
 }  // namespace snvr

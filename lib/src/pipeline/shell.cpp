@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <new>
 #include <string>
 #include <utility>
 
 #include "io/formats.hpp"
+#include "process_limits.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
 #include "snvr/point_cloud.hpp"
@@ -80,10 +82,14 @@ Shell make_shell(const PointSet& points, const ShellSettings& settings, const Pr
     return make_shell(PointCloud(points), settings, progress);
 }
 
-Shell make_shell(PointCloud points, const ShellSettings& given, const ProgressCallback& progress) {
+namespace {
+
+// make_shell's stages; `now` names the one running, for an allocation that fails.
+Shell shell_stages(PointCloud points, const ShellSettings& given, const ProgressCallback& progress, const char*& now) {
     Stopwatch total, stage;
     Shell shell;
-    const auto enter = [&progress](const char* name) {
+    const auto enter = [&progress, &now](const char* name) {
+        now = name;
         Progress p;
         p.stage = name;
         if (progress && !progress(p)) throw Cancelled(std::string("cancelled before the ") + name + " stage");
@@ -119,6 +125,7 @@ Shell make_shell(PointCloud points, const ShellSettings& given, const ProgressCa
         if (!progress(p)) throw Cancelled("cancelled after the outliers stage");
     }
 
+    now = "reconstruction";
     shell.run = reconstruct(points, settings.params, progress);
     shell.seconds.reconstruct = stage.lap();
     const Result& run = shell.run;
@@ -170,6 +177,19 @@ Shell make_shell(PointCloud points, const ShellSettings& given, const ProgressCa
     shell.seconds.check = stage.lap();
     shell.seconds.total = total.lap();
     return shell;
+}
+
+}  // namespace
+
+Shell make_shell(PointCloud points, const ShellSettings& given, const ProgressCallback& progress) {
+    const char* now = "settings";
+    try {
+        return shell_stages(std::move(points), given, progress, now);
+    } catch (const std::bad_alloc&) {
+        const std::string limit = detail::memory_limit_text();
+        throw ResourceError(std::string("out of memory in the ") + now + " stage" +
+                            (limit.empty() ? "" : " (" + limit + ")") + "; lower the resolution or raise the voxel size");
+    }
 }
 
 }  // namespace snvr

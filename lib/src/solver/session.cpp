@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <system_error>
 #include <type_traits>
 
 #include "geometry/band_distance.hpp"
+#include "process_limits.hpp"
 #include "solver/operations.hpp"
 #include "solver/solver_memory.hpp"
 #include "snvr/error.hpp"
@@ -53,12 +55,24 @@ SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& p
     // loading the driver and the program takes 0.1 s), as any failure there only falls
     // back to OpenMP; a named device starts first, so that a wrong one stops the run
     // before any work.
+    // Under a memory limit, or where its thread cannot start, the backend starts here
+    // after the planning: a thread of its own would start a team of OpenMP threads of its
+    // own too, which the runtime ends the process for when the room is not there.
+    if (!detail::settle_threads().empty()) facts_.notes.push_back(detail::settle_threads());
     std::vector<std::string> start_notes;
     std::future<std::unique_ptr<Backend<Real>>> starting;
-    if (params.device == "auto")
-        starting = std::async(std::launch::async, [&] { return make_backend<Real>(params.device, start_notes); });
-    else
+    bool start_later = params.device == "auto" && !detail::memory_limit_text().empty();
+    if (params.device == "auto" && !start_later) {
+        try {
+            starting = std::async(std::launch::async, [&] { return make_backend<Real>(params.device, start_notes); });
+        } catch (const std::system_error& e) {
+            start_later = true;
+            facts_.notes.push_back(std::string("the backend could not start beside the planning (") + e.what() +
+                                   "): started after it");
+        }
+    } else {
         backend_ = make_backend<Real>(params.device, facts_.notes);
+    }
     problem_ = make_problem(plan_domain(points, params), params);
     const Domain& dom = domain();
     facts_.seconds_domain = clock.lap();
@@ -77,10 +91,9 @@ SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& p
     report(progress, "distance",
            std::to_string(dist.queried_cells) + " cells queried, " + std::to_string(dist.active_cells) + " in the band");
 
-    if (starting.valid()) {
-        backend_ = starting.get();
-        facts_.notes.insert(facts_.notes.end(), start_notes.begin(), start_notes.end());
-    }
+    if (starting.valid()) backend_ = starting.get();
+    if (start_later) backend_ = make_backend<Real>(params.device, start_notes);
+    facts_.notes.insert(facts_.notes.end(), start_notes.begin(), start_notes.end());
     layout_ = make_layout(dom, dist.brick_mask, dist.inside_bricks);
     {
         // Held now: the band's distance; then its packed copy beside it, then the fields

@@ -1,25 +1,14 @@
 #include "solver/solver_memory.hpp"
 
-#include <fstream>
 #include <sstream>
 #include <string>
 
+#include "process_limits.hpp"
 #include "snvr/error.hpp"
 
 namespace snvr {
 
 namespace {
-
-std::size_t available_memory() {
-    std::ifstream in("/proc/meminfo");
-    std::string key;
-    std::size_t kb = 0;
-    while (in >> key >> kb) {
-        if (key == "MemAvailable:") return kb * 1024;
-        in.ignore(256, '\n');
-    }
-    return std::size_t(1) << 40;  // unknown: do not refuse
-}
 
 std::string gib(std::size_t bytes) {
     std::ostringstream s;
@@ -50,11 +39,14 @@ std::size_t layout_bytes(const BrickLayout& layout, Precision p) {
 }
 
 void require_memory(std::size_t bytes, const Domain& d, std::size_t held) {
-    const std::size_t avail = available_memory() + held;
-    if (bytes > avail / 10 * 9)
+    const std::size_t avail = detail::available_memory() + held;
+    if (bytes > avail / 10 * 9) {
+        const std::string limit = detail::memory_limit_text();
         throw ResourceError("a " + std::to_string(d.nx) + "x" + std::to_string(d.ny) + "x" + std::to_string(d.nz) +
                             " grid needs about " + gib(bytes) + " GiB but only " + gib(avail) +
-                            " GiB of memory is available; lower the resolution or raise the voxel size");
+                            " GiB of memory is available" + (limit.empty() ? "" : " (" + limit + ")") +
+                            "; lower the resolution or raise the voxel size");
+    }
 }
 
 }  // namespace snvr

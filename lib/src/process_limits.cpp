@@ -1,0 +1,142 @@
+// available_memory, memory_limit_text and settle_threads (process_limits.hpp).
+#include "process_limits.hpp"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <condition_variable>
+#include <fstream>
+#include <mutex>
+#include <string>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace snvr::detail {
+namespace {
+
+constexpr std::size_t kUnknown = std::size_t(1) << 40;  // do not refuse
+
+std::size_t meminfo_available() {
+    std::ifstream in("/proc/meminfo");
+    std::string key;
+    std::size_t kb = 0;
+    while (in >> key >> kb) {
+        if (key == "MemAvailable:") return kb * 1024;
+        in.ignore(256, '\n');
+    }
+    return kUnknown;
+}
+
+// This process's mapped size and its data segment (/proc/self/statm, in pages).
+void process_sizes(std::size_t& mapped, std::size_t& data) {
+    std::ifstream in("/proc/self/statm");
+    std::size_t size = 0, resident = 0, shared = 0, text = 0, lib = 0, d = 0;
+    in >> size >> resident >> shared >> text >> lib >> d;
+    const std::size_t page = std::size_t(::sysconf(_SC_PAGESIZE));
+    mapped = size * page;
+    data = d * page;
+}
+
+// The cgroup (v2) memory.max and memory.current of this process, when one is set.
+bool cgroup_memory(std::size_t& max, std::size_t& current) {
+    std::ifstream in("/proc/self/cgroup");
+    std::string line, path;
+    while (std::getline(in, line))
+        if (line.rfind("0::", 0) == 0) path = line.substr(3);
+    if (path.empty()) return false;
+    std::ifstream m("/sys/fs/cgroup" + path + "/memory.max"), c("/sys/fs/cgroup" + path + "/memory.current");
+    std::string text;
+    if (!(m >> text) || text == "max" || !(c >> current)) return false;
+    max = std::size_t(std::stoull(text));
+    return true;
+}
+
+struct Limit {
+    std::size_t room = kUnknown;  // bytes left under it
+    std::string text;
+};
+
+// The limit that leaves the least room.
+Limit tightest_limit() {
+    Limit best;
+    std::size_t mapped = 0, data = 0;
+    process_sizes(mapped, data);
+    const auto consider = [&best](std::size_t limit, std::size_t used, const std::string& text) {
+        const std::size_t room = limit > used ? limit - used : 0;
+        if (room < best.room) best = {room, text + " is limited to " + std::to_string(limit >> 20) + " MiB"};
+    };
+    rlimit r{};
+    if (::getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
+        consider(std::size_t(r.rlim_cur), mapped, "the process's address space (ulimit -v)");
+    if (::getrlimit(RLIMIT_DATA, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
+        consider(std::size_t(r.rlim_cur), data, "the process's data size (ulimit -d)");
+    std::size_t max = 0, current = 0;
+    if (cgroup_memory(max, current)) consider(max, current, "the control group's memory (memory.max)");
+    return best;
+}
+
+}  // namespace
+
+std::size_t available_memory() { return std::min(meminfo_available(), tightest_limit().room); }
+
+std::string memory_limit_text() { return tightest_limit().text; }
+
+const std::string& settle_threads() {
+    static std::once_flag once;
+    static std::string why;
+    std::call_once(once, [] {
+#ifdef _OPENMP
+        const int wanted = omp_get_max_threads();
+        if (wanted <= 1) return;
+        // Each thread is given room for its stack (8 MiB) and its own allocations, so
+        // that a region later in the run does not meet a limit its threads cannot start in.
+        constexpr std::size_t kPerThread = std::size_t(32) << 20;
+        const std::size_t room = tightest_limit().room;
+        if (room < std::size_t(wanted) * kPerThread)
+            why = std::to_string(wanted) + " threads are given " + std::to_string(wanted * (kPerThread >> 20)) +
+                  " MiB to start in, and " + std::to_string(room >> 20) + " MiB are left";
+        // The team's other threads, started and held until all are up, each with its
+        // stack (and no allocation: an arena of the C library's, once made, stays).
+        std::mutex m;
+        std::condition_variable all_up;
+        bool go = false;
+        std::vector<std::thread> team;
+        try {
+            for (int t = 1; t < wanted && why.empty(); ++t)
+                team.emplace_back([&] {
+                    std::unique_lock<std::mutex> lock(m);
+                    all_up.wait(lock, [&] { return go; });
+                });
+        } catch (const std::system_error& e) {
+            why = std::to_string(team.size() + 1) + " of " + std::to_string(wanted) + " threads could start (" +
+                  e.what() + ")";
+        }
+        {
+            std::lock_guard<std::mutex> lock(m);
+            go = true;
+        }
+        all_up.notify_all();
+        for (std::thread& t : team) t.join();
+        if (why.empty()) {
+            // The runtime's own team, started now in the room the probe's threads just
+            // left, and kept for every later region (libgomp holds its idle threads).
+#pragma omp parallel
+            {
+            }
+            return;
+        }
+        const std::string limit = memory_limit_text();
+        why += (limit.empty() ? "" : "; " + limit) + ": running on one thread";
+        omp_set_num_threads(1);
+#endif
+    });
+    return why;
+}
+
+}  // namespace snvr::detail
