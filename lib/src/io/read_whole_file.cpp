@@ -71,13 +71,13 @@ struct OpenFile {
 // A file that another process cuts short, extends or rewrites while it is read (a
 // scanner or a copy still writing it) is refused, naming the change: its size and
 // modification time after the read must be those it had when opened.
-void require_unchanged(const OpenFile& file, const std::string& path, std::size_t got) {
+void require_unchanged(const OpenFile& file, const std::string& path, bool read_whole) {
     struct stat now {};
     if (::fstat(file.fd, &now) != 0) throw IoError("cannot read '" + path + "': " + system_reason(errno));
     const std::size_t size = std::size_t(now.st_size);
     const bool same_time = now.st_mtim.tv_sec == file.opened.st_mtim.tv_sec &&
                            now.st_mtim.tv_nsec == file.opened.st_mtim.tv_nsec;
-    if (size == file.size && same_time && got == file.size) return;
+    if (size == file.size && same_time && read_whole) return;
     const std::string how = size < file.size   ? "it shrank from " + std::to_string(file.size) + " to " + std::to_string(size) + " bytes"
                             : size > file.size ? "it grew from " + std::to_string(file.size) + " to " + std::to_string(size) + " bytes"
                                                : "it was rewritten";
@@ -128,29 +128,20 @@ void read_all(const OpenFile& file, const std::string& path, char* to) {
     constexpr std::size_t kPart = std::size_t(4) << 20;
     const std::size_t parts = (file.size + kPart - 1) / kPart;
     ReadFault fault;
-    std::atomic<int> failed{0};         // the first errno met
-    std::atomic<std::size_t> short_at{file.size};  // where a part found the file ending
+    std::atomic<int> failed{0};            // the first errno met
+    std::atomic<bool> cut_short{false};    // a part found the file ending early
+    const auto fail = [&failed](int err) {
+        int none = 0;
+        failed.compare_exchange_strong(none, err);
+    };
     const auto read_part = [&](std::size_t p) {
         const std::size_t begin = p * kPart, end = std::min(file.size, begin + kPart);
-        if (fault.meet(path, begin, end)) {
-            int none = 0;
-            failed.compare_exchange_strong(none, EIO);
-            return;
-        }
+        if (fault.meet(path, begin, end)) return fail(EIO);
         for (std::size_t at = begin; at < end;) {
             const ssize_t n = ::pread(file.fd, to + at, end - at, off_t(at));
             if (n < 0 && errno == EINTR) continue;
-            if (n < 0) {
-                int none = 0;
-                failed.compare_exchange_strong(none, errno);
-                return;
-            }
-            if (n == 0) {  // cut short: require_unchanged names it
-                std::size_t was = short_at.load();
-                while (at < was && !short_at.compare_exchange_weak(was, at)) {
-                }
-                return;
-            }
+            if (n < 0) return fail(errno);
+            if (n == 0) return cut_short.store(true);  // require_unchanged names it
             at += std::size_t(n);
         }
     };
@@ -159,7 +150,7 @@ void read_all(const OpenFile& file, const std::string& path, char* to) {
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
     for (std::ptrdiff_t p = 0; p < std::ptrdiff_t(parts); ++p) read_part(std::size_t(p));
     if (failed.load() != 0) throw IoError("cannot read '" + path + "': " + system_reason(failed.load()));
-    require_unchanged(file, path, short_at.load());
+    require_unchanged(file, path, !cut_short.load());
 }
 
 }  // namespace

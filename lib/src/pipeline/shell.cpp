@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "geometry/vec3_math.hpp"
 #include "io/formats.hpp"
 #include "process_limits.hpp"
 #include "snvr/error.hpp"
@@ -45,18 +46,6 @@ bool print_format_needs_centring(const std::string& written_as, const PointCloud
                           : params.thickness ? *params.thickness * to_mm / 2
                                              : 3 * voxel;
     return voxel > 0 && !holds_faithfully(farthest + offset, as, voxel);
-}
-
-// The extent of the mesh's vertices along x, y and z.
-Vec3 extent(const Mesh& mesh) {
-    if (mesh.vertices.empty()) return {0, 0, 0};
-    Vec3 lo = mesh.vertices[0], hi = lo;
-    for (const Vec3& v : mesh.vertices)
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], v[a]);
-            hi[a] = std::max(hi[a], v[a]);
-        }
-    return {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
 }
 
 }  // namespace
@@ -168,8 +157,9 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
                                                                         : count_point_clusters(points, 2 * run.offset);
     for (std::string& w : shell_warnings(shell.quality, points.size(), shell.clusters, shell.pieces.dropped))
         shell.warnings.push_back(std::move(w));
-    shell.size = extent(shell.mesh);
-    const double across = std::max({shell.size[0], shell.size[1], shell.size[2]});
+    const Bounds box = bounds(shell.mesh.vertices);
+    shell.size = {box.extent(0), box.extent(1), box.extent(2)};
+    const double across = box.longest();
     if (across < 2)
         shell.warnings.push_back(format_text("the shell is only %.3g mm across: if the points are not in millimetres, give "
                                         "--units (m, cm or in)",
