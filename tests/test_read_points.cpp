@@ -481,6 +481,42 @@ TEST_CASE("big files: blocks and thread shares meet without losing or doubling a
     }
 }
 
+TEST_CASE("records read from the file part by part: the same points whatever the part and threads") {
+    TempDir dir("read-parts");
+    // Enough records for the threads to share them (kParallelCheapItems); far: an origin is chosen.
+    const PointSet cloud = sphere(70001, {1000, -2000, 300}, 1.5, 41);
+    std::string long_header = binary_ply(cloud, false, true);  // a header beyond the first 64 KiB read
+    for (int i = 0; i < 5000; ++i) long_header.insert(long_header.find("element"), "comment padding the header\n");
+    std::string faces_first = binary_ply(cloud, false, false);  // a list before the vertices: read whole
+    faces_first.insert(faces_first.find("element vertex"), "element face 2\nproperty list uchar int vertex_indices\n");
+    std::string face_bytes;
+    for (int f = 0; f < 2; ++f) {
+        put<std::uint8_t>(face_bytes, 3);
+        for (int v = 0; v < 3; ++v) put<std::int32_t>(face_bytes, v);
+    }
+    faces_first.insert(faces_first.find("end_header\n") + 11, face_bytes);
+    const std::vector<std::pair<std::string, std::string>> files = {
+        {"f.ply", binary_ply(cloud, false, false)}, {"d.ply", binary_ply(cloud, true, true)},
+        {"l.las", las(cloud, 1e-6, {1000, -2000, 300}, {998, -2002, 298}, {1002, -1998, 302})},
+        {"h.ply", long_header}, {"g.ply", faces_first}};
+    for (const auto& [name, bytes] : files) {
+        CAPTURE(name);
+        const std::string path = dir.file(name);
+        snvr::testing::write_bytes(path, bytes);
+        const FloatPoints reference = snvr::detail::parse_points(bytes, name, serial());  // from memory
+        REQUIRE(reference.xyz.size() == cloud.size());
+        std::size_t differ = 0;
+        for (std::size_t part : {std::size_t(1), std::size_t(27), std::size_t(1000), std::size_t(1) << 20})
+            for (int threads : {1, 2, 3}) {
+                ParseOptions options;
+                options.read_part = part;
+                options.threads = threads;
+                differ += !same(snvr::detail::read_float_points(path, options), reference);
+            }
+        CHECK(differ == 0);
+    }
+}
+
 TEST_CASE("one cloud, every format: the same points") {
     TempDir dir("read-points");
     // On a grid of 1/1024, so that every format holds the values exactly, near 0 and far.

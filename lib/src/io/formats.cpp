@@ -7,14 +7,14 @@
 
 #include "io/io_common.hpp"
 #include "io/mesh_readers.hpp"
-#include "io/read_whole_file.hpp"
+#include "io/input_source.hpp"
 #include "io/writers.hpp"
 #include "snvr/error.hpp"
 
 namespace snvr::detail {
 namespace {
 
-bool always(std::string_view, const std::string&) { return true; }
+bool always(InputSource&, const std::string&) { return true; }
 
 std::string laz_not_read(const std::string& path) {
     return "LAZ (compressed LAS) is not read; decompress it first, e.g. laszip -i " + path + " -o points.las";

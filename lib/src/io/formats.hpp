@@ -15,9 +15,9 @@
 
 namespace snvr::detail {
 
-using PointParser = FloatPoints (*)(std::string_view data, const std::string& path, const ParseOptions& options);
+using PointParser = FloatPoints (*)(InputSource& source, const std::string& path, const ParseOptions& options);
 using MeshParser = Mesh (*)(std::string_view data, const std::string& path);
-using FacesRule = bool (*)(std::string_view data, const std::string& path);
+using FacesRule = bool (*)(InputSource& source, const std::string& path);
 using MeshWriter = void (*)(const Mesh& mesh, AtomicFile& out);
 using PointsWriter = void (*)(const PointSet& points, const std::string& comment, AtomicFile& out);
 using FieldWriter = void (*)(const Field& field, const Domain& domain, AtomicFile& out);

@@ -1,12 +1,13 @@
 // LAS 1.0-1.4 point clouds (ASPRS LiDAR format), uncompressed point records of any
 // format 0-10: every record starts with X, Y, Z as int32, scaled and offset by the
-// header's doubles. Compressed LAZ is refused by name. The records are split between
-// threads; the header's box chooses the origin.
+// header's doubles. Compressed LAZ is refused by name. Only the header is read whole; the
+// records are read part by part by the threads; the header's box chooses the origin.
 #include <cmath>
 #include <cstdint>
 #include <string>
 
 #include "io/float_origin.hpp"
+#include "io/input_source.hpp"
 #include "io/io_common.hpp"
 #include "io/parallel_records.hpp"
 #include "io/point_readers.hpp"
@@ -29,15 +30,13 @@ T field(std::string_view data, std::size_t at) {
 }
 
 // A point record's X, Y, Z: int32 scaled and offset by the header's doubles.
-struct LasRecords {
-    std::string_view data;
-    std::size_t first = 0, length = 0;
+struct LasPoint {
     double scale[3] = {}, offset[3] = {};
 
-    Vec3 operator()(std::size_t i) const {
-        const std::size_t at = first + i * length;
+    Vec3 operator()(const char* record) const {
         Vec3 p;
-        for (std::size_t a = 0; a < 3; ++a) p[a] = double(field<std::int32_t>(data, at + 4 * a)) * scale[a] + offset[a];
+        for (std::size_t a = 0; a < 3; ++a)
+            p[a] = double(load_bytes<std::int32_t>(record + 4 * a, !host_is_little_endian())) * scale[a] + offset[a];
         return p;
     }
 };
@@ -59,10 +58,12 @@ SampleBox header_box(std::string_view data) {
 
 }  // namespace
 
-FloatPoints parse_las(std::string_view data, const std::string& path, const ParseOptions& options) {
+FloatPoints parse_las(InputSource& source, const std::string& path, const ParseOptions& options) {
     const auto fail = [&](const std::string& what) { return InputError(path + ": " + what); };
+    const std::string_view data = source.head(kHeader14);  // the records are read part by part
     if (data.size() < 4 || data.substr(0, 4) != "LASF") throw fail("not a LAS file (no 'LASF' signature)");
     if (data.size() < kHeader12) throw fail("the LAS header is cut short (" + std::to_string(data.size()) + " bytes)");
+    const std::size_t file_size = source.size();
     const int major = field<std::uint8_t>(data, kVersionMajor), minor = field<std::uint8_t>(data, kVersionMinor);
     const std::string version = std::to_string(major) + "." + std::to_string(minor);
     if (major != 1 || minor > 4) throw fail("LAS version " + version + " (readable: 1.0 to 1.4)");
@@ -77,37 +78,40 @@ FloatPoints parse_las(std::string_view data, const std::string& path, const Pars
         throw fail("point records of " + std::to_string(length) + " bytes, but format " + std::to_string(format_byte) +
                    " needs at least " + std::to_string(kRecordBytes[format_byte]));
     std::uint64_t count = field<std::uint32_t>(data, kLegacyCount);
-    if (count == 0 && minor >= 4 && header >= kHeader14 && data.size() >= kHeader14)
+    if (count == 0 && minor >= 4 && header >= kHeader14 && file_size >= kHeader14)
         count = field<std::uint64_t>(data, kCount64);  // formats 6-10 may leave the legacy count 0
-    if (first < header || first > data.size())
+    if (first < header || first > file_size)
         throw fail("the point data offset " + std::to_string(first) + " lies outside the file (" +
-                   std::to_string(data.size()) + " bytes, header " + std::to_string(header) + ")");
-    const std::uint64_t fit = (data.size() - first) / length;
+                   std::to_string(file_size) + " bytes, header " + std::to_string(header) + ")");
+    const std::uint64_t fit = (file_size - first) / length;
     if (count > fit)
         throw fail("expected " + std::to_string(count) + " point records, file ends after " + std::to_string(fit) +
                    " (byte offset " + std::to_string(first + fit * length) + ")");
-    LasRecords records{data, first, length};
+    const RecordSpan records{first, length, std::size_t(count)};
+    LasPoint decode;
     for (std::size_t a = 0; a < 3; ++a) {
-        records.scale[a] = field<double>(data, kScale + 8 * a);
-        records.offset[a] = field<double>(data, kOffset + 8 * a);
+        decode.scale[a] = field<double>(data, kScale + 8 * a);
+        decode.offset[a] = field<double>(data, kOffset + 8 * a);
         // Zero, subnormal or non-finite, every coordinate would collapse or overflow.
-        if (!std::isnormal(records.scale[a]) || !std::isfinite(records.offset[a]))
-            throw fail(std::string("the header's ") + "xyz"[a] + " scale " + format_number(records.scale[a]) +
-                       " and offset " + format_number(records.offset[a]) +
+        if (!std::isnormal(decode.scale[a]) || !std::isfinite(decode.offset[a]))
+            throw fail(std::string("the header's ") + "xyz"[a] + " scale " + format_number(decode.scale[a]) +
+                       " and offset " + format_number(decode.offset[a]) +
                        " make no coordinates (a scale is a normal number such as 0.001, an offset finite)");
     }
-    const std::size_t n = std::size_t(count);
+    const std::size_t n = records.count;
     FloatPoints points;
     // The header knows the box before any point is read; where it does not hold the
     // points to the bound (a header box that is wrong), the first points choose instead.
     const SampleBox claimed = header_box(data);
-    points.origin = choose_origin(claimed.count ? claimed : sample_records(n, records, options.origin_sample));
-    ConvertedRecords done = convert_records(n, records, points.origin, points.xyz, options.threads);
+    const auto sampled = [&] { return sample_records(source, records, decode, options.origin_sample); };
+    points.origin = choose_origin(claimed.count ? claimed : sampled());
+    ConvertedRecords done = convert_records(source, records, decode, points.origin, points.xyz, options);
     if (claimed.count && (done.first_refused < n || !within_origin_bound(done.box, points.origin))) {
-        points.origin = choose_origin(sample_records(n, records, options.origin_sample));
-        done = convert_records(n, records, points.origin, points.xyz, options.threads);
+        points.origin = choose_origin(sampled());
+        done = convert_records(source, records, decode, points.origin, points.xyz, options);
     }
-    if (done.first_refused < n) refuse_point(path, done.first_refused, records(done.first_refused), points.origin);
+    if (done.first_refused < n)
+        refuse_point(path, done.first_refused, record_point(source, records, decode, done.first_refused), points.origin);
     return points;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "io/input_source.hpp"
 #include "io/io_common.hpp"
 #include "io/text_scan.hpp"
 #include "snvr/error.hpp"
@@ -116,6 +117,20 @@ Header parse_header(std::string_view data, const std::string& path) {
     header.lines = lines.line_number();
     locate_vertex(header, path);
     return header;
+}
+
+Header read_header(InputSource& source, const std::string& path) {
+    constexpr std::size_t kHead = std::size_t(64) << 10;
+    if (source.size() > kHead) {
+        std::string_view head = source.head(kHead);
+        head = head.substr(0, head.rfind('\n') + 1);  // whole lines (none: empty)
+        try {
+            return parse_header(head, path);  // parsed line by line up to end_header: as from the whole
+        } catch (const InputError&) {
+            // A header longer than the head, or a wrong one: the whole file says which.
+        }
+    }
+    return parse_header(source.all(), path);
 }
 
 const Property* face_indices(const Element& face) {

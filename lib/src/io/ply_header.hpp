@@ -9,6 +9,10 @@
 
 #include "io/io_common.hpp"
 
+namespace snvr::detail {
+class InputSource;
+}  // namespace snvr::detail
+
 namespace snvr::detail::ply {
 
 enum class Scalar { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
@@ -40,6 +44,9 @@ struct Header {
 // Throws InputError naming the file and the header line; a header without a vertex
 // element with x, y and z (not lists) is refused too, since every reader needs them.
 Header parse_header(std::string_view data, const std::string& path);
+// The same from a file: from its first bytes where they hold the header (a binary file's
+// records need not be read to know it), else from the whole file.
+Header read_header(InputSource& source, const std::string& path);
 
 // The face element's vertex index list ("vertex_indices" or "vertex_index"), or null.
 const Property* face_indices(const Element& face);

@@ -2,7 +2,8 @@
 // the data section (ASCII, or binary in either byte order) up to and including
 // the vertex element, taking x, y and z from wherever they sit among the
 // vertex properties. Elements after the vertices are never read. Vertex records
-// of fixed size are split between threads, ASCII lines parsed by parse_lines.
+// of fixed size are read part by part by the threads (parallel_records.hpp), ASCII lines
+// parsed by parse_lines.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "io/float_origin.hpp"
+#include "io/input_source.hpp"
 #include "io/io_common.hpp"
 #include "io/parallel_lines.hpp"
 #include "io/parallel_records.hpp"
@@ -52,11 +54,13 @@ bool exact_in_float(const Element& vertex) {
 
 // ---- binary data ----
 
-// Bounds-checked walk over the binary data section.
+// Bounds-checked walk over the binary data section of a file of `size` bytes. Items of
+// fixed size are skipped by arithmetic; the file's bytes (`data`) are needed only where
+// items are read (read_item), for lists.
 class BinaryReader {
 public:
-    BinaryReader(std::string_view data, std::size_t offset, bool swap, const std::string& path)
-        : data_(data), pos_(offset), swap_(swap), path_(path) {}
+    BinaryReader(std::string_view data, std::size_t size, std::size_t offset, bool swap, const std::string& path)
+        : data_(data), size_(size), pos_(offset), swap_(swap), path_(path) {}
 
     // Reads one item, storing its x, y, z (if any) in xyz; false if the data ends first.
     bool read_item(const Element& element, Vec3& xyz) {
@@ -76,19 +80,19 @@ public:
         return true;
     }
     std::size_t offset() const { return pos_; }
-    std::size_t bytes_left() const { return data_.size() - pos_; }
+    std::size_t bytes_left() const { return size_ - pos_; }
     void skip(std::size_t bytes) { pos_ += bytes; }
 
 private:
     bool take(std::size_t size, const char*& at) {
-        if (data_.size() - pos_ < size) return false;
+        if (size_ - pos_ < size) return false;
         at = data_.data() + pos_;
         pos_ += size;
         return true;
     }
 
     std::string_view data_;
-    std::size_t pos_;
+    std::size_t size_, pos_;
     bool swap_;
     const std::string& path_;
 };
@@ -105,14 +109,11 @@ bool fixed_item_size(const Element& element, std::size_t& size) {
 
 // Where x, y and z sit in a vertex record of fixed size: records decode directly.
 struct FixedVertex {
-    const char* first = nullptr;  // the first record
-    std::size_t size = 0;
     std::size_t at[3] = {};
     Scalar type[3] = {};
     bool swap = false;
 
-    FixedVertex(const Element& vertex, const char* records, std::size_t record_size, bool swap_bytes)
-        : first(records), size(record_size), swap(swap_bytes) {
+    FixedVertex(const Element& vertex, bool swap_bytes) : swap(swap_bytes) {
         std::size_t offset = 0;
         for (const Property& p : vertex.properties) {
             if (p.axis >= 0) {
@@ -122,8 +123,7 @@ struct FixedVertex {
             offset += scalar_size(p.type);
         }
     }
-    Vec3 operator()(std::size_t i) const {
-        const char* record = first + i * size;
+    Vec3 operator()(const char* record) const {
         return {load_scalar(type[0], record + at[0], swap), load_scalar(type[1], record + at[1], swap),
                 load_scalar(type[2], record + at[2], swap)};
     }
@@ -135,7 +135,7 @@ struct FixedVertex {
 }
 
 // The vertices as fixed-size records, split between threads.
-FloatPoints read_fixed_vertices(const Element& vertex, std::size_t size, BinaryReader& in, std::string_view data,
+FloatPoints read_fixed_vertices(const Element& vertex, std::size_t size, BinaryReader& in, const InputSource& source,
                                 bool swap, const std::string& path, const ParseOptions& options) {
     const std::uint64_t fit = in.bytes_left() / size;
     if (fit < vertex.count) {
@@ -148,12 +148,13 @@ FloatPoints read_fixed_vertices(const Element& vertex, std::size_t size, BinaryR
         }
         binary_ends(path, vertex, fit, offset);
     }
-    const std::size_t count = std::size_t(vertex.count);
-    const FixedVertex decode(vertex, data.data() + in.offset(), size, swap);
+    const RecordSpan records{in.offset(), size, std::size_t(vertex.count)};
+    const FixedVertex decode(vertex, swap);
     FloatPoints points;
-    if (!exact_in_float(vertex)) points.origin = choose_origin(sample_records(count, decode, options.origin_sample));
-    const ConvertedRecords done = convert_records(count, decode, points.origin, points.xyz, options.threads);
-    if (done.first_refused < count) refuse_point(path, done.first_refused, decode(done.first_refused), points.origin);
+    if (!exact_in_float(vertex)) points.origin = choose_origin(sample_records(source, records, decode, options.origin_sample));
+    const ConvertedRecords done = convert_records(source, records, decode, points.origin, points.xyz, options);
+    if (done.first_refused < records.count)
+        refuse_point(path, done.first_refused, record_point(source, records, decode, done.first_refused), points.origin);
     return points;
 }
 
@@ -188,11 +189,21 @@ FloatPoints read_listed_vertices(const Element& vertex, BinaryReader& in, std::s
     return points;
 }
 
-FloatPoints read_binary(const Header& header, std::string_view data, const std::string& path,
+// Whether an element up to the vertices has lists: then items are walked one by one,
+// from the whole file.
+bool lists_before_records(const Header& header) {
+    std::size_t size = 0;
+    for (std::size_t e = 0; e <= header.vertex; ++e)
+        if (!fixed_item_size(header.elements[e], size)) return true;
+    return false;
+}
+
+FloatPoints read_binary(const Header& header, InputSource& source, const std::string& path,
                         const ParseOptions& options) {
     const bool file_little = header.encoding == Encoding::BinaryLittle;
     const bool swap = file_little != host_is_little_endian();
-    BinaryReader in(data, header.data_offset, swap, path);
+    const std::string_view data = lists_before_records(header) ? source.all() : std::string_view();
+    BinaryReader in(data, source.size(), header.data_offset, swap, path);
     for (std::size_t e = 0; e < header.vertex; ++e) {
         const Element& element = header.elements[e];
         std::size_t size = 0;
@@ -209,8 +220,8 @@ FloatPoints read_binary(const Header& header, std::string_view data, const std::
     }
     const Element& vertex = header.elements[header.vertex];
     std::size_t size = 0;
-    if (fixed_item_size(vertex, size)) return read_fixed_vertices(vertex, size, in, data, swap, path, options);
-    return read_listed_vertices(vertex, in, data.size() - header.data_offset, path, options);
+    if (fixed_item_size(vertex, size)) return read_fixed_vertices(vertex, size, in, source, swap, path, options);
+    return read_listed_vertices(vertex, in, source.size() - header.data_offset, path, options);
 }
 
 // ---- ASCII data ----
@@ -291,10 +302,10 @@ FloatPoints read_ascii(const Header& header, std::string_view data, const std::s
 
 }  // namespace
 
-FloatPoints parse_ply(std::string_view data, const std::string& path, const ParseOptions& options) {
-    const Header header = ply::parse_header(data, path);
-    return header.encoding == Encoding::Ascii ? read_ascii(header, data, path, options)
-                                          : read_binary(header, data, path, options);
+FloatPoints parse_ply(InputSource& source, const std::string& path, const ParseOptions& options) {
+    const Header header = ply::read_header(source, path);
+    return header.encoding == Encoding::Ascii ? read_ascii(header, source.all(), path, options)
+                                              : read_binary(header, source, path, options);
 }
 
 }  // namespace snvr::detail

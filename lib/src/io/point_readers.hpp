@@ -1,7 +1,9 @@
 // The point readers: read_float_points and the format parsers behind it (and behind
-// read_points and read_input), which the format table (formats.hpp) holds per format. Each parser gets the file's bytes and its path (for
-// messages) and throws InputError naming the place of a problem, or the first point
-// floats cannot hold (non-finite, or beyond float range from the origin).
+// read_points and read_input), which the format table (formats.hpp) holds per format.
+// Each parser gets the file as an InputSource (its header, its whole, or its records
+// part by part, as the parser asks) and its path (for messages), and throws InputError
+// naming the place of a problem, or the first point floats cannot hold (non-finite, or
+// beyond float range from the origin).
 #pragma once
 #include <array>
 #include <cstddef>
@@ -12,6 +14,8 @@
 #include "snvr/geometry.hpp"
 
 namespace snvr::detail {
+
+class InputSource;
 
 // Points as read: world coordinates = origin + xyz (float), input order.
 //
@@ -40,15 +44,19 @@ struct ParseOptions {
     std::size_t text_block = std::size_t(1) << 20;  // bytes of text a thread parses at a time
     int threads = 0;                                 // 0: as many as OpenMP gives
     std::size_t origin_sample = 4096;                // first points the origin is chosen from
+    std::size_t read_part = std::size_t(1) << 20;    // bytes of binary records a thread reads at a time
 };
 
 // Everything read_points promises (regular file, extension, .gz, messages naming file and place,
-// non-finite coordinates and empty sets refused), as floats. The file is mapped, not copied,
-// and unmapped before this returns: the points alone remain.
+// non-finite coordinates and empty sets refused, a file changed while read refused), as
+// floats. Binary records are read part by part, never the whole file at once; text is
+// read whole and released before this returns: the points alone remain.
 FloatPoints read_float_points(const std::string& path, const ParseOptions& options = {});
 
-// The file's points (its bytes already read and inflated), by its format, checked
-// (not empty, all held): read_float_points without the reading.
+// The source's points by its format (its path's), checked (not empty, all held, the
+// file unchanged): read_float_points once the file is open.
+FloatPoints parse_points(InputSource& source, const ParseOptions& options = {});
+// The same for bytes in memory, read as a file named path.
 FloatPoints parse_points(std::string_view data, const std::string& path, const ParseOptions& options = {});
 
 // What an input file holds, by its format (formats.hpp): a mesh where the format reads
@@ -65,10 +73,10 @@ PointsOrMesh read_points_or_mesh(const std::string& path);
 // World coordinates in doubles: origin + xyz.
 PointSet world_points(const FloatPoints& points);
 
-FloatPoints parse_ply(std::string_view data, const std::string& path, const ParseOptions& options);
-FloatPoints parse_xyz(std::string_view data, const std::string& path, const ParseOptions& options);  // .pts .txt .csv
-FloatPoints parse_obj(std::string_view data, const std::string& path, const ParseOptions& options);
-FloatPoints parse_off(std::string_view data, const std::string& path, const ParseOptions& options);
-FloatPoints parse_las(std::string_view data, const std::string& path, const ParseOptions& options);
+FloatPoints parse_ply(InputSource& source, const std::string& path, const ParseOptions& options);
+FloatPoints parse_xyz(InputSource& source, const std::string& path, const ParseOptions& options);  // .pts .txt .csv
+FloatPoints parse_obj(InputSource& source, const std::string& path, const ParseOptions& options);
+FloatPoints parse_off(InputSource& source, const std::string& path, const ParseOptions& options);
+FloatPoints parse_las(InputSource& source, const std::string& path, const ParseOptions& options);
 
 }  // namespace snvr::detail

@@ -19,7 +19,7 @@
 #include "io/io_common.hpp"
 #include "io/mesh_readers.hpp"
 #include "io/ply_header.hpp"
-#include "io/read_whole_file.hpp"
+#include "io/input_source.hpp"
 #include "io/text_scan.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
@@ -312,8 +312,8 @@ private:
 
 Mesh detail::read_ply_mesh(std::string_view data, const std::string& path) { return PlyMeshReader(data, path).read(); }
 
-bool detail::ply_has_faces(std::string_view data, const std::string& path) {
-    return ply::has_faces(ply::parse_header(data, path));
+bool detail::ply_has_faces(InputSource& source, const std::string& path) {
+    return ply::has_faces(ply::read_header(source, path));
 }
 
 // ---- OBJ
@@ -415,8 +415,8 @@ Mesh detail::read_off_mesh(std::string_view data, const std::string& path) {
     return mesh;
 }
 
-bool detail::obj_has_faces(std::string_view data, const std::string&) {  // any "f" line
-    detail::LineScanner lines(data);
+bool detail::obj_has_faces(InputSource& source, const std::string&) {  // any "f" line
+    detail::LineScanner lines(source.all());
     std::string_view line;
     while (lines.next(line)) {
         std::string_view rest = line;
@@ -425,8 +425,8 @@ bool detail::obj_has_faces(std::string_view data, const std::string&) {  // any 
     return false;
 }
 
-bool detail::off_has_faces(std::string_view data, const std::string&) {  // a face count above 0 after the header
-    detail::LineScanner lines(data);
+bool detail::off_has_faces(InputSource& source, const std::string&) {  // a face count above 0 after the header
+    detail::LineScanner lines(source.all());
     std::string_view line;
     std::string_view tokens[4];
     std::size_t n = 0;
@@ -445,7 +445,8 @@ Mesh detail::parse_mesh(std::string_view data, const std::string& path) {
 
 Mesh read_mesh(const std::string& path) {
     detail::require_regular_file(path);  // before the extension: "'dir' is a directory"
-    return detail::parse_mesh(detail::read_input_bytes(path), path);
+    detail::InputSource source(path);
+    return detail::parse_mesh(source.all(), path);
 }
 
 }  // namespace snvr

@@ -1,6 +1,6 @@
 // read_float_points, read_points and read_points_or_mesh: pick the parser by the format
-// table, map the file (parsers work on memory, not streams), and reject sets no later
-// stage could use.
+// table, open the file as an InputSource for it, and reject sets no later stage could
+// use and files changed while read.
 #include <cstddef>
 #include <string>
 #include <utility>
@@ -8,32 +8,39 @@
 #include "io/formats.hpp"
 #include "io/io_common.hpp"
 #include "io/point_readers.hpp"
-#include "io/read_whole_file.hpp"
+#include "io/input_source.hpp"
 #include "snvr/error.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/point_io.hpp"
 
 namespace snvr {
-namespace {
 
-// A UTF-8 byte-order mark, as some Windows tools write before text.
-std::string_view without_bom(std::string_view data) {
-    return data.substr(0, 3) == "\xEF\xBB\xBF" ? data.substr(3) : data;
-}
-
-}  // namespace
-
-detail::FloatPoints detail::parse_points(std::string_view data, const std::string& path, const ParseOptions& options) {
-    FloatPoints points = format_for(path, FormatUse::ReadPoints).read.points(without_bom(data), path, options);
+detail::FloatPoints detail::parse_points(InputSource& source, const ParseOptions& options) {
+    const std::string& path = source.path();
+    const PointParser parse = format_for(path, FormatUse::ReadPoints).read.points;
+    source.skip_bom();
+    FloatPoints points;
+    try {
+        points = parse(source, path, options);
+    } catch (...) {
+        source.finish();  // where the file changed, that is the reason (a parse of a cut part fails too)
+        throw;
+    }
+    source.finish();
     if (points.xyz.empty()) throw InputError(path + ": no points (the point cloud is empty)");
     return points;
+}
+
+detail::FloatPoints detail::parse_points(std::string_view data, const std::string& path, const ParseOptions& options) {
+    InputSource source(data, path);
+    return parse_points(source, options);
 }
 
 detail::FloatPoints detail::read_float_points(const std::string& path, const ParseOptions& options) {
     require_regular_file(path);               // before the extension: "'dir' is a directory"
     format_for(path, FormatUse::ReadPoints);  // an unknown extension fails before any read
-    const InputBytes bytes(path);
-    return parse_points(bytes.view(), path, options);  // unmapped on the way out
+    InputSource source(path);
+    return parse_points(source, options);  // the file's bytes released on the way out
 }
 
 detail::PointsOrMesh detail::read_points_or_mesh(const std::string& path) {
@@ -44,14 +51,16 @@ detail::PointsOrMesh detail::read_points_or_mesh(const std::string& path) {
         content.points = read_float_points(path);
         return content;
     }
-    const InputBytes bytes(path);
-    const std::string_view data = bytes.view();
-    content.is_mesh = format->read.faces && format->read.faces(without_bom(data), path);
-    if (content.is_mesh)
-        content.mesh = format->read.mesh(data, path);
-    else
-        content.points = parse_points(data, path);
-    return content;  // unmapped on the way out
+    InputSource source(path);
+    source.skip_bom();
+    content.is_mesh = format->read.faces && format->read.faces(source, path);
+    if (content.is_mesh) {
+        source.skip_bom(false);  // the mesh readers take every byte: a binary STL's may start so
+        content.mesh = format->read.mesh(source.all(), path);
+    } else {
+        content.points = parse_points(source);
+    }
+    return content;  // the file's bytes released on the way out
 }
 
 PointSet detail::world_points(const FloatPoints& points) {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "io/input_source.hpp"
 #include "io/parallel_lines.hpp"
 #include "io/point_readers.hpp"
 #include "io/text_scan.hpp"
@@ -140,20 +141,23 @@ bool is_off_keyword(std::string_view token) {
 
 }  // namespace
 
-FloatPoints parse_xyz(std::string_view data, const std::string& path, const ParseOptions& options) {
+FloatPoints parse_xyz(InputSource& source, const std::string& path, const ParseOptions& options) {
+    const std::string_view data = source.all();
     LineRegion region;
     region.text = data;
     region.begin = after_header_of_names(data);
     return parse_lines(region, ScannerLine{}, path, options);
 }
 
-FloatPoints parse_obj(std::string_view data, const std::string& path, const ParseOptions& options) {
+FloatPoints parse_obj(InputSource& source, const std::string& path, const ParseOptions& options) {
+    const std::string_view data = source.all();
     LineRegion region;
     region.text = data;
     return parse_lines(region, ObjLine{}, path, options);
 }
 
-FloatPoints parse_off(std::string_view data, const std::string& path, const ParseOptions& options) {
+FloatPoints parse_off(InputSource& source, const std::string& path, const ParseOptions& options) {
+    const std::string_view data = source.all();
     LineScanner lines(data);
     std::string_view tokens[3];
     std::size_t count = next_tokens(lines, tokens, 2);

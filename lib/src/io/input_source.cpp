@@ -1,6 +1,6 @@
-// read_whole_file and InputBytes: one regular file into memory, for the readers that
-// parse from memory; read, not mapped, and refused when it changes meanwhile.
-#include "io/read_whole_file.hpp"
+// InputSource: a file's bytes for its parser, read (never mapped) as it asks for them, and
+// refused when the file changes meanwhile.
+#include "io/input_source.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -10,18 +10,21 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdlib>
-#include <new>
 #include <cstring>
-#include <exception>
+#include <memory>
+#include <new>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "io/formats.hpp"
 #include "io/gunzip.hpp"
-#include "process_limits.hpp"
 #include "io/io_common.hpp"
+#include "process_limits.hpp"
 #include "snvr/error.hpp"
 
 namespace snvr::detail {
+
 namespace {
 
 std::string system_reason(int err) { return std::strerror(err != 0 ? err : EIO); }
@@ -40,6 +43,8 @@ void require_regular(const std::string& path, const struct stat& st) {
     if (!S_ISREG(st.st_mode))
         throw IoError("cannot read '" + path + "': it is " + kind_of(st.st_mode) + ", not a regular file");
 }
+
+}  // namespace
 
 // A regular file open for reading, as it was when opened.
 struct OpenFile {
@@ -68,6 +73,8 @@ struct OpenFile {
     OpenFile& operator=(const OpenFile&) = delete;
 };
 
+namespace {
+
 // A file that another process cuts short, extends or rewrites while it is read (a
 // scanner or a copy still writing it) is refused, naming the change: its size and
 // modification time after the read must be those it had when opened.
@@ -83,6 +90,8 @@ void require_unchanged(const OpenFile& file, const std::string& path, bool read_
                                                : "it was rewritten";
     throw IoError(path + ": the file changed while it was read (" + how + "); read it once it is complete");
 }
+
+}  // namespace
 
 // For tests only: SNVR_TEST_READ_FAULT=shrink:K, grow:K or eio:K makes the read of the
 // byte at offset K meet what another process or a failing disk would do there: the file
@@ -121,91 +130,112 @@ struct ReadFault {
     }
 };
 
-// Reads the file's bytes as it was opened into `to` (file.size of them), in parallel
-// parts where it is large, then refuses it if it changed meanwhile. No mapping: a file
-// cut short while mapped ends the process with SIGBUS, and a library must not.
-void read_all(const OpenFile& file, const std::string& path, char* to) {
-    constexpr std::size_t kPart = std::size_t(4) << 20;
-    const std::size_t parts = (file.size + kPart - 1) / kPart;
-    ReadFault fault;
-    std::atomic<int> failed{0};            // the first errno met
-    std::atomic<bool> cut_short{false};    // a part found the file ending early
-    const auto fail = [&failed](int err) {
-        int none = 0;
-        failed.compare_exchange_strong(none, err);
-    };
-    const auto read_part = [&](std::size_t p) {
-        const std::size_t begin = p * kPart, end = std::min(file.size, begin + kPart);
-        if (fault.meet(path, begin, end)) return fail(EIO);
-        for (std::size_t at = begin; at < end;) {
-            const ssize_t n = ::pread(file.fd, to + at, end - at, off_t(at));
-            if (n < 0 && errno == EINTR) continue;
-            if (n < 0) return fail(errno);
-            if (n == 0) return cut_short.store(true);  // require_unchanged names it
-            at += std::size_t(n);
-        }
-    };
-    settle_threads();  // before the first parallel region: the OpenMP runtime cannot fail softly
-    const bool parallel = parts > 4;
-#pragma omp parallel for schedule(dynamic, 1) if (parallel)
-    for (std::ptrdiff_t p = 0; p < std::ptrdiff_t(parts); ++p) read_part(std::size_t(p));
-    if (failed.load() != 0) throw IoError("cannot read '" + path + "': " + system_reason(failed.load()));
-    require_unchanged(file, path, !cut_short.load());
-}
-
-}  // namespace
-
 void require_regular_file(const std::string& path) {
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) throw IoError("cannot open '" + path + "': " + system_reason(errno));
     require_regular(path, st);
 }
 
-std::string read_whole_file(const std::string& path) {
-    const OpenFile file(path);
-    std::string data;
-    try {
-        data.resize(file.size);
-    } catch (const std::exception&) {  // length_error or bad_alloc
-        throw ResourceError("cannot read '" + path + "': its " + std::to_string(file.size) +
-                            " bytes do not fit in memory");
-    }
-    read_all(file, path, data.data());
-    return data;
-}
-
 std::string format_name(const std::string& path) {
     return lower_extension(path) == ".gz" ? path.substr(0, path.size() - 3) : path;
 }
 
-std::string read_input_bytes(const std::string& path) {
-    std::string data = read_whole_file(path);
-    if (lower_extension(path) != ".gz") return data;
-    return gunzip(data, path, [&path](std::string_view first) { require_signature(first, path); });
-}
-
-InputBytes::InputBytes(const std::string& path) {
-    if (lower_extension(path) == ".gz") {
-        owned_ = read_input_bytes(path);
-        view_ = owned_;
-        return;
-    }
-    const OpenFile file(path);
-    if (file.size == 0) return;
-    try {
-        read_ = large_array<char>(file.size);  // left unset: the read fills it
-    } catch (const std::bad_alloc&) {
-        throw ResourceError("cannot read '" + path + "': its " + std::to_string(file.size) +
-                            " bytes do not fit in memory");
-    }
-    read_all(file, path, read_.get());
-    view_ = std::string_view(read_.get(), file.size);
-}
-
-void InputBytes::release() {
+InputSource::InputSource(const std::string& path)
+    : path_(path), file_(std::make_unique<OpenFile>(path)), fault_(std::make_unique<ReadFault>()), size_(file_->size) {
+    if (lower_extension(path) != ".gz") return;
+    const std::string_view packed = all();
+    owned_ = gunzip(packed, path, [&path](std::string_view first) { require_signature(first, path); });
     read_.reset();
-    std::string().swap(owned_);
-    view_ = {};
+    file_.reset();
+    memory_ = owned_;
+    size_ = owned_.size();
+}
+
+InputSource::InputSource(std::string_view bytes, const std::string& path)
+    : path_(path), memory_(bytes), size_(bytes.size()) {}
+
+InputSource::~InputSource() = default;
+
+void InputSource::skip_bom(bool skip) {
+    constexpr std::string_view kBom = "\xEF\xBB\xBF";
+    size_ += skip_;
+    skip_ = 0;
+    if (skip && size_ >= kBom.size() && head(kBom.size()) == kBom) {
+        skip_ = kBom.size();
+        size_ -= kBom.size();
+    }
+}
+
+std::string_view InputSource::all() {
+    if (memory_.data() == nullptr && size_ > 0) {
+        try {
+            read_ = large_array<char>(file_->size);  // left unset: the read fills it
+        } catch (const std::bad_alloc&) {
+            throw ResourceError("cannot read '" + path_ + "': its " + std::to_string(file_->size) +
+                                " bytes do not fit in memory");
+        }
+        read_whole(read_.get());
+        memory_ = std::string_view(read_.get(), file_->size);
+        finish();
+    }
+    return memory_.substr(std::min(skip_, memory_.size()));
+}
+
+std::string_view InputSource::head(std::size_t n) {
+    n = std::min(n, size_);
+    if (memory_.data() != nullptr || n == 0) return memory_.substr(std::min(skip_, memory_.size()), n);
+    owned_.resize(n);
+    if (!read_range(skip_, skip_ + n, owned_.data())) finish();
+    return owned_;
+}
+
+bool InputSource::part(std::size_t begin, std::size_t end, std::vector<char>& buffer, std::string_view& bytes) const {
+    if (!file_ || memory_.data() != nullptr) {
+        bytes = memory_.substr(skip_ + begin, end - begin);
+        return true;
+    }
+    if (buffer.size() < end - begin) buffer.resize(end - begin);
+    bytes = std::string_view(buffer.data(), end - begin);
+    return read_range(skip_ + begin, skip_ + end, buffer.data());
+}
+
+void InputSource::finish() const {
+    if (failed_.load() != 0) throw IoError("cannot read '" + path_ + "': " + system_reason(failed_.load()));
+    if (file_) require_unchanged(*file_, path_, !cut_short_.load());
+}
+
+// Bytes [begin, end) of the file, as it was opened, into `to`; false (noted for finish())
+// where a read fails or the file ends first.
+bool InputSource::read_range(std::size_t begin, std::size_t end, char* to) const {
+    const auto failed = [this](int err) {  // the first errno met is the one named
+        int none = 0;
+        failed_.compare_exchange_strong(none, err);
+        return false;
+    };
+    if (fault_->meet(path_, begin, end)) return failed(EIO);
+    for (std::size_t at = begin; at < end;) {
+        const ssize_t n = ::pread(file_->fd, to + (at - begin), end - at, off_t(at));
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return failed(errno);
+        if (n == 0) {
+            cut_short_.store(true);  // require_unchanged names it
+            return false;
+        }
+        at += std::size_t(n);
+    }
+    return true;
+}
+
+// The whole file into `to`, by the threads in 4 MiB parts where it is large.
+void InputSource::read_whole(char* to) const {
+    constexpr std::size_t kPart = std::size_t(4) << 20;
+    const std::size_t size = file_->size, parts = (size + kPart - 1) / kPart;
+    settle_threads();  // before the first parallel region: the OpenMP runtime cannot fail softly
+#pragma omp parallel for schedule(dynamic, 1) if (parts > 4)
+    for (std::ptrdiff_t p = 0; p < std::ptrdiff_t(parts); ++p) {
+        const std::size_t begin = std::size_t(p) * kPart, end = std::min(size, begin + kPart);
+        read_range(begin, end, to + begin);
+    }
 }
 
 }  // namespace snvr::detail
