@@ -62,7 +62,9 @@ SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& p
     std::vector<std::string> start_notes;
     std::future<std::unique_ptr<Backend<Real>>> starting;
     bool start_later = params.device == "auto" && !detail::memory_limit_text().empty();
-    if (params.device == "auto" && !start_later) {
+    if (params.device != "auto") {
+        backend_ = make_backend<Real>(params.device, facts_.notes);
+    } else if (!start_later) {
         try {
             starting = std::async(std::launch::async, [&] { return make_backend<Real>(params.device, start_notes); });
         } catch (const std::system_error& e) {
@@ -70,8 +72,6 @@ SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& p
             facts_.notes.push_back(std::string("the backend could not start beside the planning (") + e.what() +
                                    "): started after it");
         }
-    } else {
-        backend_ = make_backend<Real>(params.device, facts_.notes);
     }
     problem_ = make_problem(plan_domain(points, params), params);
     const Domain& dom = domain();
