@@ -58,11 +58,17 @@ int run_sample(const std::vector<std::string>& args) {
     if (!parsed) return 0;
     snvr::PointSet points;
     try {
-        points = snvr::shapes::with_outliers(snvr::shapes::by_name(parsed->shape, parsed->spacing), parsed->outliers);
+        const snvr::PointSet surface = parsed->random ? snvr::shapes::random_by_name(parsed->shape, parsed->random, parsed->seed)
+                                                      : snvr::shapes::by_name(parsed->shape, parsed->spacing);
+        points = snvr::shapes::with_outliers(surface, parsed->outliers);
     } catch (const snvr::ParameterError& e) {
         throw UsageError(e.what());  // an unknown shape name or a bad spacing came from the command line
     }
-    snvr::write_points(points, parsed->output, snvr::format_text("snvr-cl sample %s --spacing %g --outliers %g", parsed->shape.c_str(), parsed->spacing, parsed->outliers));
+    const std::string drawn = parsed->random ? snvr::format_text("--random %zu --seed %llu", parsed->random,
+                                                                 (unsigned long long)parsed->seed)
+                                             : snvr::format_text("--spacing %g", parsed->spacing);
+    snvr::write_points(points, parsed->output, snvr::format_text("snvr-cl sample %s %s --outliers %g", parsed->shape.c_str(),
+                                                                 drawn.c_str(), parsed->outliers));
     std::cerr << "wrote " << grouped(points.size()) << " points to " << snvr::printable(parsed->output) << '\n';
     return 0;
 }

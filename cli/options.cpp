@@ -315,7 +315,7 @@ Command reconstruct_command(ReconstructOptions& o) {
 
 Command sample_command(SampleOptions& o) {
     Command c;
-    c.usage = "snvr-cl sample SHAPE -o OUTPUT [--spacing S]";
+    c.usage = "snvr-cl sample SHAPE -o OUTPUT [--spacing S | --random N [--seed K]]";
     c.description =
         "Writes points sampled on an analytic test shape centred in the unit box, about\n"
         "S apart (exactly on the surface unless noisy):\n"
@@ -337,11 +337,16 @@ Command sample_command(SampleOptions& o) {
          store(o.output), "Options"},
         {"--spacing", "", "S", snvr::format_text("distance between neighbouring points (default %g)", o.spacing),
          store(o.spacing)},
+        {"--random", "", "N",
+         "N points drawn uniformly at random on the surface instead of\nspaced S apart (as a scanner's returns fall)",
+         store(o.random)},
+        {"--seed", "", "K", "the random draw's seed (default 1)", store(o.seed)},
         {"--outliers", "", "F",
          "add F times as many points uniform in the shape's box (the\npaper's Fig. 10 uses 0.05 to 0.15; default 0)",
          store(o.outliers)},
         help_option(),
     };
+    c.exclusive = {{"--spacing", "--random"}};
     c.epilogue = kExitCodes;
     return c;
 }

@@ -34,6 +34,8 @@ struct SampleOptions {
     std::string shape, output;
     double spacing = 0.005;
     double outliers = 0;  // fraction of random points added in the shape's box
+    std::size_t random = 0;  // points drawn at random on the surface instead of spaced; 0: spaced
+    std::uint64_t seed = 1;
 };
 
 // Each returns nullopt when -h/--help was given; the help then went to `help_out`.

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli_run.hpp"
+#include "snvr/point_io.hpp"
 
 namespace fs = std::filesystem;
 using namespace cli_testing;
@@ -108,6 +109,16 @@ TEST_CASE("3MF output and a JSON report, written with the mesh or not at all") {
     CHECK(bad.code == 1);
     CHECK(!fs::exists(mesh));
     expect_failure("reconstruct " + input + " -o " + t.out() + " --report r.txt", 2, ".json", t);
+}
+
+TEST_CASE("sample --random: N points at random on the surface, by seed") {
+    TempDir t;
+    const std::string a = (t.path / "a.xyz").string(), b = (t.path / "b.xyz").string();
+    REQUIRE(run("sample torus --random 700 --seed 3 -o " + a).code == 0);
+    REQUIRE(run("sample torus --random 700 --seed 3 -o " + b).code == 0);
+    CHECK(snvr::read_points(a).size() == 700);
+    CHECK(snvr::read_points(a) == snvr::read_points(b));
+    expect_failure("sample torus --random 700 --spacing 0.01 -o " + a, 2, "--random", t);
 }
 
 TEST_CASE("outliers: dropped by default, written where asked, kept on request") {

@@ -222,6 +222,35 @@ TEST_CASE("by_name") {
     CHECK_THROWS_AS(shapes::cylinder(kC, 1, 1, std::nan("")), snvr::ParameterError);
 }
 
+TEST_CASE("random_by_name: points drawn at random on the surface, uniform by area, by seed") {
+    for (const char* name : {"sphere", "torus", "cube", "helicoid"}) {
+        CAPTURE(name);
+        const PointSet a = shapes::random_by_name(name, 1500, 1);
+        REQUIRE(a.size() == 1500);
+        const auto exact = shapes::exact_distance_by_name(name, 0.01);
+        double farthest = 0;
+        for (const Vec3& p : a) farthest = std::max(farthest, std::fabs(exact(p)));
+        CHECK(farthest < 1e-9);  // on the surface
+        CHECK(shapes::random_by_name(name, 1500, 1) == a);  // the seed decides
+        CHECK(shapes::random_by_name(name, 1500, 2) != a);
+    }
+    // Uniform by area: the sphere's upper half holds half the points (z is uniform on a
+    // sphere, Archimedes), within 4 sigma of a binomial count; and no spacing holds them
+    // apart (some pair far closer than a blue-noise sampling of as many would allow).
+    const PointSet sphere = shapes::random_by_name("sphere", 4000, 7);
+    const auto upper = std::count_if(sphere.begin(), sphere.end(), [](const Vec3& p) { return p[2] > 0.5; });
+    CHECK(std::abs(double(upper) - 2000.0) < 4 * std::sqrt(1000.0));
+    const auto band = std::count_if(sphere.begin(), sphere.end(), [](const Vec3& p) { return std::fabs(p[2] - 0.5) < 0.0875; });
+    CHECK(std::abs(double(band) - 1000.0) < 4 * std::sqrt(750.0));  // a quarter of the height, a quarter of the area
+    double closest = 1;
+    for (std::size_t i = 0; i < sphere.size(); ++i)
+        for (std::size_t j = i + 1; j < sphere.size(); ++j) closest = std::min(closest, dist(sphere[i], sphere[j]));
+    const double spacing = std::sqrt(4 * M_PI * kSize * kSize / 4000.0);
+    CHECK(closest < 0.3 * spacing);
+    CHECK_THROWS_AS(shapes::random_by_name("sphere", 0, 1), snvr::ParameterError);
+    CHECK_THROWS_AS(shapes::random_by_name("klein-bottle", 10, 1), snvr::ParameterError);
+}
+
 // ---- The harder inputs: sheets, Möbius band, helicoid, noisy, varying, torus, LiDAR.
 
 namespace {

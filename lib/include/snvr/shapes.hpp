@@ -88,6 +88,11 @@ double lidar_distance(const Vec3& p, const Vec3& c, double size);
 // "torus" (R 0.3, r 0.12), "lidar" (side 0.7, lines 4 spacings apart, range noise
 // 0.1 spacing, seed 1). Throws ParameterError for an unknown name.
 PointSet by_name(const std::string& name, double spacing);
+// `count` points drawn uniformly at random by area on by_name(name, ...)'s surface (as a
+// scanner's returns fall, with no spacing between them): a subset of a sampling 100
+// times as dense, drawn without replacement by `seed`. Throws ParameterError for an
+// unknown name or a count below 1.
+PointSet random_by_name(const std::string& name, std::size_t count, std::uint64_t seed);
 // Distance to the noise-free surface of by_name(name, spacing).
 std::function<double(const Vec3&)> exact_distance_by_name(const std::string& name, double spacing);
 // The names by_name knows, in a fixed order.

@@ -735,6 +735,21 @@ const Named& find_named(const std::string& name) {
 
 PointSet by_name(const std::string& name, double spacing) { return find_named(name).sample(spacing); }
 
+PointSet random_by_name(const std::string& name, std::size_t count, std::uint64_t seed) {
+    if (count < 1) throw ParameterError("the random point count must be at least 1");
+    const Named& shape = find_named(name);
+    // A blue-noise sampling 100 times as dense as asked (its count falls with the square
+    // of the spacing), then `count` of its points by a partial Fisher-Yates shuffle.
+    constexpr double kTrial = 0.01;
+    const double trial = double(shape.sample(kTrial).size());
+    PointSet dense = shape.sample(kTrial * std::sqrt(trial / (100.0 * double(count))));
+    if (dense.size() < count) throw ParameterError("the shape holds too few points for " + std::to_string(count));
+    std::mt19937_64 gen(seed);
+    for (std::size_t i = 0; i < count; ++i) std::swap(dense[i], dense[i + std::size_t(gen() % (dense.size() - i))]);
+    dense.resize(count);
+    return dense;
+}
+
 std::function<double(const Vec3&)> exact_distance_by_name(const std::string& name, double spacing) {
     // The noise-free surfaces do not depend on the spacing; checking it keeps the
     // arguments those of by_name.
