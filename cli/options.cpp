@@ -274,6 +274,9 @@ Command reconstruct_command(ReconstructOptions& o) {
         {"--free-flow", "", "", "no tube: the paper's unconstrained flow", [&p](const std::string&, const std::string&) {
              p.keep_offset = false;
          }},
+        {"--points-as-given", "", "",
+         "no points added on the surface: none at a random sampling's holes\n(they show through the shell), none between points sparser than\nthe grid (their balls show)",
+         [&p](const std::string&, const std::string&) { p.add_points = false; }},
         {"--eps-cells", "", "M", snvr::format_text("Allen-Cahn epsilon: the interface spans about M cells\n(default %g)", defaults.eps_cells),
          store(p.eps_cells)},
         {"--eps", "", "E", "Allen-Cahn epsilon instead of --eps-cells, world units", store(p.eps)},

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
+#include <utility>
 
 #include "snvr/snvr.hpp"
 #include "snvr/shapes.hpp"
@@ -113,4 +115,38 @@ TEST_CASE("real scans and clean shapes keep their points") {
     }
     // Too few points to tell: all kept.
     CHECK(split_outliers(PointSet{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {9, 9, 9}}, p).outliers.empty());
+}
+
+TEST_CASE("small clusters far from the object go, so that the grid is planned on it; a small object beside it stays") {
+    // An object a tenth of the box across, 1.4% of its points in four tight far groups of
+    // 12-55 (stray returns), and a small object of 150 points close beside it.
+    std::mt19937_64 gen(5);
+    std::normal_distribution<double> normal;
+    const auto ball = [&](const Vec3& c, double r, int n, PointSet& out) {
+        for (int i = 0; i < n; ++i) {
+            Vec3 d{normal(gen), normal(gen), normal(gen)};
+            const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            out.push_back({c[0] + r * d[0] / len, c[1] + r * d[1] / len, c[2] + r * d[2] / len});
+        }
+    };
+    PointSet object;
+    ball({0.5, 0.5, 0.5}, 0.05, 8900, object);
+    ball({0.58, 0.5, 0.5}, 0.012, 150, object);
+    PointSet with_strays = object;
+    std::size_t strays = 0;
+    for (const auto& [c, n] : {std::pair<Vec3, int>{{0.05, 0.1, 0.9}, 12}, {{0.95, 0.9, 0.1}, 25},
+                               {{0.1, 0.95, 0.2}, 40}, {{0.9, 0.05, 0.95}, 55}}) {
+        for (int i = 0; i < n; ++i) with_strays.push_back({c[0] + 0.004 * normal(gen), c[1] + 0.004 * normal(gen), c[2] + 0.004 * normal(gen)});
+        strays += std::size_t(n);
+    }
+    Parameters p;
+    p.resolution = 128;
+    const OutlierSplit split = split_outliers(with_strays, p);
+    CHECK(split.outliers.size() == strays);
+    CHECK(split.kept.size() == object.size());  // the small object too
+    CHECK(plan_domain(split.kept, p).domain.h == doctest::Approx(plan_domain(object, p).domain.h));
+    OutlierSettings off;
+    off.far_cluster_share = 0;  // the rule off: the groups stay and spread the grid
+    CHECK(split_outliers(with_strays, p, off).outliers.size() < strays / 2);
+    CHECK(plan_domain(with_strays, p).domain.h > 5 * plan_domain(object, p).domain.h);
 }

@@ -232,3 +232,17 @@ def test_a_file_that_changes_while_read_raises_oserror(tmp_path, monkeypatch):
     monkeypatch.delenv("SNVR_TEST_READ_FAULT")
     points.write_bytes(data)
     assert len(snvr.read_points(str(points))) > 0
+
+
+def test_a_random_samplings_holes_are_closed_unless_kept():
+    # 1,500 points at random on a sphere: holes wider than the offset, closed by points at their centres.
+    rng = np.random.default_rng(3)
+    directions = rng.normal(size=(1500, 3))
+    points = 0.5 + 0.35 * directions / np.linalg.norm(directions, axis=1, keepdims=True)
+    closed = snvr.shell(points, resolution=96, device="openmp")
+    holes = closed.report["sampling_holes"]
+    assert holes["share"] >= 0.04 and holes["points_added"] > 0
+    assert closed.report["check"]["genus"] == 0 and closed.report["check"]["solids"] == 1
+    kept = snvr.shell(points, resolution=96, device="openmp", points_as_given=True)
+    assert kept.report["sampling_holes"]["points_added"] == 0
+    assert kept.report["check"]["genus"] > 0

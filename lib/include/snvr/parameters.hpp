@@ -24,6 +24,7 @@ struct ParameterLimits {
     static constexpr double max_width_cells = 100;        // eps and xi, in cells (defaults 12 and 4)
     static constexpr double min_offset_cells = 1, max_offset_cells = 100;
     static constexpr double max_tol = 1;
+    static constexpr double min_upsample_spacing = 0.1;  // share of the offset: 100 points a point
     static constexpr int max_cycles = 10000;
 };
 
@@ -60,6 +61,15 @@ struct Parameters {
     double tube_inner = 0.2;       // share of l
     double tube_outer = 0.4;       // share of l
     bool keep_offset = true;       // false: the paper's free flow (no tube)
+    // Points added on the surface the points describe, before the distance: where they
+    // fall at random (a scanner's returns rather than a spacing), one at the centre of
+    // each hole wider than (1 - tube_inner) x the offset, so that the shell is closed
+    // where the surface was sampled, without thicker walls; and where the sampling sets
+    // the offset (it is more than offset_cells voxels), points upsample_spacing x the
+    // offset apart on each point's local quadric, so that the shell is smooth at the
+    // sampling's scale rather than a bunch of grapes. false: the points as given.
+    bool add_points = true;
+    double upsample_spacing = 0.35;  // share of the offset
     double eps_cells = 12;         // epsilon of the Allen-Cahn equation, in cells (eps_m)
     std::optional<double> eps;     // ...or in world units
     double xi_cells = 4;           // xi of the initial profile, in cells

@@ -90,7 +90,8 @@ std::size_t count_point_clusters(const PointSet& points, double link_distance); 
 // taken over up to median_sample points evenly strided in input order). Then, among the
 // rest, the clusters a shell of the offset planned for them (2 l: see
 // count_point_clusters) would leave apart as loose beads, if they have fewer than
-// min_cluster points and under 1% of all. In between, with `strays`, the points that
+// min_cluster points and under 1% of all, or if they lie far from the largest cluster
+// with under far_cluster_share of all. In between, with `strays`, the points that
 // the density let through because they lie within a few spacings of the surface, where
 // each would raise a bump on the shell: a point whose nearest neighbour is unusually far
 // and that stands clearly off the plane of its 16 nearest neighbours (by over six times
@@ -100,6 +101,11 @@ struct OutlierSettings {
     std::size_t neighbours = 8;
     double reach_factor = 3;
     std::size_t min_cluster = 10;
+    // Clusters far from the largest (farther from its box than far_cluster_distance times
+    // its longest side), each under far_cluster_share of the points: stray returns that
+    // would set the grid. At most 5% of the points go this way.
+    double far_cluster_distance = 1;
+    double far_cluster_share = 0.01;
     std::size_t median_sample = 100000;
     bool strays = true;
     void validate() const;  // throws ParameterError naming the bad value

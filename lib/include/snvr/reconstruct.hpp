@@ -39,6 +39,17 @@ struct DomainPlan {
     double offset = 0;
     std::string offset_reason;
     double gap = 0;
+    // A random sampling's holes (sampling_holes.hpp): the share of the points that border a
+    // hole wider than the gap, and the points added at the centres of the holes wider
+    // than the tube's inner side (0 where the share is under HoleRules::random_share, or
+    // Parameters::add_points is off).
+    double hole_share = 0;
+    std::size_t hole_fills = 0;
+    double hole_least = 0;  // world units: the holes wider than this got a point (0: none looked for)
+    // Where the sampling sets the offset: points added this far apart between the points,
+    // on their local surfaces (0: none), and how many (Parameters::add_points).
+    double upsample_spacing = 0;
+    std::size_t upsampled = 0;
     double eps = 0, xi = 0;       // world units
     double dt = 0;                // normalised
     int planned_steps = 0;        // the time steps the flow takes

@@ -19,6 +19,7 @@
 #include "geometry/point_samples.hpp"
 #include "geometry/point_tree.hpp"
 #include "geometry/stray_points.hpp"
+#include "geometry/vec3_math.hpp"
 #include "snvr/error.hpp"
 
 namespace snvr {
@@ -77,11 +78,58 @@ bool take(PointCloud& cloud, const std::vector<std::uint8_t>& flagged, std::vect
     return any;
 }
 
+// By cluster root: 1 for the clusters far from the largest, each a tiny share of the
+// points (stray returns in small far groups): one whose box lies farther from the
+// largest cluster's box than far_cluster_distance times that box's longest side, with
+// under far_cluster_share of all the points. Such groups would spread the grid over the
+// whole box and leave the object a few cells across; a small object close beside the
+// main one stays. None when they would be more than 5% of the points.
+std::vector<std::uint8_t> far_clusters(const PointCloud& cloud, const std::vector<std::uint32_t>& root,
+                                       const std::vector<std::uint32_t>& members, std::size_t total,
+                                       const OutlierSettings& s) {
+    std::vector<std::uint8_t> far(root.size(), 0);
+    if (root.empty()) return far;
+    const std::uint32_t largest = std::uint32_t(std::max_element(members.begin(), members.end()) - members.begin());
+    std::vector<Bounds> box(root.size());
+    std::vector<std::uint8_t> started(root.size(), 0);
+    for (std::size_t k = 0; k < root.size(); ++k) {
+        const Vec3 p = cloud[k];
+        Bounds& b = box[root[k]];
+        if (!started[root[k]]) {
+            b = {p, p};
+            started[root[k]] = 1;
+        }
+        for (int a = 0; a < 3; ++a) {
+            b.lo[a] = std::min(b.lo[a], p[a]);
+            b.hi[a] = std::max(b.hi[a], p[a]);
+        }
+    }
+    const Bounds& main = box[largest];
+    const double reach = s.far_cluster_distance * main.longest();
+    std::size_t dropped = 0;
+    for (std::size_t r = 0; r < root.size(); ++r) {
+        if (root[r] != r || r == largest || !(double(members[r]) < s.far_cluster_share * double(total))) continue;
+        double gap_sq = 0;  // between the two boxes
+        for (int a = 0; a < 3; ++a) {
+            const double g = std::max({0.0, box[r].lo[a] - main.hi[a], main.lo[a] - box[r].hi[a]});
+            gap_sq += g * g;
+        }
+        if (gap_sq > reach * reach) {
+            far[r] = 1;
+            dropped += members[r];
+        }
+    }
+    if (double(dropped) > 0.05 * double(total)) std::fill(far.begin(), far.end(), 0);
+    return far;
+}
+
 }  // namespace
 
 void OutlierSettings::validate() const {
     if (!(reach_factor > 0) || !std::isfinite(reach_factor) || neighbours < 1 || median_sample < 1)
         throw ParameterError("the outliers' reach factor must be a positive number, neighbours and the median's sample at least 1");
+    if (!(far_cluster_distance > 0) || !std::isfinite(far_cluster_distance) || !(far_cluster_share >= 0 && far_cluster_share <= 1))
+        throw ParameterError("the far clusters' distance must be a positive number and their share from 0 to 1");
 }
 
 std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cloud, const OutlierSettings& s,
@@ -116,11 +164,12 @@ std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cl
         const std::vector<std::uint32_t> root = detail::cluster_roots(detail::tree_of(cloud), link);
         std::vector<std::uint32_t> members(root.size(), 0);
         for (std::uint32_t r : root) ++members[r];
+        const std::vector<std::uint8_t> far = far_clusters(cloud, root, members, total, s);
         std::vector<std::uint8_t> small(root.size());
         std::size_t roots = 0;
         for (std::size_t k = 0; k < root.size(); ++k) {
             const std::uint32_t m = members[root[k]];
-            small[k] = m < s.min_cluster && double(m) < 0.01 * double(total);
+            small[k] = (m < s.min_cluster && double(m) < 0.01 * double(total)) || far[root[k]];
             roots += root[k] == k;
         }
         if (!take(cloud, small, out)) {

@@ -392,6 +392,33 @@ double PointTree::nearest_other(std::size_t k) const {
     return best < std::numeric_limits<double>::infinity() ? std::sqrt(best) : 0.0;
 }
 
+// Visits the leaves nearer q than bound() (read again before each node), nearest first:
+// leaf(node) takes the leaf's points.
+template <class Bound, class Leaf>
+void nearest_first(const PointTree& t, const Vec3& q, Bound&& bound, Leaf&& leaf) {
+    if (t.nodes.empty()) return;
+    Pending stack[PointTree::kMaxDepth * 8];
+    int top = 0;
+    stack[top++] = {0, t.box_dist_sq(q, t.nodes[0])};
+    while (top > 0) {
+        const Pending at = stack[--top];
+        if (!(at.dist_sq < bound())) continue;
+        const PointTree::Node& n = t.nodes[at.node];
+        if (n.leaf()) {
+            leaf(n);
+            continue;
+        }
+        Pending* kids = stack + top;
+        int m = 0;
+        for (std::uint32_t c = 0; c < n.children; ++c) {
+            const double d = t.box_dist_sq(q, t.nodes[n.child + c]);
+            if (d < bound()) kids[m++] = {n.child + c, d};
+        }
+        sort_far_first(kids, m);
+        top += m;
+    }
+}
+
 double PointTree::kth_nearest(std::size_t k, std::size_t kth) const {
     // The kth + 1 smallest squared distances to all points, the point itself (0) included.
     const std::size_t want = std::min(kth + 1, size());
@@ -405,29 +432,30 @@ double PointTree::kth_nearest(std::size_t k, std::size_t kth) const {
         }
     };
     const Vec3 q = point(k);
-    Pending stack[kMaxDepth * 8];
-    int top = 0;
-    stack[top++] = {0, box_dist_sq(q, nodes[0])};
-    while (top > 0) {
-        const Pending at = stack[--top];
-        if (!(at.dist_sq < worst())) continue;
-        const Node& n = nodes[at.node];
-        if (n.leaf()) {
-            if (n.lo == n.hi) add(dist_sq(q, point(n.begin)), n.count());
-            else
-                for (std::uint32_t j = n.begin; j < n.end; ++j) add(dist_sq(q, point(j)), 1);
-            continue;
-        }
-        Pending* kids = stack + top;
-        int m = 0;
-        for (std::uint32_t c = 0; c < n.children; ++c) {
-            const double d = box_dist_sq(q, nodes[n.child + c]);
-            if (d < worst()) kids[m++] = {n.child + c, d};
-        }
-        sort_far_first(kids, m);
-        top += m;
-    }
+    nearest_first(*this, q, worst, [&](const Node& n) {
+        if (n.lo == n.hi) add(dist_sq(q, point(n.begin)), n.count());
+        else
+            for (std::uint32_t j = n.begin; j < n.end; ++j) add(dist_sq(q, point(j)), 1);
+    });
     return std::sqrt(best.back());
+}
+
+std::vector<PointTree::Neighbour> PointTree::nearest_points(const Vec3& q, std::size_t count) const {
+    std::vector<Neighbour> best;  // nearest first, at most `count`
+    best.reserve(count + 1);
+    const auto worst = [&] {
+        return best.size() < count ? std::numeric_limits<double>::infinity() : best.back().dist_sq;
+    };
+    const auto nearer = [](const Neighbour& a, const Neighbour& b) { return a.dist_sq < b.dist_sq; };
+    nearest_first(*this, q, worst, [&](const Node& n) {
+        for (std::uint32_t j = n.begin; j < n.end; ++j) {
+            const Neighbour at{dist_sq(q, point(j)), j};
+            if (!(at.dist_sq < worst())) continue;
+            best.insert(std::upper_bound(best.begin(), best.end(), at, nearer), at);
+            if (best.size() > count) best.pop_back();
+        }
+    });
+    return best;
 }
 
 std::size_t PointTree::count_within(const Vec3& q, double r_sq, std::size_t enough) const {

@@ -80,6 +80,13 @@ public:
     // The distance from point k to its k-th nearest other point, duplicates counted (the
     // farthest there is when there are fewer others).
     double kth_nearest(std::size_t k, std::size_t kth) const;
+    // The `count` points nearest q (all when there are fewer), nearest first; index: the
+    // point's position in the tree.
+    struct Neighbour {
+        double dist_sq;
+        std::uint32_t index;
+    };
+    std::vector<Neighbour> nearest_points(const Vec3& q, std::size_t count) const;
     // How many points lie at squared distance <= r_sq from q, counting up to `enough`.
     std::size_t count_within(const Vec3& q, double r_sq, std::size_t enough) const;
 
@@ -120,8 +127,9 @@ public:
     // Multiplies every point by factor > 0; the boxes stay tight (rounding is monotone).
     void scale(double factor);
 
-private:
     static constexpr int kMaxDepth = 22;  // levels of 21-bit Morton keys, and the root
+
+private:
 
     // Cubic cells over the points' first box, 2^21 a side: a point's cell, bit-interleaved.
     struct Frame {

@@ -6,79 +6,13 @@
 #include <cmath>
 #include <limits>
 
+#include "geometry/local_plane.hpp"
 #include "geometry/neighbour_counts.hpp"
 #include "geometry/point_samples.hpp"
 
 namespace snvr::detail {
 
 namespace {
-
-// The smallest eigenvalue of the symmetric matrix a (destroyed) and a unit eigenvector
-// of it, by cyclic Jacobi rotations.
-void smallest_eigen(double (&a)[3][3], double& value, Vec3& vector) {
-    double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-    for (int sweep = 0; sweep < 50; ++sweep) {
-        const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
-        const double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
-        if (!(off > 1e-30 * diag)) break;
-        for (int p = 0; p < 2; ++p)
-            for (int q = p + 1; q < 3; ++q) {
-                if (a[p][q] == 0) continue;
-                const double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
-                const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1));
-                const double c = 1 / std::sqrt(t * t + 1), s = t * c;
-                for (int k = 0; k < 3; ++k) {
-                    const double kp = a[k][p], kq = a[k][q];
-                    a[k][p] = c * kp - s * kq;
-                    a[k][q] = s * kp + c * kq;
-                }
-                for (int k = 0; k < 3; ++k) {
-                    const double pk = a[p][k], qk = a[q][k];
-                    a[p][k] = c * pk - s * qk;
-                    a[q][k] = s * pk + c * qk;
-                }
-                for (int k = 0; k < 3; ++k) {
-                    const double kp = v[k][p], kq = v[k][q];
-                    v[k][p] = c * kp - s * kq;
-                    v[k][q] = s * kp + c * kq;
-                }
-            }
-    }
-    int least = 0;
-    for (int i = 1; i < 3; ++i)
-        if (a[i][i] < a[least][least]) least = i;
-    value = a[least][least];
-    vector = {v[0][least], v[1][least], v[2][least]};
-}
-
-// The plane through the mean of the points d (about the point asked about) with the
-// least scatter: its unit normal, the mean, and the RMS distance of the points from it.
-struct Plane {
-    Vec3 normal{0, 0, 1}, mean{0, 0, 0};
-    double scatter = 0;
-};
-Plane fit_plane(const std::vector<Vec3>& d, const std::vector<std::uint8_t>& use) {
-    double sum[3] = {0, 0, 0}, prod[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < d.size(); ++i) {
-        if (!use[i]) continue;
-        ++count;
-        for (int a = 0; a < 3; ++a) {
-            sum[a] += d[i][a];
-            for (int b = 0; b < 3; ++b) prod[a][b] += d[i][a] * d[i][b];
-        }
-    }
-    Plane f;
-    if (count == 0) return f;
-    double cov[3][3];
-    for (int a = 0; a < 3; ++a) f.mean[a] = sum[a] / double(count);
-    for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) cov[a][b] = prod[a][b] / double(count) - f.mean[a] * f.mean[b];
-    double variance;
-    smallest_eigen(cov, variance, f.normal);
-    f.scatter = std::sqrt(std::max(0.0, variance));
-    return f;
-}
 
 // Whether point k stands off the plane of its nearest other points (StraySettings). The
 // plane is fitted to those of them that are not lonely themselves (when at least half

@@ -12,8 +12,12 @@ namespace snvr {
 namespace {
 
 detail::RunLengthsOf planned_by(const Parameters& params) {
-    return [&params](const PointCloud& cloud) {
-        const DomainPlan plan = plan_domain(cloud, params);
+    // The lengths alone: the points the run would add do not change them, and finding
+    // where it would add them (the sampling's holes) is not free.
+    Parameters lengths = params;
+    lengths.add_points = false;
+    return [lengths](const PointCloud& cloud) {
+        const DomainPlan plan = plan_domain(cloud, lengths);
         return detail::RunLengths{plan.domain.h, plan.offset};
     };
 }

@@ -45,6 +45,8 @@ std::string report_json(const RunReport& report) {
           {"active_cells", r.active_cells}}},
         {"offset", {{"length", r.offset}, {"voxels", r.offset / d.h}, {"thickness", 2 * r.offset}, {"why", r.offset_reason}}},
         {"sampling_gap", r.gap},
+        {"sampling_holes", {{"share", r.hole_share}, {"points_added", r.hole_fills}, {"wider_than", r.hole_least}}},
+        {"upsampled", {{"points_added", r.upsampled}, {"spacing", r.upsample_spacing}}},
         {"eps", r.eps},
         {"xi", r.xi},
         {"flow",

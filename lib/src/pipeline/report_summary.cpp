@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 
+#include "geometry/sampling_holes.hpp"
 #include "snvr/error.hpp"
 #include "snvr/report.hpp"
 
@@ -28,7 +29,7 @@ std::string report_summary(const RunReport& report) {
                printable(value) + '\n';
     };
     if (run.outliers.link > 0)
-        row("outliers", format_text("%s dropped, %s used (sparse, lone points standing off the surface, or in clusters of under %zu points apart by over %.3g mm)%s",
+        row("outliers", format_text("%s dropped, %s used (sparse, lone points standing off the surface, in clusters of under %zu points apart by over %.3g mm, or in small clusters far from the rest)%s",
                             grouped(run.outliers.points.size()).c_str(), grouped(run.points).c_str(),
                             OutlierSettings{}.min_cluster, run.outliers.link,
                             files.outliers_file.empty() ? "" : (": written to " + files.outliers_file).c_str()));
@@ -43,6 +44,14 @@ std::string report_summary(const RunReport& report) {
     row("offset", format_text("%.6g (%.3g voxels), thickness %.6g; why: %s", r.offset, r.offset / d.h, 2 * r.offset,
                       r.offset_reason.empty() ? "not reported" : r.offset_reason.c_str()));
     row("sampling gap", format_text("%.6g", r.gap));
+    if (r.hole_share >= HoleRules::random_share)
+        row("sampling holes", format_text("%s points added at the centres of holes wider than %.3g voxels (%.2g x offset; %.1f%% of the "
+                                          "points border holes wider than the gap: a random sampling; --points-as-given leaves them)",
+                                          grouped(r.hole_fills).c_str(), r.hole_least / d.h, r.hole_least / r.offset, 100 * r.hole_share));
+    if (r.upsample_spacing > 0)
+        row("upsampled", format_text("%s points added %.3g voxels (%.2g x offset) apart on the points' local surfaces: the "
+                                     "sampling sets the offset, and its balls would show (--points-as-given leaves them)",
+                                     grouped(r.upsampled).c_str(), r.upsample_spacing / d.h, r.upsample_spacing / r.offset));
     // In the cells of --eps-cells/--xi-cells, whichever way they were given.
     const double per_cell = eps_of_cells(1, d.h);
     row("eps, xi", format_text("%.6g (%.3g cells), %.6g (%.3g cells)", r.eps, r.eps / per_cell, r.xi, r.xi / per_cell));

@@ -70,6 +70,8 @@ void Parameters::validate() const {
     in_range(smoothing_cells, 0, L::max_smoothing_cells, kClosed, "the flow time", "smoothing", " h^2");
     in_range(tube_inner, 0, L::max_tube_inner, kOpen, "the tube's inner side", "tube-inner", " x offset");
     in_range(tube_outer, 0, L::max_tube_outer, kOpenBelow, "the tube's outer side", "tube-outer", " x offset");
+    in_range(upsample_spacing, L::min_upsample_spacing, 1, kClosed, "the added points' spacing", "upsample-spacing",
+             " x offset");
     in_range(eps_cells, 0, L::max_width_cells, kOpenBelow, "eps", "eps-cells", " cells");
     in_range(xi_cells, 0, L::max_width_cells, kOpenBelow, "xi", "xi-cells", " cells");
     in_range(tol, 0, L::max_tol, kOpen, "the residual tolerance", "tol", "");

@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "geometry/band_distance.hpp"
+#include "geometry/added_points.hpp"
 #include "process_limits.hpp"
 #include "solver/operations.hpp"
 #include "solver/solver_memory.hpp"
@@ -81,7 +82,17 @@ SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& p
                std::to_string(dom.levels) + " multigrid levels");
 
     const Band& band = problem_.band;
-    BandDistance<Real> dist = band_distance<Real>(detail::tree_of(points), dom, band, [&](std::size_t near_bricks) {
+    // The distance is measured to the points and those added on their surface, at most
+    // 4 voxels (a quarter of the offset) beyond the points' box: the grid pads the box by
+    // the offset and over 6 voxels more, and the shell keeps the offset from every point.
+    AddedPoints added;
+    const double slack = std::min(4 * dom.h, 0.25 * problem_.plan.offset);
+    const PointCloud with_added =
+        with_added_points(points, problem_.plan.hole_least, problem_.plan.upsample_spacing, slack, added);
+    const PointCloud& measured = with_added.empty() ? points : with_added;
+    problem_.plan.hole_fills = added.at_holes;
+    problem_.plan.upsampled = added.between;
+    BandDistance<Real> dist = band_distance<Real>(detail::tree_of(measured), dom, band, [&](std::size_t near_bricks) {
         require_memory(band_distance_bytes(near_bricks, params.precision) + problem_.plan.estimated_bytes, dom);
     });
     classify_band(dist, dom, band);

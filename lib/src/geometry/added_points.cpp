@@ -1,0 +1,53 @@
+// with_added_points (added_points.hpp).
+#include "geometry/added_points.hpp"
+
+#include <algorithm>
+
+#include "geometry/point_tree.hpp"
+#include "geometry/sampling_holes.hpp"
+#include "geometry/surface_upsampling.hpp"
+
+namespace snvr {
+namespace {
+
+// Drops the points farther than `slack` outside the box.
+void within(const std::array<Vec3, 2>& box, double slack, PointSet& points) {
+    points.erase(std::remove_if(points.begin(), points.end(),
+                                [&](const Vec3& p) {
+                                    for (int a = 0; a < 3; ++a)
+                                        if (!(p[a] >= box[0][a] - slack && p[a] <= box[1][a] + slack)) return true;
+                                    return false;
+                                }),
+                 points.end());
+}
+
+PointCloud joined(const PointCloud& points, const PointSet& more) {
+    PointSet all = points.to_point_set();
+    all.insert(all.end(), more.begin(), more.end());
+    return PointCloud(all);
+}
+
+}  // namespace
+
+PointCloud with_added_points(const PointCloud& points, double hole_least, double upsample_spacing, double slack,
+                             AddedPoints& added) {
+    added = {};
+    const std::array<Vec3, 2> box = points.box();
+    PointCloud with;
+    if (hole_least > 0) {
+        PointSet centres = hole_centres(points, hole_least);
+        within(box, slack, centres);
+        added.at_holes = centres.size();
+        if (!centres.empty()) with = joined(points, centres);
+    }
+    if (upsample_spacing > 0) {
+        const PointCloud& so_far = with.empty() ? points : with;
+        PointSet between = upsample_surface(detail::tree_of(so_far), upsample_spacing);
+        within(box, slack, between);
+        added.between = between.size();
+        if (!between.empty()) with = joined(so_far, between);
+    }
+    return with;
+}
+
+}  // namespace snvr

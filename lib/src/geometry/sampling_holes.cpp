@@ -1,0 +1,306 @@
+// share_bordering_holes and hole_centres (sampling_holes.hpp): each point's neighbours
+// seen in their plane, the empty discs through the point in 32 directions, refined to the
+// exact circles through the point and the two neighbours that bound them.
+#include "geometry/sampling_holes.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "geometry/flat_hull.hpp"
+#include "geometry/local_plane.hpp"
+#include "geometry/point_samples.hpp"
+#include "geometry/vec3_math.hpp"
+#include "parallel_sizes.hpp"
+
+namespace snvr {
+namespace {
+
+using detail::Flat;
+
+
+constexpr std::size_t kNeighbours = 48;  // enough to enclose the widest hole of a random sampling of 20,000
+constexpr std::size_t kPlaneNeighbours = 16;
+constexpr double kOffPlane = 0.75;  // sin of the largest angle a neighbour stands off the plane (48.6 degrees)
+constexpr double kWidestGap = 0.9 * M_PI;  // radians: the widest empty angle around a hole's centre
+constexpr double kRim = 0.05;              // points within 5% of a hole's radius beyond its rim are on it
+constexpr double kFlatness = 0.1;          // a centre's distance to its nearest point within 10% of its radius
+constexpr int kDirections = 32;
+
+// A point's neighbours in their plane, the point at the origin, and how far they reach.
+struct Neighbourhood {
+    std::vector<Flat> q;
+    std::vector<double> height;  // of each above the plane
+    std::vector<double> square;  // |q|^2
+    Vec3 e1{0, 0, 0}, e2{0, 0, 0}, normal{0, 0, 1};  // the plane's axes and normal
+    std::vector<Flat> hull;  // of q and the origin
+    double reach = 0;
+
+    // The disc centred at c through the origin, if empty of q, enclosed and within reach.
+    bool holds_hole(const Flat& c) const {
+        const double r_sq = c[0] * c[0] + c[1] * c[1];
+        if (!(4 * r_sq <= reach * reach)) return false;  // wider than the neighbours can judge
+        for (const Flat& p : q) {
+            const double dx = p[0] - c[0], dy = p[1] - c[1];
+            if (dx * dx + dy * dy < r_sq * (1 - 1e-9)) return false;
+        }
+        return detail::strictly_inside(hull, c) && surrounded(c, std::sqrt(r_sq));
+    }
+    // Whether the points near the disc (within twice its radius of its centre) surround
+    // it, leaving no empty angle wider than kWidestGap seen from the centre: a hole in a
+    // sampling has points all round; a notch in a ragged boundary opens to one side.
+    bool surrounded(const Flat& c, double r) const {
+        std::vector<double> angles{std::atan2(-c[1], -c[0])};  // the point itself
+        for (const Flat& p : q) {
+            const double dx = p[0] - c[0], dy = p[1] - c[1];
+            if (dx * dx + dy * dy <= 4 * r * r) angles.push_back(std::atan2(dy, dx));
+        }
+        std::sort(angles.begin(), angles.end());
+        double widest = angles.front() + 2 * M_PI - angles.back();
+        for (std::size_t i = 1; i < angles.size(); ++i) widest = std::max(widest, angles[i] - angles[i - 1]);
+        return widest < kWidestGap;
+    }
+    // The neighbours as (u, v, height), the point itself among them.
+    std::vector<std::array<double, 3>> uvw() const {
+        std::vector<std::array<double, 3>> out{{0, 0, 0}};
+        for (std::size_t i = 0; i < q.size(); ++i) out.push_back({q[i][0], q[i][1], height[i]});
+        return out;
+    }
+    // The height above the plane at c of the plane through the points on the rim of the
+    // disc of radius r centred there (the point itself among them); false where they
+    // scatter about that plane by more than kFlatness r (not one flat patch: a twisted or
+    // folded surface) or it stands steeply on this one.
+    bool rim_height(const Flat& c, double r, double& height_at_c) const {
+        std::vector<Vec3> rim{{0, 0, 0}};
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            const double dx = q[i][0] - c[0], dy = q[i][1] - c[1];
+            if (dx * dx + dy * dy <= (1 + kRim) * (1 + kRim) * r * r) rim.push_back({q[i][0], q[i][1], height[i]});
+        }
+        const detail::Plane plane = detail::fit_plane(rim, std::vector<std::uint8_t>(rim.size(), 1));
+        if (!(plane.scatter <= kFlatness * r) || !(std::fabs(plane.normal[2]) >= 0.5)) return false;
+        const Vec3& m = plane.mean;
+        height_at_c = m[2] - (plane.normal[0] * (c[0] - m[0]) + plane.normal[1] * (c[1] - m[1])) / plane.normal[2];
+        return true;
+    }
+    // The disc through the origin whose centre lies along u, grown until a neighbour
+    // meets its rim: that neighbour (or none) and the distance to the centre, |q|^2 /
+    // (2 q.u) least over the neighbours ahead (compared as fractions: no division each).
+    std::size_t blocking(const Flat& u, double& rho) const {
+        double num = 1, den = 0;  // the least so far, num / den; none: 1 / 0
+        std::size_t by = q.size();
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            const double along = 2 * (q[i][0] * u[0] + q[i][1] * u[1]);
+            if (along <= 0 || !(square[i] * den < num * along)) continue;
+            num = square[i];
+            den = along;
+            by = i;
+        }
+        rho = by == q.size() ? std::numeric_limits<double>::infinity() : num / den;
+        return by;
+    }
+};
+
+Neighbourhood neighbourhood(const detail::PointTree& tree, std::uint32_t k) {
+    Neighbourhood n;
+    const Vec3 p = tree.point(k);
+    std::vector<Vec3> d;
+    for (const auto& at : tree.nearest_points(p, kNeighbours + 1))
+        if (at.dist_sq > 0) {
+            d.push_back(sub(tree.point(at.index), p));
+            n.reach = std::sqrt(at.dist_sq);
+        }
+    if (d.size() < 8) return n;
+    // The plane of the nearest few: over all 48 a curved or twisted surface (a helicoid
+    // near its axis) can be seen edge on, and its points then leave false holes between them.
+    std::vector<std::uint8_t> nearest(d.size(), 0);
+    std::fill(nearest.begin(), nearest.begin() + std::ptrdiff_t(std::min(d.size(), kPlaneNeighbours)), 1);
+    const Vec3 normal = n.normal = detail::fit_plane(d, nearest).normal;
+    detail::plane_axes(normal, n.e1, n.e2);
+    const Vec3 &e1 = n.e1, &e2 = n.e2;
+    // Points more than 49 degrees off the plane belong to another part of the surface.
+    for (const Vec3& v : d)
+        if (std::fabs(dot(v, normal)) <= kOffPlane * norm(v)) {
+            n.q.push_back({dot(v, e1), dot(v, e2)});
+            n.height.push_back(dot(v, normal));
+            n.square.push_back(n.q.back()[0] * n.q.back()[0] + n.q.back()[1] * n.q.back()[1]);
+        }
+    std::vector<Flat> all = n.q;
+    all.push_back({0, 0});
+    n.hull = detail::convex_hull(std::move(all));
+    return n;
+}
+
+// The centre of the circle through the origin, a and b (none when they are in line).
+bool circle_centre(const Flat& a, const Flat& b, Flat& c) {
+    const double det = 2 * (a[0] * b[1] - a[1] * b[0]);
+    if (det == 0) return false;
+    const double aa = a[0] * a[0] + a[1] * a[1], bb = b[0] * b[0] + b[1] * b[1];
+    c = {(aa * b[1] - bb * a[1]) / det, (bb * a[0] - aa * b[0]) / det};
+    return true;
+}
+
+struct Hole {
+    double radius = 0;
+    Vec3 centre{0, 0, 0};
+};
+
+// The holes at point k wider than `least`, widest first (a point on the rims of two
+// holes sees both): the discs through the point in 32 directions, and the circles
+// through the point and the neighbours bounding two directions side by side (where a
+// hole is widest), each kept when it is a hole and not the same as a wider one kept.
+// With `first` the widest alone.
+std::vector<Hole> holes_at(const detail::PointTree& tree, std::uint32_t k, double least, bool first) {
+    std::vector<Hole> holes;
+    const Neighbourhood n = neighbourhood(tree, k);
+    if (n.q.size() < 8) return holes;
+    static const std::array<Flat, kDirections> directions = [] {
+        std::array<Flat, kDirections> u;
+        for (int i = 0; i < kDirections; ++i) u[std::size_t(i)] = {std::cos(2 * M_PI * i / kDirections), std::sin(2 * M_PI * i / kDirections)};
+        return u;
+    }();
+    std::size_t by[kDirections];
+    double rho[kDirections];
+    for (int i = 0; i < kDirections; ++i) by[i] = n.blocking(directions[std::size_t(i)], rho[i]);
+    std::vector<std::pair<double, Flat>> candidates;  // radius, centre
+    for (int i = 0; i < kDirections; ++i) {
+        if (by[i] == n.q.size()) continue;  // open that way
+        const Flat& u = directions[std::size_t(i)];
+        if (rho[i] > least) candidates.push_back({rho[i], {rho[i] * u[0], rho[i] * u[1]}});
+        const int j = (i + 1) % kDirections;
+        Flat c;
+        if (by[j] != n.q.size() && by[j] != by[i] && circle_centre(n.q[by[i]], n.q[by[j]], c)) {
+            const double r = std::sqrt(c[0] * c[0] + c[1] * c[1]);
+            if (r > least) candidates.push_back({r, c});
+        }
+    }
+    std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    const Vec3 p = tree.point(k);
+    bool fitted = false, curved = false;
+    detail::Quadric surface;
+    std::vector<Flat> rejected;  // centres found no hole: a candidate near one is the same disc
+    const auto near_rejected = [&rejected](const Flat& c, double radius) {
+        return std::any_of(rejected.begin(), rejected.end(), [&](const Flat& r) {
+            return (r[0] - c[0]) * (r[0] - c[0]) + (r[1] - c[1]) * (r[1] - c[1]) < 0.01 * radius * radius;
+        });
+    };
+    for (const auto& [radius, c] : candidates) {
+        if (near_rejected(c, radius)) continue;
+        Hole hole{radius, {}};
+        // At the height of the points on its rim: on a curved surface the plane through
+        // the point stands off it, by radius^2 / 2R on a sphere of radius R.
+        double h = 0;
+        if (!n.rim_height(c, radius, h)) {
+            rejected.push_back(c);
+            continue;
+        }
+        // On the surface the neighbours describe, curved (a torus's tube, a sphere): the rim's
+        // plane cuts inside it by the rim's sagitta.
+        if (!fitted) {
+            fitted = true;
+            curved = detail::fit_quadric(n.uvw(), surface);
+        }
+        if (curved) h = surface.at(c[0], c[1]);
+        for (int a = 0; a < 3; ++a) hole.centre[a] = p[a] + c[0] * n.e1[a] + c[1] * n.e2[a] + h * n.normal[a];
+        const auto same = [&](const Hole& h) { return norm(sub(h.centre, hole.centre)) < 0.5 * h.radius; };
+        if (std::any_of(holes.begin(), holes.end(), same)) continue;
+        if (!n.holds_hole(c)) {
+            rejected.push_back(c);
+            continue;
+        }
+        // On a flat patch the centre lies about `radius` from its nearest point in space
+        // too; where the plane does not follow the surface (an edge, a fold) it does not.
+        const double nearest = std::sqrt(tree.nearest(hole.centre).dist_sq);
+        if (!(nearest >= (1 - kFlatness) * radius && nearest <= (1 + kFlatness) * radius)) continue;
+        holes.push_back(hole);
+        if (first) break;
+    }
+    return holes;
+}
+
+// One centre per hole of `holes`, widest first: a centre nearer than half its radius to
+// a wider one's is the same hole seen from another of its rim's points.
+PointSet distinct_centres(std::vector<Hole> holes, double least) {
+    // Widest first, ties by place: the same centres whatever order the threads took.
+    std::sort(holes.begin(), holes.end(), [](const Hole& a, const Hole& b) {
+        return a.radius != b.radius ? a.radius > b.radius : a.centre < b.centre;
+    });
+    // The centres kept so far, filed in cubes of half the least radius: a hole of radius
+    // r looks r / 2 around its centre, a few cubes each way.
+    const double cube = 0.5 * least;
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> filed;
+    const auto cell = [cube](double x) { return std::int64_t(std::floor(x / cube)); };
+    const auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
+        return (std::uint64_t(i & 0x1FFFFF) << 42) | (std::uint64_t(j & 0x1FFFFF) << 21) | std::uint64_t(k & 0x1FFFFF);
+    };
+    PointSet centres;
+    for (const Hole& h : holes) {
+        const double reach = 0.5 * h.radius;
+        const std::int64_t span = std::int64_t(std::ceil(reach / cube));
+        const std::int64_t ci = cell(h.centre[0]), cj = cell(h.centre[1]), ck = cell(h.centre[2]);
+        bool seen = false;
+        for (std::int64_t i = ci - span; i <= ci + span && !seen; ++i)
+            for (std::int64_t j = cj - span; j <= cj + span && !seen; ++j)
+                for (std::int64_t k = ck - span; k <= ck + span && !seen; ++k) {
+                    const auto at = filed.find(key(i, j, k));
+                    if (at == filed.end()) continue;
+                    for (std::uint32_t c : at->second) seen = seen || norm(sub(centres[c], h.centre)) < reach;
+                }
+        if (seen) continue;
+        filed[key(ci, cj, ck)].push_back(std::uint32_t(centres.size()));
+        centres.push_back(h.centre);
+    }
+    return centres;
+}
+
+// The centres of the holes wider than `least` at the tree's points; with `near`, only at
+// those within `reach` of one of its points (where the last pass changed the holes).
+PointSet centres_of_holes(const detail::PointTree& tree, double least, const PointCloud* near = nullptr,
+                          double reach = 0) {
+    if (tree.size() == 0) return {};
+    std::vector<std::vector<Hole>> at(tree.size());
+    const std::ptrdiff_t n = std::ptrdiff_t(tree.size());
+#pragma omp parallel for schedule(dynamic, 64) if (n >= detail::kParallelCostlyItems)
+    for (std::ptrdiff_t k = 0; k < n; ++k) {
+        if (near && !(detail::tree_of(*near).nearest(tree.point(std::size_t(k))).dist_sq <= reach * reach)) continue;
+        at[std::size_t(k)] = holes_at(tree, std::uint32_t(k), least, false);
+    }
+    std::vector<Hole> holes;
+    for (const std::vector<Hole>& h : at) holes.insert(holes.end(), h.begin(), h.end());
+    return distinct_centres(std::move(holes), least);
+}
+
+}  // namespace
+
+double share_bordering_holes(const detail::PointTree& tree, double gap) {
+    const std::vector<std::uint32_t> sample = detail::strided_sample(tree, HoleRules::samples);
+    if (sample.empty()) return 0;
+    const std::ptrdiff_t n = std::ptrdiff_t(sample.size());
+    std::ptrdiff_t bordering = 0;
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : bordering) if (n >= detail::kParallelCostlyItems)
+    for (std::ptrdiff_t s = 0; s < n; ++s) bordering += !holes_at(tree, sample[std::size_t(s)], gap, true).empty();
+    return double(bordering) / double(n);
+}
+
+PointSet hole_centres(const PointCloud& points, double least) {
+    // A point at a wide hole's centre leaves narrower ones around it; a long hole may
+    // need another: passes over the points and the centres so far, each looking only
+    // near the last pass's centres (within the widest hole's reach: 3 least covers the
+    // holes of random samplings, up to 2 least wide), until none is left.
+    PointSet centres = centres_of_holes(detail::tree_of(points), least);
+    PointSet last = centres;
+    for (int pass = 1; pass < HoleRules::passes && !last.empty(); ++pass) {
+        PointSet all = points.to_point_set();
+        all.insert(all.end(), centres.begin(), centres.end());
+        const PointCloud changed(last);
+        last = centres_of_holes(detail::tree_of(PointCloud(all)), least, &changed, 3 * least);
+        centres.insert(centres.end(), last.begin(), last.end());
+    }
+    return centres;
+}
+
+}  // namespace snvr

@@ -1,0 +1,46 @@
+// The holes a sampling leaves in the surface. Where points fall at random (a scanner's
+// returns, not a blue-noise spacing) gaps open far wider than the distances between
+// nearest neighbours, and the shell gets holes through it wherever one is wider than the
+// offset. A wider offset would close them but thicken every wall, and real scans hold a
+// few holes as wide (missing patches): instead, where the holes are the sampling's own,
+// a point is added at the centre of each hole wider than the offset.
+#pragma once
+#include <cstddef>
+
+#include "geometry/point_tree.hpp"
+#include "snvr/point_cloud.hpp"
+
+namespace snvr {
+
+// A hole at a point: an empty disc on the surface with the point on its rim, enclosed by
+// points. The surface near a point is the plane of its nearest 16 others; its nearest 48
+// (those within 49 degrees of that plane) are seen in it. The disc is empty of them,
+// lies within their reach (its diameter at most the farthest one's distance), its centre
+// inside their convex hull, the points within twice its radius of its centre surround
+// it (no empty angle over 162 degrees), the points on its rim lie on one plane (within
+// 10% of its radius), and its centre lies as far from its nearest point in space as in
+// the plane (within 10%). A disc that is not enclosed so is the surface's boundary, a
+// notch in a ragged one, a fold, an edge or a twist, or an opening wider than the
+// neighbours can judge: not a hole in the sampling. The centre is placed on its rim's
+// plane (on a sphere, inside the sphere by at most the rim's sagitta).
+struct HoleRules {
+    // A sampling is random where at least this share of its points border a hole wider
+    // than the gap (the 99th percentile of nearest-neighbour distances): the sampler's
+    // random sphere, torus, cube and helicoid of 500 to 5,000 points 7.4-13.5%, its
+    // blue-noise and noisy shapes 0-1.4%, the bundled scans 0-1.65% (distcap 4.85%), its
+    // line scan 99%.
+    static constexpr double random_share = 0.04;
+    static constexpr std::size_t samples = 2000;  // points the share is measured on (strided)
+    static constexpr int passes = 3;              // over the points and the centres added so far
+};
+
+// The share of up to HoleRules::samples points (evenly strided by input order) that
+// border a hole wider than `gap`.
+double share_bordering_holes(const detail::PointTree& tree, double gap);
+
+// Points at the centres of the holes wider than `least` radius (on the surface their rim
+// points describe), one per hole, in passes over the points and the
+// centres added so far until no hole that wide is left (at most HoleRules::passes).
+PointSet hole_centres(const PointCloud& points, double least);
+
+}  // namespace snvr

@@ -1,0 +1,177 @@
+// Points added on the surface (geometry/added_points): a sampling's holes found where
+// they are, not at a surface's boundary; a random sampling told from a spaced one and
+// from a scan; the shells of random samplings closed by points at the holes' centres;
+// and sparse samplings smooth at their own scale by points between them, at the defaults.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "geometry/sampling_gap.hpp"
+#include "geometry/sampling_holes.hpp"
+#include "snvr/snvr.hpp"
+#include "snvr/shapes.hpp"
+
+using namespace snvr;
+
+namespace {
+
+// A square lattice of side 1, spacing 0.02, in a tilted plane through (0.5, 0.5, 0.5),
+// less the points within `hole` of that centre.
+PointSet lattice(double hole) {
+    PointSet points;
+    for (int i = 0; i <= 50; ++i)
+        for (int j = 0; j <= 50; ++j) {
+            const double u = 0.02 * i - 0.5, v = 0.02 * j - 0.5;
+            if (u * u + v * v < hole * hole) continue;
+            points.push_back({0.5 + 0.8 * u, 0.5 + v, 0.5 + 0.6 * u});
+        }
+    return points;
+}
+
+Shell shell_of(const PointSet& points, int resolution, bool add_points = true) {
+    ShellSettings s;
+    s.params.resolution = resolution;
+    s.params.device = "openmp";
+    s.params.add_points = add_points;
+    return make_shell(points, s);
+}
+
+}  // namespace
+
+TEST_CASE("hole_centres: a hole in a lattice is found at its centre; a lattice's own cells and its edges are not holes") {
+    // Five points gone: an empty disc of radius 0.028 (to the diagonal neighbours).
+    const PointCloud holed(lattice(0.025));
+    const PointSet centres = hole_centres(holed, 0.022);
+    REQUIRE(centres.size() == 1);
+    CHECK(std::hypot(centres[0][0] - 0.5, centres[0][1] - 0.5, centres[0][2] - 0.5) < 0.003);
+    CHECK(hole_centres(holed, 0.03).empty());  // none as wide as that
+    // Whole: the lattice's squares (radius 0.014) are narrower, and its edges and corners,
+    // open to one side, are no holes at all.
+    CHECK(hole_centres(PointCloud(lattice(0)), 0.015).empty());
+}
+
+TEST_CASE("share_bordering_holes: random samplings above HoleRules::random_share, spaced ones and a scan below") {
+    for (const char* shape : {"sphere", "torus", "helicoid"}) {
+        CAPTURE(shape);
+        const PointCloud random(shapes::random_by_name(shape, 1500, 1));
+        const auto& tree = detail::tree_of(random);
+        CHECK(share_bordering_holes(tree, sampling_gap(tree)) >= 1.5 * HoleRules::random_share);
+        const PointCloud spaced(shapes::by_name(shape, 0.03));
+        const auto& spaced_tree = detail::tree_of(spaced);
+        CHECK(share_bordering_holes(spaced_tree, sampling_gap(spaced_tree)) < 0.5 * HoleRules::random_share);
+    }
+    // Scans hold a few holes (missing patches, a ragged open base): not a random sampling.
+    for (const char* scan : {"bunny.ply", "igea.ply", "armadillo.ply"}) {
+        const std::string path = std::string(SNVR_DATA_DIR) + "/" + scan;
+        if (!std::filesystem::exists(path)) continue;  // the scans sit beside the checkout
+        CAPTURE(scan);
+        const PointCloud points = read_point_cloud(path);
+        const auto& tree = detail::tree_of(points);
+        CHECK(share_bordering_holes(tree, sampling_gap(tree)) < 0.6 * HoleRules::random_share);
+    }
+}
+
+TEST_CASE("random samplings at the defaults: closed where the points are, every point deep inside") {
+    struct Case {
+        const char* shape;
+        std::size_t points;
+        std::uint64_t seed;
+        long genus;               // of the whole mesh: a closed surface's two walls each have its genus
+        std::size_t components;   // a closed surface: the outer wall and the cavity's
+    };
+    for (const Case& c : {Case{"sphere", 1500, 1, 0, 2}, Case{"sphere", 5000, 2, 0, 2}, Case{"torus", 1500, 3, 2, 2},
+                          Case{"helicoid", 1500, 4, 0, 1}, Case{"cube", 1500, 5, 0, 2}})
+        for (int resolution : {64, 128}) {
+            CAPTURE(c.shape);
+            CAPTURE(c.seed);
+            CAPTURE(resolution);
+            const PointSet points = shapes::random_by_name(c.shape, c.points, c.seed);
+            const Shell s = shell_of(points, resolution);
+            CHECK(s.run.hole_share >= HoleRules::random_share);
+            CHECK(s.quality.solids == 1);
+            CHECK(s.quality.components == c.components);
+            CHECK(s.quality.genus == c.genus);
+            CHECK(s.quality.points_inside == s.points);  // those the outlier rules kept
+            CHECK(s.quality.depth_min >= 0.8 - 1e-3);
+        }
+    // Without the points at the holes the walls are holed through (genus 27 at 256).
+    const Shell holed = shell_of(shapes::random_by_name("sphere", 1500, 1), 128, false);
+    CHECK(holed.run.hole_fills == 0);
+    CHECK(holed.quality.genus > 0);
+}
+
+TEST_CASE("spaced samplings and scans: no points added, the shell as before") {
+    const Shell spaced = shell_of(shapes::by_name("sphere", 0.04), 64);
+    CHECK(spaced.run.hole_share < HoleRules::random_share);
+    CHECK(spaced.run.hole_fills == 0);
+    // A line scan: dense along its lines, 4 spacings between them, every point borders a
+    // hole wider than the gap; without points between the lines the strip falls apart.
+    const PointSet lines = shapes::lidar_scan({0.5, 0.5, 0.5}, 0.7, 0.01, 0.04, 0.001);
+    const Shell scan = shell_of(lines, 128);
+    CHECK(scan.run.hole_fills > 0);
+    CHECK(scan.quality.solids == 1);
+    CHECK(scan.quality.genus == 0);
+    CHECK(scan.quality.points_inside == scan.points);
+    CHECK(shell_of(lines, 128, false).quality.solids > 1);
+}
+
+TEST_CASE("a sparse sampling at the defaults: each wall within 0.03 l RMS of its exact offset sphere, no balls") {
+    // The sampler's sphere 0.04 apart (963 points, radius 0.35): the gap sets the offset.
+    const PointSet points = shapes::by_name("sphere", 0.04);
+    const double r = 0.35;
+    for (int resolution : {128}) {  // 256 and 512: bench/RESULTS.md
+        CAPTURE(resolution);
+        for (bool add : {true, false}) {
+            CAPTURE(add);
+            const Shell s = shell_of(points, resolution, add);
+            const double l = s.run.offset;
+            CHECK(s.run.offset > 2.5 * s.run.domain.h);  // the sampling set it
+            CHECK((s.run.upsampled > 0) == add);
+            // Each wall's RMS and largest distance to its exact sphere (r + l, r - l).
+            double sum[2] = {0, 0}, most[2] = {0, 0};
+            std::size_t count[2] = {0, 0};
+            for (const Vec3& v : s.mesh.vertices) {
+                const double radius = std::hypot(v[0] - 0.5, v[1] - 0.5, v[2] - 0.5);
+                const int wall = radius > r ? 0 : 1;
+                const double e = std::fabs(radius - (wall == 0 ? r + l : r - l)) / l;
+                sum[wall] += e * e;
+                most[wall] = std::max(most[wall], e);
+                ++count[wall];
+            }
+            const double outer = std::sqrt(sum[0] / double(count[0])), inner = std::sqrt(sum[1] / double(count[1]));
+            std::printf("sparse sphere at %d, points %s: outer RMS %.4f max %.4f, inner RMS %.4f max %.4f (x l)\n",
+                        resolution, add ? "added" : "as given", outer, most[0], inner, most[1]);
+            if (add) {
+                CHECK(outer <= 0.03);
+                CHECK(inner <= 0.03);
+                CHECK(most[0] <= 0.06);  // no ball stands out
+                CHECK(most[1] <= 0.06);
+            } else {
+                CHECK(outer > 0.08);  // the grapes
+            }
+            CHECK(s.quality.genus == 0);
+            CHECK(s.quality.components == 2);
+            CHECK(s.quality.points_inside == s.points);
+            CHECK(s.quality.depth_min >= 0.8 - 1e-3);
+        }
+    }
+}
+
+TEST_CASE("a sparse open surface: its boundary does not grow, its offset and pieces stay") {
+    const PointSet points = shapes::by_name("half-sphere", 0.04);
+    const Shell added = shell_of(points, 128), given = shell_of(points, 128, false);
+    CHECK(added.run.upsampled > 0);
+    CHECK(added.run.offset == given.run.offset);
+    CHECK(added.quality.solids == 1);
+    CHECK(added.quality.genus == 0);
+    CHECK(added.quality.points_inside == added.points);
+    // The rim (z = 0.5) grows by at most a tenth of the offset beyond where the points' balls end.
+    double lowest_added = 1, lowest_given = 1;
+    for (const Vec3& v : added.mesh.vertices) lowest_added = std::min(lowest_added, v[2]);
+    for (const Vec3& v : given.mesh.vertices) lowest_given = std::min(lowest_given, v[2]);
+    CHECK(lowest_added >= lowest_given - 0.1 * added.run.offset);
+}
