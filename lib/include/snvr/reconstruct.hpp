@@ -40,7 +40,8 @@ struct DomainPlan {
     std::string offset_reason;
     double gap = 0;
     // A random sampling's holes (sampling_holes.hpp): the share of the points that border a
-    // hole wider than the gap, and the points added at the centres of the holes wider
+    // hole wider than the gap (0 when not asked: no sampling's hole is as wide as the
+    // offset's 0.8, 2.5 gaps), and the points added at the centres of the holes wider
     // than the tube's inner side (0 where the share is under HoleRules::random_share, or
     // Parameters::add_points is off).
     double hole_share = 0;

@@ -11,6 +11,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -78,48 +79,59 @@ bool take(PointCloud& cloud, const std::vector<std::uint8_t>& flagged, std::vect
     return any;
 }
 
-// By cluster root: 1 for the clusters far from the largest, each a tiny share of the
-// points (stray returns in small far groups): one whose box lies farther from the
-// largest cluster's box than far_cluster_distance times that box's longest side, with
-// under far_cluster_share of all the points. Such groups would spread the grid over the
-// whole box and leave the object a few cells across; a small object close beside the
-// main one stays. None when they would be more than 5% of the points.
-std::vector<std::uint8_t> far_clusters(const PointCloud& cloud, const std::vector<std::uint32_t>& root,
-                                       const std::vector<std::uint32_t>& members, std::size_t total,
-                                       const OutlierSettings& s) {
-    std::vector<std::uint8_t> far(root.size(), 0);
-    if (root.empty()) return far;
-    const std::uint32_t largest = std::uint32_t(std::max_element(members.begin(), members.end()) - members.begin());
-    std::vector<Bounds> box(root.size());
-    std::vector<std::uint8_t> started(root.size(), 0);
-    for (std::size_t k = 0; k < root.size(); ++k) {
-        const Vec3 p = cloud[k];
-        Bounds& b = box[root[k]];
-        if (!started[root[k]]) {
-            b = {p, p};
-            started[root[k]] = 1;
+// The roots of the clusters far from the largest, each a tiny share of the points (stray
+// returns in small far groups): one whose box lies farther from the largest cluster's box
+// than far_cluster_distance times that box's longest side, with under far_cluster_share
+// of all the points. Such groups would spread the grid over the whole box and leave the
+// object a few cells across; a small object close beside the main one stays. None when
+// they would be more than 5% of the points. Only the small clusters' boxes are kept (a
+// box for every point's root took 1.2 GB at 25 M points).
+std::vector<std::uint32_t> far_clusters(const PointCloud& cloud, const std::vector<std::uint32_t>& root,
+                                        const std::vector<std::uint32_t>& members, std::size_t total,
+                                        const OutlierSettings& s) {
+    struct Box {
+        Bounds b;
+        bool started = false;
+        void add(const Vec3& p) {
+            if (!started) b = {p, p};
+            started = true;
+            for (int a = 0; a < 3; ++a) {
+                b.lo[a] = std::min(b.lo[a], p[a]);
+                b.hi[a] = std::max(b.hi[a], p[a]);
+            }
         }
-        for (int a = 0; a < 3; ++a) {
-            b.lo[a] = std::min(b.lo[a], p[a]);
-            b.hi[a] = std::max(b.hi[a], p[a]);
+    };
+    if (root.empty()) return {};
+    const std::uint32_t largest = std::uint32_t(std::max_element(members.begin(), members.end()) - members.begin());
+    std::unordered_map<std::uint32_t, Box> small;  // by root
+    for (std::size_t r = 0; r < root.size(); ++r)
+        if (root[r] == r && r != largest && double(members[r]) < s.far_cluster_share * double(total)) small[std::uint32_t(r)];
+    if (small.empty()) return {};
+    Box main;
+    for (std::size_t k = 0; k < root.size(); ++k) {
+        if (root[k] == largest) {
+            main.add(cloud[k]);
+        } else {
+            const auto at = small.find(root[k]);
+            if (at != small.end()) at->second.add(cloud[k]);
         }
     }
-    const Bounds& main = box[largest];
-    const double reach = s.far_cluster_distance * main.longest();
+    const double reach = s.far_cluster_distance * main.b.longest();
+    std::vector<std::uint32_t> far;
     std::size_t dropped = 0;
-    for (std::size_t r = 0; r < root.size(); ++r) {
-        if (root[r] != r || r == largest || !(double(members[r]) < s.far_cluster_share * double(total))) continue;
+    for (const auto& [r, box] : small) {
         double gap_sq = 0;  // between the two boxes
         for (int a = 0; a < 3; ++a) {
-            const double g = std::max({0.0, box[r].lo[a] - main.hi[a], main.lo[a] - box[r].hi[a]});
+            const double g = std::max({0.0, box.b.lo[a] - main.b.hi[a], main.b.lo[a] - box.b.hi[a]});
             gap_sq += g * g;
         }
         if (gap_sq > reach * reach) {
-            far[r] = 1;
+            far.push_back(r);
             dropped += members[r];
         }
     }
-    if (double(dropped) > 0.05 * double(total)) std::fill(far.begin(), far.end(), 0);
+    if (double(dropped) > 0.05 * double(total)) return {};
+    std::sort(far.begin(), far.end());
     return far;
 }
 
@@ -164,12 +176,13 @@ std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cl
         const std::vector<std::uint32_t> root = detail::cluster_roots(detail::tree_of(cloud), link);
         std::vector<std::uint32_t> members(root.size(), 0);
         for (std::uint32_t r : root) ++members[r];
-        const std::vector<std::uint8_t> far = far_clusters(cloud, root, members, total, s);
+        const std::vector<std::uint32_t> far = far_clusters(cloud, root, members, total, s);
+        const auto is_far = [&far](std::uint32_t r) { return !far.empty() && std::binary_search(far.begin(), far.end(), r); };
         std::vector<std::uint8_t> small(root.size());
         std::size_t roots = 0;
         for (std::size_t k = 0; k < root.size(); ++k) {
             const std::uint32_t m = members[root[k]];
-            small[k] = (m < s.min_cluster && double(m) < 0.01 * double(total)) || far[root[k]];
+            small[k] = (m < s.min_cluster && double(m) < 0.01 * double(total)) || is_far(root[k]);
             roots += root[k] == k;
         }
         if (!take(cloud, small, out)) {

@@ -106,9 +106,14 @@ void choose_offset(DomainPlan& plan, const Parameters& params, const std::option
 // than the tube's inner side (everything that near a point stays inside the shell, so
 // the hole stays closed; a hole between that and the offset can pinch open), and
 // between the points where the sampling, not the grid, sets the offset.
-void plan_added_points(DomainPlan& plan, const Parameters& params, const std::optional<double>& offset, double h) {
+void plan_added_points(DomainPlan& plan, const Parameters& params, const PointCloud& points,
+                       const std::optional<double>& offset, double h) {
     if (!params.add_points) return;
-    if (plan.hole_share >= HoleRules::random_share) plan.hole_least = (1 - params.tube_inner) * plan.offset;
+    const double least = (1 - params.tube_inner) * plan.offset;
+    // No sampling's hole that wide (a point cloud dense against the grid): nothing to ask.
+    if (plan.gap > 0 && HoleRules::widest_gaps * plan.gap > least)
+        plan.hole_share = share_bordering_holes(detail::tree_of(points), plan.gap);
+    if (plan.hole_share >= HoleRules::random_share) plan.hole_least = least;
     if (!offset && plan.gap > params.offset_cells * h) plan.upsample_spacing = params.upsample_spacing * plan.offset;
 }
 
@@ -184,12 +189,11 @@ DomainPlan plan_domain(const PointCloud& points, const Parameters& params) {
 
     DomainPlan plan;
     plan.gap = sampling_gap(detail::tree_of(points));
-    if (params.add_points && plan.gap > 0) plan.hole_share = share_bordering_holes(detail::tree_of(points), plan.gap);
     std::optional<double> offset = params.offset;
     if (params.thickness) offset = *params.thickness / 2;
     const double h = voxel_size(points, params, box, offset, plan.gap);
     choose_offset(plan, params, offset, h);
-    plan_added_points(plan, params, offset, h);
+    plan_added_points(plan, params, points, offset, h);
 
     // xi in cells, whether given in cells or in world units (then it depends on h).
     const double xi_cells = params.xi ? *params.xi / eps_of_cells(1.0, h) : params.xi_cells;
