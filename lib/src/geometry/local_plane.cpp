@@ -1,9 +1,11 @@
 // fit_plane (local_plane.hpp): the covariance of the points and its least eigenvector;
-// plane_axes; fit_quadric by its normal equations.
+// plane_axes; fit_quadric by its normal equations; local_patch.
 #include "geometry/local_plane.hpp"
 
 #include <algorithm>
 #include <cmath>
+
+#include "geometry/vec3_math.hpp"
 
 namespace snvr::detail {
 
@@ -109,12 +111,31 @@ bool fit_quadric(const std::vector<std::array<double, 3>>& uvw, Quadric& quadric
     return solve6(m, r, quadric.coef);
 }
 
+LocalPatch local_patch(const PointTree& tree, std::uint32_t k, std::size_t neighbours, std::size_t plane_of,
+                       double off_plane) {
+    LocalPatch patch;
+    const Vec3 p = tree.point(k);
+    std::vector<Vec3> d;
+    for (const auto& at : tree.nearest_points(p, neighbours + 1))
+        if (at.dist_sq > 0) {
+            d.push_back(sub(tree.point(at.index), p));
+            patch.distance.push_back(std::sqrt(at.dist_sq));
+        }
+    std::vector<std::uint8_t> nearest(d.size(), 0);
+    std::fill(nearest.begin(), nearest.begin() + std::ptrdiff_t(std::min(d.size(), plane_of)), 1);
+    const Vec3 n = patch.normal = fit_plane(d, nearest).normal;
+    plane_axes(n, patch.e1, patch.e2);
+    for (const Vec3& v : d)
+        if (std::fabs(dot(v, n)) <= off_plane * norm(v))
+            patch.uvw.push_back({dot(v, patch.e1), dot(v, patch.e2), dot(v, n)});
+    return patch;
+}
+
 void plane_axes(const Vec3& n, Vec3& e1, Vec3& e2) {
-    const Vec3 helper = std::fabs(n[0]) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-    e1 = {n[1] * helper[2] - n[2] * helper[1], n[2] * helper[0] - n[0] * helper[2], n[0] * helper[1] - n[1] * helper[0]};
-    const double length = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    e1 = cross(n, std::fabs(n[0]) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0});
+    const double length = norm(e1);
     for (double& x : e1) x /= length;
-    e2 = {n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]};
+    e2 = cross(n, e1);
 }
 
 }  // namespace snvr::detail

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "geometry/point_tree.hpp"
 #include "snvr/geometry.hpp"
 
 namespace snvr::detail {
@@ -20,6 +21,17 @@ Plane fit_plane(const std::vector<Vec3>& d, const std::vector<std::uint8_t>& use
 
 // Two unit axes e1, e2 in the plane of unit normal n (e1 x e2 = n).
 void plane_axes(const Vec3& n, Vec3& e1, Vec3& e2);
+
+// Point k's nearest `neighbours` others seen from it: the plane of the nearest `plane_of`
+// of them, its axes, and those no steeper off it than asin(off_plane) (others belong to
+// another part of the surface) as (u, v, height above the plane).
+struct LocalPatch {
+    Vec3 e1{0, 0, 0}, e2{0, 0, 0}, normal{0, 0, 1};
+    std::vector<std::array<double, 3>> uvw;  // nearest first; the point itself is not among them
+    std::vector<double> distance;            // to each neighbour found, near the plane or not, nearest first
+};
+LocalPatch local_patch(const PointTree& tree, std::uint32_t k, std::size_t neighbours, std::size_t plane_of,
+                       double off_plane);
 
 // The height field w = a u^2 + b u v + c v^2 + d u + e v + f over a point's plane that fits
 // its neighbours (u, v, w) best (least squares): the surface they lie on, curved, to

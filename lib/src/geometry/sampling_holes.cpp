@@ -26,7 +26,7 @@ using detail::Flat;
 
 constexpr std::size_t kNeighbours = 48;  // enough to enclose the widest hole of a random sampling of 20,000
 constexpr std::size_t kPlaneNeighbours = 16;
-constexpr double kOffPlane = 0.75;  // sin of the largest angle a neighbour stands off the plane (48.6 degrees)
+constexpr double kOffPlane = 0.75;  // sin of the steepest a neighbour stands off the plane (49 degrees)
 constexpr double kWidestGap = 0.9 * M_PI;  // radians: the widest empty angle around a hole's centre
 constexpr double kRim = 0.05;              // points within 5% of a hole's radius beyond its rim are on it
 constexpr double kFlatness = 0.1;          // a centre's distance to its nearest point within 10% of its radius
@@ -107,28 +107,19 @@ struct Neighbourhood {
 
 Neighbourhood neighbourhood(const detail::PointTree& tree, std::uint32_t k) {
     Neighbourhood n;
-    const Vec3 p = tree.point(k);
-    std::vector<Vec3> d;
-    for (const auto& at : tree.nearest_points(p, kNeighbours + 1))
-        if (at.dist_sq > 0) {
-            d.push_back(sub(tree.point(at.index), p));
-            n.reach = std::sqrt(at.dist_sq);
-        }
-    if (d.size() < 8) return n;
     // The plane of the nearest few: over all 48 a curved or twisted surface (a helicoid
     // near its axis) can be seen edge on, and its points then leave false holes between them.
-    std::vector<std::uint8_t> nearest(d.size(), 0);
-    std::fill(nearest.begin(), nearest.begin() + std::ptrdiff_t(std::min(d.size(), kPlaneNeighbours)), 1);
-    const Vec3 normal = n.normal = detail::fit_plane(d, nearest).normal;
-    detail::plane_axes(normal, n.e1, n.e2);
-    const Vec3 &e1 = n.e1, &e2 = n.e2;
-    // Points more than 49 degrees off the plane belong to another part of the surface.
-    for (const Vec3& v : d)
-        if (std::fabs(dot(v, normal)) <= kOffPlane * norm(v)) {
-            n.q.push_back({dot(v, e1), dot(v, e2)});
-            n.height.push_back(dot(v, normal));
-            n.square.push_back(n.q.back()[0] * n.q.back()[0] + n.q.back()[1] * n.q.back()[1]);
-        }
+    const detail::LocalPatch patch = detail::local_patch(tree, k, kNeighbours, kPlaneNeighbours, kOffPlane);
+    if (patch.distance.size() < 8) return n;
+    n.reach = patch.distance.back();
+    n.normal = patch.normal;
+    n.e1 = patch.e1;
+    n.e2 = patch.e2;
+    for (const auto& v : patch.uvw) {
+        n.q.push_back({v[0], v[1]});
+        n.height.push_back(v[2]);
+        n.square.push_back(v[0] * v[0] + v[1] * v[1]);
+    }
     std::vector<Flat> all = n.q;
     all.push_back({0, 0});
     n.hull = detail::convex_hull(std::move(all));

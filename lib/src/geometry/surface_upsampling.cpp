@@ -10,7 +10,6 @@
 
 #include "geometry/flat_hull.hpp"
 #include "geometry/local_plane.hpp"
-#include "geometry/vec3_math.hpp"
 #include "parallel_sizes.hpp"
 
 namespace snvr {
@@ -18,26 +17,19 @@ namespace {
 
 constexpr std::size_t kNeighbours = 20;
 constexpr std::size_t kReachNeighbour = 6;  // the disc sampled: half the distance to this one
+constexpr double kOffPlane = 0.5;            // sin of the steepest a neighbour stands off the plane (30 degrees)
 
 using detail::Flat;
 
 void upsample_at(const detail::PointTree& tree, std::uint32_t k, double spacing, PointSet& out) {
     const Vec3 p = tree.point(k);
-    std::vector<Vec3> d;
-    double reach = 0;
-    for (const auto& at : tree.nearest_points(p, kNeighbours + 1))
-        if (at.dist_sq > 0) {
-            d.push_back(sub(tree.point(at.index), p));
-            if (d.size() == kReachNeighbour) reach = std::sqrt(at.dist_sq);
-        }
-    if (d.size() < 12) return;
-    const Vec3 normal = detail::fit_plane(d, std::vector<std::uint8_t>(d.size(), 1)).normal;
-    Vec3 e1, e2;
-    detail::plane_axes(normal, e1, e2);
+    const detail::LocalPatch patch = detail::local_patch(tree, k, kNeighbours, kNeighbours, kOffPlane);
+    if (patch.distance.size() < 12) return;
+    const double reach = patch.distance[kReachNeighbour - 1];
+    const Vec3 &e1 = patch.e1, &e2 = patch.e2, &normal = patch.normal;
     // The neighbours in the plane (u, v) and their heights w, the point itself at 0.
     std::vector<std::array<double, 3>> uvw{{0, 0, 0}};
-    for (const Vec3& v : d)
-        if (2 * std::fabs(dot(v, normal)) <= norm(v)) uvw.push_back({dot(v, e1), dot(v, e2), dot(v, normal)});
+    uvw.insert(uvw.end(), patch.uvw.begin(), patch.uvw.end());
     if (uvw.size() < 12) return;
     detail::Quadric surface;
     if (!detail::fit_quadric(uvw, surface)) return;
