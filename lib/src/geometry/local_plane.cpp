@@ -112,7 +112,7 @@ bool fit_quadric(const std::vector<std::array<double, 3>>& uvw, Quadric& quadric
 }
 
 LocalPatch local_patch(const PointTree& tree, std::uint32_t k, std::size_t neighbours, std::size_t plane_of,
-                       double off_plane) {
+                       double off_plane, int refits) {
     LocalPatch patch;
     const Vec3 p = tree.point(k);
     std::vector<Vec3> d;
@@ -123,7 +123,20 @@ LocalPatch local_patch(const PointTree& tree, std::uint32_t k, std::size_t neigh
         }
     std::vector<std::uint8_t> nearest(d.size(), 0);
     std::fill(nearest.begin(), nearest.begin() + std::ptrdiff_t(std::min(d.size(), plane_of)), 1);
-    const Vec3 n = patch.normal = fit_plane(d, nearest).normal;
+    patch.normal = fit_plane(d, nearest).normal;
+    // The plane of the nearest few sees one sheet; all those near it, that sheet at large.
+    for (int pass = 0; pass < refits; ++pass) {
+        std::vector<std::uint8_t> near_plane(d.size(), 0);
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < d.size(); ++i) {
+            near_plane[i] = std::fabs(dot(d[i], patch.normal)) <= off_plane * norm(d[i]);
+            kept += near_plane[i];
+        }
+        if (kept < 6 || near_plane == nearest) break;
+        nearest = near_plane;
+        patch.normal = fit_plane(d, nearest).normal;
+    }
+    const Vec3 n = patch.normal;
     plane_axes(n, patch.e1, patch.e2);
     for (const Vec3& v : d)
         if (std::fabs(dot(v, n)) <= off_plane * norm(v))

@@ -87,6 +87,19 @@ struct Neighbourhood {
         height_at_c = m[2] - (plane.normal[0] * (c[0] - m[0]) + plane.normal[1] * (c[1] - m[1])) / plane.normal[2];
         return true;
     }
+    // Whether the centre at c, at_c above the plane, is about r from each point on the
+    // rim in space too: a height the rim does not bear out (a quadric bent by a twisted
+    // surface's other turns) would put the point off the surface.
+    bool rim_equidistant(const Flat& c, double r, double at_c) const {
+        const double most = (1 + kRim + kFlatness) * r;
+        if (!(c[0] * c[0] + c[1] * c[1] + at_c * at_c <= most * most)) return false;  // the point itself
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            const double dx = q[i][0] - c[0], dy = q[i][1] - c[1], dz = height[i] - at_c;
+            if (dx * dx + dy * dy <= (1 + kRim) * (1 + kRim) * r * r && !(dx * dx + dy * dy + dz * dz <= most * most))
+                return false;
+        }
+        return true;
+    }
     // The disc through the origin whose centre lies along u, grown until a neighbour
     // meets its rim: that neighbour (or none) and the distance to the centre, |q|^2 /
     // (2 q.u) least over the neighbours ahead (compared as fractions: no division each).
@@ -196,6 +209,10 @@ std::vector<Hole> holes_at(const detail::PointTree& tree, std::uint32_t k, doubl
             curved = detail::fit_quadric(n.uvw(), surface);
         }
         if (curved) h = surface.at(c[0], c[1]);
+        if (!n.rim_equidistant(c, radius, h)) {
+            rejected.push_back(c);
+            continue;
+        }
         for (int a = 0; a < 3; ++a) hole.centre[a] = p[a] + c[0] * n.e1[a] + c[1] * n.e2[a] + h * n.normal[a];
         const auto same = [&](const Hole& h) { return norm(sub(h.centre, hole.centre)) < 0.5 * h.radius; };
         if (std::any_of(holes.begin(), holes.end(), same)) continue;

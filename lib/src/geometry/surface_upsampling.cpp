@@ -16,6 +16,7 @@ namespace snvr {
 namespace {
 
 constexpr std::size_t kNeighbours = 20;
+constexpr std::size_t kPlaneNeighbours = 8;  // the plane first of the nearest few: one sheet
 constexpr std::size_t kReachNeighbour = 6;  // the disc sampled: half the distance to this one
 constexpr double kOffPlane = 0.5;            // sin of the steepest a neighbour stands off the plane (30 degrees)
 
@@ -23,7 +24,7 @@ using detail::Flat;
 
 void upsample_at(const detail::PointTree& tree, std::uint32_t k, double spacing, PointSet& out) {
     const Vec3 p = tree.point(k);
-    const detail::LocalPatch patch = detail::local_patch(tree, k, kNeighbours, kNeighbours, kOffPlane);
+    const detail::LocalPatch patch = detail::local_patch(tree, k, kNeighbours, kPlaneNeighbours, kOffPlane, 2);
     if (patch.distance.size() < 12) return;
     const double reach = patch.distance[kReachNeighbour - 1];
     const Vec3 &e1 = patch.e1, &e2 = patch.e2, &normal = patch.normal;

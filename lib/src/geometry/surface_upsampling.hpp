@@ -9,7 +9,8 @@
 namespace snvr {
 
 // Points `spacing` apart on each point's local surface: the quadric height field over the
-// plane of its nearest 20 others (those within 30 degrees of it), on a triangular grid in
+// plane of its nearest 20 others (those within 30 degrees of it; the plane of the nearest
+// 8, fitted again to all that stand near it), on a triangular grid in
 // the disc of half the distance to its 6th nearest, inside their convex hull (so that a
 // surface's boundary does not grow). World units.
 PointSet upsample_surface(const detail::PointTree& tree, double spacing);
