@@ -296,6 +296,14 @@ Command reconstruct_command(ReconstructOptions& o) {
          "auto: an OpenCL GPU, else an OpenCL CPU, else OpenMP);\n"
          "see 'snvr-cl devices'",
          store(p.device)},
+        {"--tile-cells", "", "N",
+         "cut the grid into tiles of N cells a side (a multiple of 8), each\n"
+         "run alone with a halo as wide as the flow reaches: the same shell\n"
+         "(within 0.01 voxels), one tile's solver memory at a time (default\n"
+         "0: the grid whole)",
+         store(p.tile_cells), "Tiles"},
+        {"--tile-halo-cells", "", "N",
+         "the tiles' halo in cells (a multiple of 8) instead of the one\nderived from the flow", store(p.tile_halo_cells)},
         {"--fairing", "", "N",
          snvr::format_text("passes of Taubin smoothing over the mesh, 0 for the raw\nisosurface (default %d)", shell.fairing.passes),
          store(shell.fairing.passes), "Mesh"},

@@ -53,6 +53,8 @@ def shell(
     xi_cells: Optional[float] = None,
     tol: Optional[float] = None,
     max_cycles: Optional[int] = None,
+    tile_cells: int = 0,
+    tile_halo_cells: Optional[int] = None,
     precision: str = "float",
     device: str = "auto",
     written_as: str = ".stl",

@@ -246,3 +246,15 @@ def test_a_random_samplings_holes_are_closed_unless_kept():
     kept = snvr.shell(points, resolution=96, device="openmp", points_as_given=True)
     assert kept.report["sampling_holes"]["points_added"] == 0
     assert kept.report["check"]["genus"] > 0
+
+
+def test_tiles_give_the_whole_runs_shell():
+    points = sphere(0.01)
+    whole = snvr.shell(points, resolution=64, device="openmp")
+    tiled = snvr.shell(points, resolution=64, device="openmp", tile_cells=16)
+    assert tiled.report["tiles"]["core_cells"] == 16 and tiled.report["tiles"]["count"] == 64
+    assert tiled.faces.shape == whole.faces.shape
+    voxel = whole.report["grid"]["voxel"]
+    assert np.abs(tiled.vertices - whole.vertices).max() <= 0.01 * voxel
+    with pytest.raises(ValueError, match=r"tile size \(--tile-cells\)"):
+        snvr.shell(points, resolution=64, tile_cells=12)

@@ -26,6 +26,7 @@ struct ParameterLimits {
     static constexpr double max_tol = 1;
     static constexpr double min_upsample_spacing = 0.1;  // share of the offset: 100 points a point
     static constexpr int max_cycles = 10000;
+    static constexpr int min_tile_cells = 16;
 };
 
 struct Parameters {
@@ -105,6 +106,14 @@ struct Parameters {
     // precision stalls the residual near 2e-8, far below tol.
     Precision precision = Precision::Single;
     std::string device = "auto";   // auto | openmp | opencl | opencl:P:D | name substring
+
+    // Tiles (lib/src/solver/tile_plan.hpp): 0 runs the grid whole; otherwise the grid is
+    // cut into cores of tile_cells cells a side (a multiple of 8), each run alone with a
+    // halo around it as wide as the flow can reach (derived from the steps, dt, eps and
+    // xi), or tile_halo_cells (a multiple of 8) when given: the same shell, one tile's
+    // solver memory at a time.
+    int tile_cells = 0;
+    std::optional<int> tile_halo_cells;
 
     // Throws ParameterError naming the first bad value.
     void validate() const;

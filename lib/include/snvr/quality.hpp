@@ -32,6 +32,14 @@ struct MeshReport {
 
 MeshReport check_mesh(const Mesh& mesh);
 
+// How far two meshes of one surface are from each other (a tiled run's and a whole one's):
+// from each vertex of either, the distance to the nearest vertex of the other; the
+// largest and the RMS over both sets, world units.
+struct VertexDistance {
+    double max = 0, rms = 0;
+};
+VertexDistance vertex_distance(const Mesh& a, const Mesh& b);
+
 // Lengths are in the units named by each field: "h" (voxel), "l" (offset),
 // "2l" (the shell's intended thickness) or degrees. NaN marks a figure with no
 // data (say, depth when no point is inside).

@@ -58,6 +58,18 @@ struct DomainPlan {
     std::size_t estimated_bytes = 0;  // what follows the box: brick tables, the mesher's sign bits (the band's fields come later)
 };
 
+// How a tiled run (Parameters::tile_cells) was cut, and what bounds its memory.
+struct TileFacts {
+    int core_cells = 0, halo_cells = 0;  // 0: the grid ran whole
+    bool halo_derived = true;            // from the flow (else as given)
+    std::size_t tiles = 0;               // cores over the grid
+    std::size_t run = 0;                 // those with points near them (the rest are -1)
+    std::size_t reruns = 0;              // run again to take as many V-cycles as the others
+    std::size_t most_points = 0;         // in one tile, its halo's reach included
+    std::size_t most_band_cells = 0;     // band cells of the busiest tile, halo included
+    double cells_run = 0;                // cells of the tiles run over the cells of their cores
+};
+
 // What reconstruct() ran (the plan it fitted to the points) and what it found.
 struct Result : DomainPlan {
     Field phi;                    // phi^{Nt} in the band's bricks (+-1 beyond); the shell is where phi > 0
@@ -68,6 +80,7 @@ struct Result : DomainPlan {
     std::vector<StepStats> steps;
     StageSeconds seconds;
     std::vector<std::string> warnings;
+    TileFacts tiles;
 };
 
 // A run's progress, as each stage ends (reconstruct: "domain", "distance", "init", "step";

@@ -62,9 +62,19 @@ std::string report_summary(const RunReport& report) {
                                            (r.offset + r.tube_outer) / d.h).c_str()
                                      : "free flow"));
     row("backend", r.backend);
-    row("active cells", format_text("%s (%.1f%% of the grid)", grouped(r.active_cells).c_str(),
-                            cells > 0 ? 100.0 * double(r.active_cells) / cells : 0.0));
-    row("memory", format_text("solver %.1f MiB, peak RSS %.1f MiB", mib(r.solver_bytes), mib(report.peak_rss_bytes)));
+    const TileFacts& t = r.tiles;
+    if (t.core_cells > 0)
+        row("tiles", format_text("%zu of %d cells a side, halo %d cells (%s), %zu with points run (%.2g x their cores' "
+                                 "cells), %zu run again to take as many V-cycles as the others; the largest: %s points, "
+                                 "%s band cells",
+                                 t.tiles, t.core_cells, t.halo_cells, t.halo_derived ? "as far as the flow reaches" : "as given",
+                                 t.run, t.cells_run, t.reruns, grouped(t.most_points).c_str(),
+                                 grouped(t.most_band_cells).c_str()));
+    row("active cells", format_text("%s (%.1f%% of the grid)%s", grouped(r.active_cells).c_str(),
+                            cells > 0 ? 100.0 * double(r.active_cells) / cells : 0.0,
+                            t.core_cells > 0 ? ", the tiles' halos counted" : ""));
+    row("memory", format_text("solver %.1f MiB%s, peak RSS %.1f MiB", mib(r.solver_bytes),
+                              t.core_cells > 0 ? " (the largest tile's)" : "", mib(report.peak_rss_bytes)));
     const CycleTotals& c = report.cycles;
     row("V-cycles", format_text("%d in %zu steps, at most %d in a step%s", c.total, r.steps.size(), c.most_in_a_step,
                         c.not_converged ? format_text(", %d not converged", c.not_converged).c_str() : ""));

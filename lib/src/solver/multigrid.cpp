@@ -105,7 +105,7 @@ LinearSolveStats solve_linear(Backend<Real>& backend, const Hierarchy& hierarchy
     // The residual of the initial guess phi^n is dt g Lap phi^n.
     double r = cycle.residual_norm();
     st.initial_residual = r;
-    while (r >= s.tol && st.cycles < s.max_cycles) {
+    while ((r >= s.tol && st.cycles < s.max_cycles) || st.cycles < s.min_cycles) {
         cycle.cycle(0);
         const double before = r;
         r = cycle.residual_norm();
@@ -114,7 +114,7 @@ LinearSolveStats solve_linear(Backend<Real>& backend, const Hierarchy& hierarchy
         if (!std::isfinite(r)) break;
         // A cycle that gains less than a tenth has met the rounding floor of the field's
         // type (in float about dt / h^2 x 1e-7): more cycles would only spin.
-        if (r > 0.9 * before) break;
+        if (r > 0.9 * before && st.cycles >= s.min_cycles) break;
     }
     st.converged = r < s.tol;
     st.bytes_moved = cycle.bytes_moved;

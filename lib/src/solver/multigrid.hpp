@@ -14,6 +14,7 @@ struct MultigridSettings {
     double dt = 0;          // normalised
     double tol = 0;         // on sqrt(sum r^2 / N) over the finest level's active-brick cells
     int max_cycles = 0;
+    int min_cycles = 0;     // cycles run whatever the residual (tiles that must match others)
     int pre_smooth = 0, post_smooth = 0;
     double omega = 1;       // over-relaxation of the smoother
     bool trilinear = false;

@@ -80,6 +80,15 @@ void Parameters::validate() const {
             "the V-cycle needs at least one smoothing sweep");
     require(std::isfinite(omega) && omega > 0 && omega < 2, "omega must be in (0, 2), got " + show(omega));
     require(std::isfinite(band_xi) && band_xi >= 4 && band_xi <= 64, "band must be 4 to 64 xi, got " + show(band_xi));
+    if (tile_cells)
+        require(tile_cells >= L::min_tile_cells && tile_cells <= L::max_resolution && tile_cells % 8 == 0,
+                "the tile size (--tile-cells) must be a multiple of 8 from " + std::to_string(L::min_tile_cells) +
+                    " to " + std::to_string(L::max_resolution) + " cells, or 0 for none, got " +
+                    std::to_string(tile_cells));
+    if (tile_halo_cells)
+        require(*tile_halo_cells >= 0 && *tile_halo_cells <= L::max_resolution && *tile_halo_cells % 8 == 0,
+                "the tile halo (--tile-halo-cells) must be a multiple of 8 from 0 to " +
+                    std::to_string(L::max_resolution) + " cells, got " + std::to_string(*tile_halo_cells));
     if (box) {
         for (int a = 0; a < 3; ++a)
             require(std::isfinite((*box)[0][a]) && std::isfinite((*box)[1][a]) && (*box)[1][a] > (*box)[0][a],

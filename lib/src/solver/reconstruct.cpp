@@ -9,6 +9,7 @@
 
 #include "snvr/error.hpp"
 #include "solver/session.hpp"
+#include "solver/tiled_reconstruct.hpp"
 
 namespace snvr {
 
@@ -65,8 +66,15 @@ Result reconstruct(const PointCloud& points, const Parameters& params, const Pro
     if (points.empty()) throw InputError("the point set is empty");
     Stopwatch total;
     Result res;
-    if (params.precision == Precision::Double) run<double>(points, params, progress, res);
-    else run<float>(points, params, progress, res);
+    if (params.tile_cells > 0) {
+        params.validate();
+        if (params.precision == Precision::Double) reconstruct_tiled<double>(points, params, progress, res);
+        else reconstruct_tiled<float>(points, params, progress, res);
+    } else if (params.precision == Precision::Double) {
+        run<double>(points, params, progress, res);
+    } else {
+        run<float>(points, params, progress, res);
+    }
     res.seconds.total = total.lap();
     return res;
 }

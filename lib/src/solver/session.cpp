@@ -49,6 +49,18 @@ void report(const ProgressCallback& cb, const std::string& stage, const std::str
 
 }  // namespace
 
+PointCloud points_with_added(const PointCloud& points, DomainPlan& plan) {
+    // At most 4 voxels (a quarter of the offset) beyond the points' box: the grid pads the
+    // box by the offset and over 6 voxels more, and the shell keeps the offset from every
+    // point.
+    AddedPoints added;
+    const double slack = std::min(4 * plan.domain.h, 0.25 * plan.offset);
+    PointCloud with_added = with_added_points(points, plan.hole_least, plan.upsample_spacing, slack, added);
+    plan.hole_fills = added.at_holes;
+    plan.upsampled = added.between;
+    return with_added;
+}
+
 template <class Real>
 SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& params, const ProgressCallback& progress) {
     Stopwatch clock;
@@ -75,23 +87,34 @@ SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& p
         }
     }
     problem_ = make_problem(plan_domain(points, params), params);
-    const Domain& dom = domain();
     facts_.seconds_domain = clock.lap();
     report(progress, "domain",
-           "grid " + std::to_string(dom.nx) + "x" + std::to_string(dom.ny) + "x" + std::to_string(dom.nz) + ", " +
-               std::to_string(dom.levels) + " multigrid levels");
+           "grid " + std::to_string(domain().nx) + "x" + std::to_string(domain().ny) + "x" +
+               std::to_string(domain().nz) + ", " + std::to_string(domain().levels) + " multigrid levels");
+    const PointCloud with_added = points_with_added(points, problem_.plan);
+    const double adding = clock.lap();  // charged to the distance, which it is for
+    prepare(with_added.empty() ? points : with_added, params, progress, [&] {
+        if (starting.valid()) backend_ = starting.get();
+        if (start_later) backend_ = make_backend<Real>(params.device, start_notes);
+        facts_.notes.insert(facts_.notes.end(), start_notes.begin(), start_notes.end());
+    });
+    facts_.seconds_distance += adding;
+}
 
+template <class Real>
+SolverSession<Real>::SolverSession(const PointCloud& measured, const DomainPlan& plan, const Parameters& params,
+                                   std::unique_ptr<Backend<Real>> backend, const ProgressCallback& progress) {
+    backend_ = backend ? std::move(backend) : make_backend<Real>(params.device, facts_.notes);
+    problem_ = make_problem(plan, params);
+    prepare(measured, params, progress, [] {});
+}
+
+template <class Real>
+void SolverSession<Real>::prepare(const PointCloud& measured, const Parameters& params,
+                                  const ProgressCallback& progress, const std::function<void()>& backend_ready) {
+    Stopwatch clock;
+    const Domain& dom = domain();
     const Band& band = problem_.band;
-    // The distance is measured to the points and those added on their surface, at most
-    // 4 voxels (a quarter of the offset) beyond the points' box: the grid pads the box by
-    // the offset and over 6 voxels more, and the shell keeps the offset from every point.
-    AddedPoints added;
-    const double slack = std::min(4 * dom.h, 0.25 * problem_.plan.offset);
-    const PointCloud with_added =
-        with_added_points(points, problem_.plan.hole_least, problem_.plan.upsample_spacing, slack, added);
-    const PointCloud& measured = with_added.empty() ? points : with_added;
-    problem_.plan.hole_fills = added.at_holes;
-    problem_.plan.upsampled = added.between;
     BandDistance<Real> dist = band_distance<Real>(detail::tree_of(measured), dom, band, [&](std::size_t near_bricks) {
         require_memory(band_distance_bytes(near_bricks, params.precision) + problem_.plan.estimated_bytes, dom);
     });
@@ -102,9 +125,7 @@ SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& p
     report(progress, "distance",
            std::to_string(dist.queried_cells) + " cells queried, " + std::to_string(dist.active_cells) + " in the band");
 
-    if (starting.valid()) backend_ = starting.get();
-    if (start_later) backend_ = make_backend<Real>(params.device, start_notes);
-    facts_.notes.insert(facts_.notes.end(), start_notes.begin(), start_notes.end());
+    backend_ready();
     layout_ = make_layout(dom, dist.brick_mask, dist.inside_bricks);
     {
         // Held now: the band's distance; then its packed copy beside it, then the fields
@@ -133,11 +154,13 @@ SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& p
 }
 
 template <class Real>
-StepStats SolverSession<Real>::step() {
+StepStats SolverSession<Real>::step(int least_cycles) {
     Stopwatch clock;
     StepStats st;
     st.step = ++steps_done_;
-    const LinearSolveStats ls = solve_linear(*backend_, hierarchy(), problem_.multigrid);
+    MultigridSettings settings = problem_.multigrid;
+    settings.min_cycles = least_cycles;
+    const LinearSolveStats ls = solve_linear(*backend_, hierarchy(), settings);
     st.seconds_linear = clock.lap();
     OperationArgs<Real> nonlinear;
     nonlinear.rate = Real(problem_.nonlinear_rate);

@@ -5,6 +5,7 @@
 //   while (s.steps_done() < s.problem().steps) s.step();
 //   Field phi = s.take_field();                // phi in the band's bricks; ends the session
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,6 +17,11 @@
 #include "snvr/reconstruct.hpp"
 
 namespace snvr {
+
+// The distance is measured to the points and those added on their surface as the plan
+// says (its hole_least and upsample_spacing; Parameters::add_points): those points, or
+// none when nothing is added; the plan learns how many were added.
+PointCloud points_with_added(const PointCloud& points, DomainPlan& plan);
 
 // What preparing a session found and cost.
 struct SessionFacts {
@@ -35,10 +41,16 @@ public:
     // up on it (backend.hpp's rule), initialises phi and g and the coarse levels.
     // `progress` hears "domain", "distance" and "init" as each is done.
     SolverSession(const PointCloud& points, const Parameters& params, const ProgressCallback& progress = {});
+    // The same on a plan made elsewhere (a tile's: tiled_reconstruct.cpp), the points
+    // already with those added on their surface; on `backend` when given (one a session
+    // before has released), else on a new one.
+    SolverSession(const PointCloud& measured, const DomainPlan& plan, const Parameters& params,
+                  std::unique_ptr<Backend<Real>> backend = nullptr, const ProgressCallback& progress = {});
 
     // One operator-split time step: the linear half by multigrid, then the exact
     // nonlinear half held in the tube. Waits for the device, so its seconds are its own.
-    StepStats step();
+    // At least `least_cycles` V-cycles (tiles all run as many as the one that needs most).
+    StepStats step(int least_cycles = 0);
     int steps_done() const { return steps_done_; }
 
     // phi on level 0 as a dense x-fastest array of the domain's cells.
@@ -46,6 +58,8 @@ public:
     // phi on level 0 as a Field sharing the layout's bricks (memory follows the band);
     // frees the solver's fields first. No step or field() after it.
     Field take_field();
+    // The backend, for the next session, once take_field has freed its fields.
+    std::unique_ptr<Backend<Real>> release_backend() { return std::move(backend_); }
 
     const Problem& problem() const { return problem_; }
     const Domain& domain() const { return problem_.plan.domain; }
@@ -56,6 +70,9 @@ public:
     Backend<Real>& backend() { return *backend_; }
 
 private:
+    // The distance, the layout, the backend (`backend_ready` makes it so), phi0 and g.
+    void prepare(const PointCloud& measured, const Parameters& params, const ProgressCallback& progress,
+                 const std::function<void()>& backend_ready);
     Problem problem_;
     BrickLayout layout_;
     std::unique_ptr<Backend<Real>> backend_;

@@ -1,0 +1,55 @@
+// Tiles of the one lattice: a run cut into cores that each compute what the whole run
+// computes there, run one at a time with a halo around them (tiled_reconstruct.cpp).
+//
+// Why a halo of a few cells is enough. A time step is the implicit linear solve
+// (I - dt g Lap) phi* = phi, then the exact nonlinear step, then the tube's clamp. A
+// tile's edge differs from the whole run's values there by at most 2 (phi lies in
+// [-1, 1]) at each step; the linear solve carries that inwards through its inverse,
+// which is non-negative with rows summing to at most 1 (g <= 1), and whose sum over the
+// planes parallel to a face is the 1-D inverse of (1 - a D^2), a = dt / h^2: a two-sided
+// geometric kernel of ratio r = (1 + 2a - sqrt(1 + 4a)) / 2a per cell (0.17 at the
+// default a = 1/4). After s steps a change at the edge reaches n cells in by at most
+// the tail P(S_s >= n) of a sum of s such steps, bounded by Chernoff's
+// min_theta M(theta)^s e^(-theta n); the nonlinear step stretches differences by at
+// most e^(k/2) (its slope at phi = 0; k = 2 dt / eps^2) and the clamp by at most 1.
+// Summed over the N steps: 2 N e^(N k / 2) min_theta M(theta)^N e^(-theta n). An error e
+// in phi moves the surface by about sqrt(2) w e, w the wider of xi and eps (the
+// profile's width), so the halo is the least n that keeps that under `most` voxels,
+// rounded up to whole bricks. At the defaults (6 steps of h^2 / 4, eps 1.6 h) it is 12
+// cells for 1e-3 voxels (10 for 1e-2, 17 for 1e-6), so 16. A longer flow (--smoothing) or longer steps (--dt-cells) widen it.
+// The linear solve's own stopping (tol) is a second, separate error (Parameters::tol).
+#pragma once
+#include <array>
+#include <vector>
+
+#include "snvr/domain.hpp"
+
+namespace snvr {
+
+struct FlowReach {
+    double dt_cells = 0;    // dt / h^2
+    int steps = 0;
+    double rate = 0;        // k = 2 dt / eps^2 of the nonlinear step
+    double width_cells = 0; // the profile's width in cells (the wider of xi and eps)
+};
+
+// The least halo (cells, unrounded) beyond which the flow moves the surface in the
+// core by at most `most` voxels; derived above.
+int flow_halo_cells(const FlowReach& flow, double most);
+
+// A tile: its core and its box with the halo (global cells, [lo, hi)), the box clipped
+// to the grid.
+struct Tile {
+    std::array<int, 3> core_lo{}, core_hi{}, lo{}, hi{};
+    int index = 0;
+};
+
+// Cores of `core_cells` (a multiple of the brick) over the grid, x fastest, each with a
+// halo of `halo_cells` (a multiple of the brick) beyond it where the grid goes on.
+std::vector<Tile> plan_tiles(const Domain& whole, int core_cells, int halo_cells);
+
+// A tile's own grid: the whole run's voxel and lattice, its box, and as many multigrid
+// levels as its size takes (at most the whole run's).
+Domain tile_domain(const Domain& whole, const Tile& tile);
+
+}  // namespace snvr

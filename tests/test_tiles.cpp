@@ -1,0 +1,203 @@
+// Tiled runs (Parameters::tile_cells): the halo derived from the flow, and the shell of a
+// run cut into tiles the whole run's shell (every vertex within 0.01 voxels, the same
+// pieces, genus and enclosure) on shapes that cross tiles' corners and lie on their
+// faces; a halo narrower than the flow's reach shows.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "snvr/point_io.hpp"
+#include "snvr/quality.hpp"
+#include "snvr/shapes.hpp"
+#include "snvr/shell.hpp"
+#include "solver/field_assembly.hpp"
+#include "solver/tile_plan.hpp"
+
+using namespace snvr;
+
+namespace {
+
+Shell shell_of(const PointSet& points, int resolution, int tile_cells, std::optional<int> halo = {}) {
+    ShellSettings s;
+    s.params.resolution = resolution;
+    s.params.device = "openmp";
+    s.params.tile_cells = tile_cells;
+    s.params.tile_halo_cells = halo;
+    return make_shell(points, s);
+}
+
+// The tiled shell against the whole one: the same solid, every vertex within `most` voxels.
+void same_shell(const Shell& whole, const Shell& tiled, double most = 0.01) {
+    CHECK(tiled.run.tiles.core_cells > 0);
+    CHECK(tiled.quality.report.components == whole.quality.report.components);
+    CHECK(tiled.quality.solids == whole.quality.solids);
+    CHECK(tiled.quality.genus == whole.quality.genus);
+    CHECK(tiled.quality.points_inside == whole.quality.points_inside);
+    CHECK(tiled.mesh.triangles.size() == whole.mesh.triangles.size());
+    const VertexDistance d = vertex_distance(whole.mesh, tiled.mesh);
+    CAPTURE(d.max / whole.run.domain.h);
+    CHECK(d.max <= most * whole.run.domain.h);
+}
+
+FlowReach defaults_flow() {
+    // The defaults: 6 steps of h^2 / 4, eps 12 cells' width (1.60 h), xi 4 (0.53 h).
+    FlowReach f;
+    f.dt_cells = 0.25;
+    f.steps = 6;
+    const double eps = eps_of_cells(12, 1.0);
+    f.rate = 2 * f.dt_cells / (eps * eps);
+    f.width_cells = eps;
+    return f;
+}
+
+}  // namespace
+
+TEST_CASE("flow_halo_cells: a few cells at the defaults, wider for a longer flow or longer steps, none without steps") {
+    const FlowReach flow = defaults_flow();
+    const int halo = flow_halo_cells(flow, 1e-3);
+    CHECK(halo >= 8);
+    CHECK(halo <= 16);
+    FlowReach longer = flow;
+    longer.steps = 24;  // --smoothing 6
+    CHECK(flow_halo_cells(longer, 1e-3) > halo);
+    FlowReach wider = flow;
+    wider.dt_cells = 1;  // --dt-cells 1: a quarter of the steps, each reaching farther
+    wider.steps = 2;
+    CHECK(flow_halo_cells(wider, 1e-3) > flow_halo_cells({1, 2, flow.rate * 4, flow.width_cells}, 1e-2));
+    FlowReach none = flow;
+    none.steps = 0;
+    CHECK(flow_halo_cells(none, 1e-3) == 0);
+    // A looser bound needs less.
+    CHECK(flow_halo_cells(flow, 1e-1) < halo);
+}
+
+TEST_CASE("plan_tiles: cores cover the grid once, halos clipped to it, the tile's grid on the whole one's lattice") {
+    Domain whole;
+    whole.nx = 80;
+    whole.ny = 64;
+    whole.nz = 48;
+    whole.h = 0.5;
+    whole.origin = {1, 2, 3};
+    whole.levels = 4;
+    const std::vector<Tile> tiles = plan_tiles(whole, 32, 16);
+    CHECK(tiles.size() == 3 * 2 * 2);
+    std::size_t covered = 0;
+    for (const Tile& t : tiles) {
+        std::size_t core = 1;
+        for (int a = 0; a < 3; ++a) {
+            core *= std::size_t(t.core_hi[std::size_t(a)] - t.core_lo[std::size_t(a)]);
+            CHECK(t.lo[std::size_t(a)] == std::max(0, t.core_lo[std::size_t(a)] - 16));
+            CHECK(t.lo[std::size_t(a)] % 8 == 0);
+        }
+        covered += core;
+    }
+    CHECK(covered == whole.cells());
+    const Tile& last = tiles.back();  // x 64-80, y 32-64, z 32-48
+    CHECK(last.hi[0] == 80);
+    CHECK(last.lo[0] == 48);
+    const Domain d = tile_domain(whole, last);
+    CHECK(d.nx == 32);
+    CHECK(d.ny == 48);
+    CHECK(d.nz == 32);
+    CHECK(d.origin[0] == doctest::Approx(1 + 48 * 0.5));
+    CHECK(d.h == whole.h);
+    CHECK(d.levels >= 2);
+    CHECK(d.nx % (1 << (d.levels - 1)) == 0);
+    CHECK(d.ny % (1 << (d.levels - 1)) == 0);
+}
+
+TEST_CASE("the bunny in tiles: the whole run's shell; with no halo, not") {
+    const PointSet bunny = read_points(std::string(SNVR_DATA_DIR) + "/bunny.ply");
+    const Shell whole = shell_of(bunny, 128, 0);
+    const Shell tiled = shell_of(bunny, 128, 64);
+    CHECK(tiled.run.tiles.tiles == 8);
+    CHECK(tiled.run.tiles.halo_derived);
+    CHECK(tiled.run.tiles.halo_cells == 16);
+    same_shell(whole, tiled);
+    // The flow reaches across the tile's edge: cut there, the shell moves by most of a voxel.
+    const Shell cut = shell_of(bunny, 128, 64, 0);
+    CHECK_FALSE(cut.run.tiles.halo_derived);
+    CHECK(vertex_distance(whole.mesh, cut.mesh).max > 0.1 * whole.run.domain.h);
+}
+
+TEST_CASE("tiles that stop sooner run again: every tile as many V-cycles in each step as the one that took most") {
+    // At tol 1e-4 some of the bunny's tiles need a second V-cycle in a step where others
+    // need one: those run again with two.
+    const PointSet bunny = read_points(std::string(SNVR_DATA_DIR) + "/bunny.ply");
+    ShellSettings s;
+    s.params.resolution = 128;
+    s.params.device = "openmp";
+    s.params.tol = 1e-4;
+    const Shell whole = make_shell(bunny, s);
+    s.params.tile_cells = 64;
+    const Shell tiled = make_shell(bunny, s);
+    CHECK(tiled.run.tiles.reruns > 0);
+    int most = 0;
+    for (const StepStats& st : tiled.run.steps) most = std::max(most, st.cycles);
+    CHECK(most == 2);
+    CHECK(tiled.quality.genus == whole.quality.genus);
+    CHECK(tiled.quality.solids == whole.quality.solids);
+    CHECK(tiled.quality.points_inside == whole.quality.points_inside);
+    // The whole run's stopping (its RMS over every cell) took a second cycle in fewer
+    // steps: the shells differ by the solve's tolerance, not by the tiles.
+    CHECK(vertex_distance(whole.mesh, tiled.mesh).rms <= 0.01 * whole.run.domain.h);
+}
+
+TEST_CASE("shapes across tiles: sheets through tile corners, a rod on a tile face, a small piece beside it, empty tiles") {
+    SUBCASE("two sheets and a Moebius strip, tiles of 16 at 64 cells (corners everywhere)") {
+        for (const char* shape : {"sheets", "mobius"}) {
+            CAPTURE(shape);
+            const PointSet points = shapes::by_name(shape, 0.01);
+            same_shell(shell_of(points, 64, 0), shell_of(points, 64, 16));
+        }
+    }
+    SUBCASE("a thin rod lying on a tile face, a small sphere within the next tile's halo, most tiles empty") {
+        // The grid: the unit box in 64 cells (h = 1/64, no padding), tiles' faces at 0.25, 0.5, 0.75.
+        PointSet points = shapes::sphere({0.45, 0.45, 0.4}, 0.15, 0.01);
+        for (double y = 0.3; y <= 0.7; y += 0.002) points.push_back({0.5, y, 0.8});  // on the face x = 0.5
+        const PointSet ball = shapes::sphere({0.5 + 4.0 / 64, 0.75, 0.72}, 0.02, 0.005);
+        points.insert(points.end(), ball.begin(), ball.end());
+        ShellSettings s;
+        s.params.resolution = 64;
+        s.params.box = std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{1, 1, 1}};
+        s.params.device = "openmp";
+        const Shell whole = make_shell(points, s);
+        s.params.tile_cells = 16;
+        const Shell tiled = make_shell(points, s);
+        CHECK(whole.run.domain.h == 1.0 / 64);
+        CHECK(whole.quality.solids == 3);
+        CHECK(tiled.run.tiles.tiles == 64);
+        CHECK(tiled.run.tiles.run < tiled.run.tiles.tiles);
+        same_shell(whole, tiled);
+    }
+}
+
+TEST_CASE("FieldAssembly: cores placed into the whole grid's bricks, constants shared, a core placed again replaced") {
+    Domain whole;
+    whole.nx = whole.ny = whole.nz = 16;
+    Tile t;  // the tile is the whole grid; its core the brick at (1, 0, 0) and the one at (1, 1, 0)
+    t.core_lo = {8, 0, 0};
+    t.core_hi = {16, 16, 8};
+    t.lo = {0, 0, 0};
+    t.hi = {16, 16, 16};
+    // A session's field: the constant bricks 0, +1, -1 in the first slots, then its own.
+    const auto tile_field = [](float value) {
+        std::vector<float> stored(4 * Field::kBrickCells, 0.0f);
+        std::fill(stored.begin() + Field::kBrickCells, stored.begin() + 2 * Field::kBrickCells, 1.0f);
+        std::fill(stored.begin() + 2 * Field::kBrickCells, stored.begin() + 3 * Field::kBrickCells, -1.0f);
+        std::fill(stored.begin() + 3 * Field::kBrickCells, stored.end(), value);
+        //            x 0 1 (y 0)  x 0 1 (y 1)   z 1: all +1
+        return Field::from_bricks(16, 16, 16, {2, 3, 2, 1, 1, 1, 1, 1}, stored);
+    };
+    FieldAssembly<float> assembly(whole);
+    assembly.place(tile_field(0.25f), t);
+    assembly.place(tile_field(0.5f), t);  // the same core again
+    const Field f = assembly.take();
+    CHECK(f.at(9, 3, 3) == 0.5f);    // the core's own brick, replaced
+    CHECK(f.at(12, 12, 3) == 1.0f);  // the core's constant +1 brick
+    CHECK(f.at(3, 3, 3) == -1.0f);   // outside the core: -1
+    CHECK(f.at(3, 3, 12) == -1.0f);
+    CHECK(f.stored_bricks() == 3 + 1);  // the constants and the core's one brick, once
+}
