@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "options.hpp"
+#include "processes.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
 
@@ -71,14 +72,14 @@ void writes_fail_rather_than_kill() {
     std::signal(SIGXFSZ, SIG_IGN);
 }
 
-}  // namespace
+// Under MPI a message says which process it is from (a failure may be one process's).
+std::string who() {
+    return cli::process_count() > 1 ? " (process " + std::to_string(cli::process_rank()) + " of " +
+                                          std::to_string(cli::process_count()) + ")"
+                                    : "";
+}
 
-int main(int argc, char** argv) {
-    prefer_passive_waiting(argv);
-    remove_temporaries_on_signals();
-    writes_fail_rather_than_kill();
-    const std::vector<std::string> args(argv + 1, argv + argc);
-    const std::string command = args.empty() ? "" : args[0];
+int run(const std::vector<std::string>& args, const std::string& command) {
     try {
         if (command.empty()) throw cli::UsageError("no subcommand given");
         if (command == "-h" || command == "--help") {
@@ -91,14 +92,34 @@ int main(int argc, char** argv) {
         }
         return dispatch(command, std::vector<std::string>(args.begin() + 1, args.end()));
     } catch (const cli::UsageError& e) {
-        std::cerr << "snvr-cl: error: " << snvr::printable(e.what()) << "\nRun 'snvr-cl "
-                  << (is_subcommand(command) ? command + " " : std::string()) << "--help' for usage.\n";
+        // Every process reads the same command line: the first says so.
+        if (cli::process_rank() == 0)
+            std::cerr << "snvr-cl: error: " << snvr::printable(e.what()) << "\nRun 'snvr-cl "
+                      << (is_subcommand(command) ? command + " " : std::string()) << "--help' for usage.\n";
         return kUsage;
     } catch (const std::bad_alloc&) {
-        std::cerr << "snvr-cl: error: out of memory\n";
+        std::cerr << "snvr-cl: error" << who() << ": out of memory\n";
         return kFailure;
+    } catch (const std::exception& e) {
+        std::cerr << "snvr-cl: error" << who() << ": " << snvr::printable(e.what()) << '\n';
+        return kFailure;
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    prefer_passive_waiting(argv);
+    remove_temporaries_on_signals();
+    writes_fail_rather_than_kill();
+    try {
+        cli::start_processes(argc, argv);
     } catch (const std::exception& e) {
         std::cerr << "snvr-cl: error: " << snvr::printable(e.what()) << '\n';
         return kFailure;
     }
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    const int status = run(args, args.empty() ? "" : args[0]);
+    cli::end_processes(status == kFailure);
+    return status;
 }

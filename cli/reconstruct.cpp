@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "options.hpp"
+#include "processes.hpp"
 #include "report.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
@@ -102,8 +103,14 @@ void check_outputs(const ReconstructOptions& o) {
 }  // namespace
 
 int run_reconstruct(const std::vector<std::string>& args) {
-    const std::optional<ReconstructOptions> parsed = parse_reconstruct(args, std::cout);
+    std::optional<ReconstructOptions> parsed = parse_reconstruct(args, process_rank() == 0 ? std::cout : std::cerr);
     if (!parsed) return 0;
+    // Under MPI the processes share the tiles; the first meshes, writes and reports.
+    if (process_count() > 1 && parsed->shell.params.tile_cells == 0)
+        throw UsageError("under an MPI launcher (" + std::to_string(process_count()) +
+                         " processes) give --tile-cells N: the processes share a tiled run's tiles");
+    parsed->shell.tiles_on = process_tiles();
+    if (process_rank() != 0) parsed->quiet = true;
     const ReconstructOptions& o = *parsed;
     const auto say = [&o](const std::string& line) {
         if (!o.quiet) std::cerr << snvr::printable(line) << std::endl;
@@ -135,6 +142,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
             return true;
         });
         stage.lap();  // make_shell timed its own stages
+        if (shell.run.tiles.worker) return 0;  // its tiles are the first process's now
         const snvr::Result& result = shell.run;
         const snvr::DepthGuardReport& guard = shell.guard;
         if (guard.moved_vertices) {

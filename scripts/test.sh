@@ -20,8 +20,9 @@ if [[ "${1:-}" == "--sanitize" ]]; then
   exit
 fi
 # Open3D only for the Python tests' round trip: the module never needs it. Oclgrind
-# checks the kernels (tests/oclgrind_check.sh).
-bash scripts/build.sh python3-open3d oclgrind
+# checks the kernels (tests/oclgrind_check.sh). OpenMPI: snvr-cl shares tiles among
+# processes under mpirun (tests/mpi_tiles_check.sh).
+bash scripts/build.sh python3-open3d oclgrind libopenmpi-dev openmpi-bin
 # PoCL caches compiled kernels; keep its cache somewhere writable even without a home.
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"
 ctest --test-dir build --output-on-failure

@@ -1,7 +1,8 @@
 // snvr-bench --quick as CI runs it, so the suite cannot rot: it finishes, covers every
 // device with every section, reports no failed case, measures the quality section's
 // cases with both tools (or notes the peer is not built), runs the points section's
-// tiny clouds through snvr-cl and the peers, and prints the tables it writes.
+// tiny clouds through snvr-cl and the peers and the tiles section's one case, and prints
+// the tables it writes.
 #include <doctest/doctest.h>
 #include <sys/wait.h>
 
@@ -44,7 +45,7 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
 
     std::ifstream jsonl(out / "results.jsonl");
     std::set<std::string> devices, seen, quality;
-    int points_rows = 0;
+    int points_rows = 0, tiles_rows = 0;
     std::string line;
     int records = 0;
     while (std::getline(jsonl, line)) {
@@ -72,6 +73,13 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
             CHECK((line.find("\"openvdb_process_s\": ") != std::string::npos || field(line, "openvdb_note").rfind("not built", 0) == 0));
             continue;
         }
+        if (field(line, "section") == "tiles") {
+            // Once: the tiled run against the whole one, the same solid within 0.01 voxels.
+            ++tiles_rows;
+            CHECK(field(line, "same_solid") == "yes");
+            CHECK(line.find("\"tiled_over_whole_s\": ") != std::string::npos);
+            continue;
+        }
         const std::string device = field(line, "device");
         if (field(line, "backend") != "host") devices.insert(device);
         seen.insert(field(line, "section") + " on " + device);
@@ -93,7 +101,9 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
     std::stringstream md;
     md << md_file.rdbuf();
     CHECK(points_rows == 2);
-    for (const char* heading : {"### Paper's Table 1", "### Paper's Table 2", "### Roofline", "### Scaling", "### Quality", "### Points"}) {
+    CHECK(tiles_rows == 1);
+    for (const char* heading : {"### Paper's Table 1", "### Paper's Table 2", "### Roofline", "### Scaling", "### Quality", "### Points",
+                                "### Tiles"}) {
         CHECK(md.str().find(heading) != std::string::npos);
         CHECK(printed.find(heading) != std::string::npos);
     }

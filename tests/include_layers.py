@@ -24,7 +24,7 @@ HEADER_FOLDER = {
     "geometry": "geometry", "point_cloud": "geometry", "field": "geometry", "shapes": "geometry",
     "point_io": "io", "mesh_io": "io", "formats": "io",
     "mesh": "mesh",
-    "parameters": "solver", "reconstruct": "solver",
+    "parameters": "solver", "reconstruct": "solver", "tiles": "solver",
     "quality": "check", "render": "render", "devices": "devices",
     "shell": "pipeline", "report": "pipeline",
     "snvr": "pipeline",  # the umbrella includes everything

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "snvr/error.hpp"
 #include "snvr/point_io.hpp"
 #include "snvr/quality.hpp"
 #include "snvr/shapes.hpp"
@@ -200,4 +201,21 @@ TEST_CASE("FieldAssembly: cores placed into the whole grid's bricks, constants s
     CHECK(f.at(3, 3, 3) == -1.0f);   // outside the core: -1
     CHECK(f.at(3, 3, 12) == -1.0f);
     CHECK(f.stored_bricks() == 3 + 1);  // the constants and the core's one brick, once
+}
+
+TEST_CASE("one tile over the whole grid is the whole run, bit for bit; a cancel between tiles stops the run") {
+    const PointSet points = shapes::by_name("torus", 0.02);
+    const Shell whole = shell_of(points, 64, 0);
+    const Shell one = shell_of(points, 64, 256);
+    CHECK(one.run.tiles.tiles == 1);
+    CHECK(one.mesh.vertices == whole.mesh.vertices);
+    CHECK(one.mesh.triangles == whole.mesh.triangles);
+    ShellSettings s;
+    s.params.resolution = 64;
+    s.params.device = "openmp";
+    s.params.tile_cells = 16;
+    int tiles_seen = 0;
+    CHECK_THROWS_AS(make_shell(points, s, [&](const Progress& p) { return !(p.stage == "tile" && ++tiles_seen == 3); }),
+                    Cancelled);
+    CHECK(tiles_seen == 3);
 }

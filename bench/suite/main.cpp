@@ -3,15 +3,17 @@
 // (or a chosen subset), each case in its own process with a warm-up and repetitions,
 // then the quality comparison with the OpenVDB peer (quality.hpp: once, on the default
 // device or the first of --devices) and the cost against the number of points
-// (points.hpp: snvr-cl and the peers as processes, once), and writes results.jsonl,
+// (points.hpp: snvr-cl and the peers as processes, once) and tiled runs against whole
+// ones (tiles.hpp, once), and writes results.jsonl,
 // results.md (and points.md), the data for bench/plots.gp and the quality section's
 // PNG previews.
 //
-//   snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality,points] [--devices D1,D2]
+//   snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality,points,tiles] [--devices D1,D2]
 //              [--precisions double,float] [--repeat N] [--table2 128,256,512] [--scaling 128,256,384,512]
 //              [--data DIR] [--out DIR]
 //              [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]
 //              [--points-clouds noisy-sphere,torus,bunny,...] [--points-max N] [--points-grids 256,512] [--points-scratch DIR]
+//              [--tiles-cases bunny@512/128,lidar@256/64,...]
 // Cases above 256 cells on the longest axis run once, without a warm-up (minutes each).
 #include <sys/stat.h>
 #include <unistd.h>
@@ -22,6 +24,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -33,6 +36,7 @@
 #include "points_report.hpp"
 #include "quality.hpp"
 #include "report.hpp"
+#include "tiles.hpp"
 #include "snvr/shapes.hpp"
 
 using namespace snvr;
@@ -42,7 +46,7 @@ namespace {
 
 struct Options {
     bool quick = false;
-    std::set<std::string> sections{"table1", "table2", "roofline", "scaling", "quality", "points"};
+    std::set<std::string> sections{"table1", "table2", "roofline", "scaling", "quality", "points", "tiles"};
     std::vector<std::string> devices, precisions;  // empty: all available / by mode
     int repeat = 3;
     std::vector<int> table2{128, 256, 512};  // 512^3 where memory allows (else "not measured")
@@ -53,6 +57,7 @@ struct Options {
     std::vector<std::string> quality_cases;  // empty: all (--quick: bunny and sheets)
     int quality_reference = 256;             // the grid a case's offset is given in (--quick: 64)
     PointsOptions points;                    // its device and data are filled in from the above
+    TilesOptions tiles;                      // likewise
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -72,12 +77,13 @@ std::vector<int> resolutions(const std::string& s) {
 
 int usage(const char* why) {
     std::fprintf(stderr,
-                 "snvr-bench: %s\nusage: snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality,points] [--devices D1,D2]\n"
+                 "snvr-bench: %s\nusage: snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality,points,tiles] [--devices D1,D2]\n"
                  "                  [--precisions double,float] [--repeat N] [--table2 128,256,512] [--scaling 128,256,384,512]\n"
                  "                  [--roofline-resolution 256] [--data DIR] [--out DIR]\n"
                  "                  [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]\n"
                  "                  [--points-clouds noisy-sphere,torus,helicoid,bunny,...] [--points-max N (7000000)]\n"
-                 "                  [--points-grids 256,512] [--points-scratch DIR ($TMPDIR/snvr-bench-points-PID)]\n",
+                 "                  [--points-grids 256,512] [--points-scratch DIR ($TMPDIR/snvr-bench-points-PID)]\n"
+                 "                  [--tiles-cases CLOUD@CELLS/TILE,... (bunny@256/128,bunny@512/128,lidar@256/64)]\n",
                  why);
     return 2;
 }
@@ -200,23 +206,37 @@ void run_quality(const Options& o, const std::string& device, std::ofstream& jso
             }
 }
 
-// The points section: snvr-cl and the peers, each run a process of its own.
-void run_points_section(Options& o, std::ofstream& jsonl, std::vector<Record>& records) {
-    PointsOptions& po = o.points;
-    po.quick = o.quick;
-    po.data = o.data;
-    po.repeat = o.repeat;
-    if (!o.devices.empty()) po.device = o.devices.front();
-    if (po.scratch.empty()) {
-        const char* tmp = std::getenv("TMPDIR");
-        po.scratch = std::string(tmp && *tmp ? tmp : "/tmp") + "/snvr-bench-points-" + std::to_string(::getpid());
-    }
-    const PointsPrograms programs{SNVR_CL_PROGRAM, SNVR_DISTANCE_MC_PEER_PROGRAM, SNVR_OPENVDB_PEER_PROGRAM};
-    const auto keep = [&](const Record& r) {
+// A scratch folder of the section's own under $TMPDIR (else /tmp).
+std::string scratch_folder(const std::string& section) {
+    const char* tmp = std::getenv("TMPDIR");
+    return std::string(tmp && *tmp ? tmp : "/tmp") + "/snvr-bench-" + section + "-" + std::to_string(::getpid());
+}
+
+// Each record as it comes: written out at once and kept.
+std::function<void(const Record&)> keeper(std::ofstream& jsonl, std::vector<Record>& records) {
+    return [&jsonl, &records](const Record& r) {
         jsonl << r.json() << '\n';
         jsonl.flush();
         records.push_back(r);
     };
+}
+
+// What the sections that run programs take from the suite's options.
+template <class SectionOptions>
+void share_options(const Options& o, SectionOptions& section) {
+    section.quick = o.quick;
+    section.data = o.data;
+    section.repeat = o.repeat;
+    if (!o.devices.empty()) section.device = o.devices.front();
+}
+
+// The points section: snvr-cl and the peers, each run a process of its own.
+void run_points_section(Options& o, std::ofstream& jsonl, std::vector<Record>& records) {
+    PointsOptions& po = o.points;
+    share_options(o, po);
+    if (po.scratch.empty()) po.scratch = scratch_folder("points");
+    const PointsPrograms programs{SNVR_CL_PROGRAM, SNVR_DISTANCE_MC_PEER_PROGRAM, SNVR_OPENVDB_PEER_PROGRAM};
+    const auto keep = keeper(jsonl, records);
     try {
         run_points(po, programs, keep);
     } catch (const std::exception& e) {
@@ -224,6 +244,14 @@ void run_points_section(Options& o, std::ofstream& jsonl, std::vector<Record>& r
     }
     std::error_code ignored;
     std::filesystem::remove(po.scratch, ignored);  // only when nothing of the user's is left in it
+}
+
+// The tiles section: snvr-cl whole and tiled, in turn.
+void run_tiles_section(Options& o, std::ofstream& jsonl, std::vector<Record>& records) {
+    TilesOptions& to = o.tiles;
+    share_options(o, to);
+    to.scratch = scratch_folder("tiles");
+    run_tiles(to, SNVR_CL_PROGRAM, keeper(jsonl, records));
 }
 
 }  // namespace
@@ -257,6 +285,7 @@ int main(int argc, char** argv) {
         else if (opt == "--points-max") o.points.max_points = std::atof(val.c_str());
         else if (opt == "--points-grids") o.points.grids = resolutions(val);
         else if (opt == "--points-scratch") o.points.scratch = val;
+        else if (opt == "--tiles-cases") o.tiles.cases = split(val);
         else return usage(("unknown option " + opt).c_str());
     }
     if (o.repeat < 1) return usage("--repeat must be at least 1");
@@ -336,6 +365,7 @@ int main(int argc, char** argv) {
         }
     if (o.sections.count("quality")) run_quality(o, o.devices.empty() ? "auto" : devices.front().first, jsonl, records);
     if (o.sections.count("points")) run_points_section(o, jsonl, records);
+    if (o.sections.count("tiles")) run_tiles_section(o, jsonl, records);
 
     // Table 1: the paper's seconds where known.
     for (Record& r : records)
@@ -349,7 +379,7 @@ int main(int argc, char** argv) {
     for (const Record& r : found) heading += " " + r.text("device") + " (" + r.text("name") + ")";
     heading += ". Repetitions: " + std::to_string(o.repeat) +
                " after one warm-up (above 256 cells: one run, no warm-up); medians, (min-max) is the spread.";
-    const std::string md = markdown(records, heading);
+    const std::string md = markdown(records, heading) + tiles_markdown(records);
     std::ofstream(o.out + "/results.md") << md;
     const std::string points_md = points_markdown(records);
     if (!points_md.empty()) std::ofstream(o.out + "/points.md") << heading << "\n" << points_md;

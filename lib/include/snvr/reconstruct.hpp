@@ -14,6 +14,8 @@
 
 namespace snvr {
 
+class TileScheduler;  // tiles.hpp
+
 struct StepStats {
     int step = 0;                        // 1-based
     int cycles = 0;                      // V-cycles used
@@ -61,6 +63,8 @@ struct DomainPlan {
 // How a tiled run (Parameters::tile_cells) was cut, and what bounds its memory.
 struct TileFacts {
     int core_cells = 0, halo_cells = 0;  // 0: the grid ran whole
+    int processes = 1;                   // the tiles spread over (TileScheduler)
+    bool worker = false;                 // this process ran its tiles and sent them to the root
     bool halo_derived = true;            // from the flow (else as given)
     std::size_t tiles = 0;               // cores over the grid
     std::size_t run = 0;                 // those with points near them (the rest are -1)
@@ -68,6 +72,7 @@ struct TileFacts {
     std::size_t most_points = 0;         // in one tile, its halo's reach included
     std::size_t most_band_cells = 0;     // band cells of the busiest tile, halo included
     double cells_run = 0;                // cells of the tiles run over the cells of their cores
+    double seconds = 0;                  // wall clock of the tiles, all passes (stage seconds sum the tiles')
 };
 
 // What reconstruct() ran (the plan it fitted to the points) and what it found.
@@ -96,7 +101,9 @@ using ProgressCallback = std::function<bool(const Progress&)>;
 
 // Fits the grid (see fit_domain), computes the distance, runs the split scheme.
 // Throws InputError / ParameterError / ResourceError with a message naming the problem.
-Result reconstruct(const PointCloud& points, const Parameters& params, const ProgressCallback& progress = {});
+// A tiled run's tiles go where `tiles_on` sends them (tiles.hpp); none: all here.
+Result reconstruct(const PointCloud& points, const Parameters& params, const ProgressCallback& progress = {},
+                   TileScheduler* tiles_on = nullptr);
 Result reconstruct(const PointSet& points, const Parameters& params,
                    const ProgressCallback& progress = {});  // makes a PointCloud
 

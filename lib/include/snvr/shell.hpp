@@ -4,6 +4,7 @@
 #pragma once
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "snvr/point_cloud.hpp"
 #include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"
+#include "snvr/tiles.hpp"
 
 namespace snvr {
 
@@ -65,6 +67,8 @@ struct ShellSettings {
     // when the format cannot hold it faithfully. Empty: doubles, as meshed.
     std::string written_as;
     bool keep_field = false;     // keep run.phi (else freed before the check)
+    // Where a tiled run's tiles run (tiles.hpp); none: all in this process.
+    std::shared_ptr<TileScheduler> tiles_on;
     // The points' length unit and a factor on it (a print at 1:100 is scale 0.01): the
     // points and every length above are taken times scale in that unit, and the shell is
     // made and returned in millimetres, the unit slicers assume.

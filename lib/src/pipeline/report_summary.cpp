@@ -65,11 +65,13 @@ std::string report_summary(const RunReport& report) {
     const TileFacts& t = r.tiles;
     if (t.core_cells > 0)
         row("tiles", format_text("%zu of %d cells a side, halo %d cells (%s), %zu with points run (%.2g x their cores' "
-                                 "cells), %zu run again to take as many V-cycles as the others; the largest: %s points, "
-                                 "%s band cells",
+                                 "cells)%s in %.3g s, %zu run again to take as many V-cycles as the others; the largest: %s "
+                                 "points, %s band cells",
                                  t.tiles, t.core_cells, t.halo_cells, t.halo_derived ? "as far as the flow reaches" : "as given",
-                                 t.run, t.cells_run, t.reruns, grouped(t.most_points).c_str(),
-                                 grouped(t.most_band_cells).c_str()));
+                                 t.run, t.cells_run,
+                                 t.processes > 1 ? format_text(" on %d processes", t.processes).c_str() : "", t.seconds,
+                                 t.reruns,
+                                 grouped(t.most_points).c_str(), grouped(t.most_band_cells).c_str()));
     row("active cells", format_text("%s (%.1f%% of the grid)%s", grouped(r.active_cells).c_str(),
                             cells > 0 ? 100.0 * double(r.active_cells) / cells : 0.0,
                             t.core_cells > 0 ? ", the tiles' halos counted" : ""));

@@ -115,8 +115,9 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     }
 
     now = "reconstruction";
-    shell.run = reconstruct(points, settings.params, progress);
+    shell.run = reconstruct(points, settings.params, progress, settings.tiles_on.get());
     shell.seconds.reconstruct = stage.lap();
+    if (shell.run.tiles.worker) return shell;  // its tiles are the root's now
     const Result& run = shell.run;
     shell.warnings = run.warnings;
 

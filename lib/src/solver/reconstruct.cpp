@@ -62,14 +62,15 @@ Result reconstruct(const PointSet& points, const Parameters& params, const Progr
     return reconstruct(PointCloud(points), params, progress);
 }
 
-Result reconstruct(const PointCloud& points, const Parameters& params, const ProgressCallback& progress) {
+Result reconstruct(const PointCloud& points, const Parameters& params, const ProgressCallback& progress,
+                   TileScheduler* tiles_on) {
     if (points.empty()) throw InputError("the point set is empty");
     Stopwatch total;
     Result res;
     if (params.tile_cells > 0) {
         params.validate();
-        if (params.precision == Precision::Double) reconstruct_tiled<double>(points, params, progress, res);
-        else reconstruct_tiled<float>(points, params, progress, res);
+        if (params.precision == Precision::Double) reconstruct_tiled<double>(points, params, progress, tiles_on, res);
+        else reconstruct_tiled<float>(points, params, progress, tiles_on, res);
     } else if (params.precision == Precision::Double) {
         run<double>(points, params, progress, res);
     } else {

@@ -141,20 +141,55 @@ struct TileRun {
     SessionFacts facts;
 };
 
-// The tile run on the whole cloud's tree: its distance queries only the tile's cells, and
-// finds there what the whole run finds.
-// One backend serves every tile in turn (set up again on each tile's layout).
-template <class Real>
-TileRun run_tile(const PointCloud& measured, const DomainPlan& whole, const Parameters& params, const Tile& tile,
-                 const std::vector<int>& least, std::unique_ptr<Backend<Real>>& backend, FieldAssembly<Real>& field) {
-    SolverSession<Real> session(measured, tile_plan(whole, tile), params, std::move(backend));
+// A run's figures as a TileResult carries them to the root (and back).
+constexpr std::size_t kFacts = 4, kStepFigures = 7;
+std::vector<double> figures_of(const TileRun& run) {
+    const SessionFacts& f = run.facts;
+    std::vector<double> out{double(f.active_cells), double(f.solver_bytes), f.seconds_distance,
+                            f.seconds_domain + f.seconds_init};
+    for (const StepStats& st : run.steps)
+        out.insert(out.end(), {double(st.cycles), st.converged ? 1.0 : 0.0, st.initial_residual, st.residual,
+                               st.seconds_linear, st.seconds_nonlinear, st.bytes_moved});
+    return out;
+}
+TileRun run_of(const std::vector<double>& figures) {
     TileRun run;
-    while (session.steps_done() < session.problem().steps)
-        run.steps.push_back(session.step(least[std::size_t(session.steps_done())]));
-    run.facts = session.facts();
-    field.place(session.take_field(), tile);
-    backend = session.release_backend();
+    if (figures.size() < kFacts) return run;
+    run.facts.active_cells = std::size_t(figures[0]);
+    run.facts.solver_bytes = std::size_t(figures[1]);
+    run.facts.seconds_distance = figures[2];
+    run.facts.seconds_init = figures[3];
+    for (std::size_t at = kFacts; at + kStepFigures <= figures.size(); at += kStepFigures) {
+        StepStats st;
+        st.step = int(run.steps.size()) + 1;
+        st.cycles = int(figures[at]);
+        st.converged = figures[at + 1] != 0;
+        st.initial_residual = figures[at + 2];
+        st.residual = figures[at + 3];
+        st.seconds_linear = figures[at + 4];
+        st.seconds_nonlinear = figures[at + 5];
+        st.bytes_moved = figures[at + 6];
+        run.steps.push_back(st);
+    }
     return run;
+}
+
+// Which process runs each tile: the heaviest first (by the points near it), each to the
+// process with the least so far; the same on every process. -1: not run.
+std::vector<int> owners_of(const std::vector<TileNeeds>& needs, int processes) {
+    std::vector<std::size_t> order;
+    for (std::size_t t = 0; t < needs.size(); ++t)
+        if (needs[t].core_near) order.push_back(t);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return needs[a].points > needs[b].points; });
+    std::vector<int> owner(needs.size(), -1);
+    std::vector<double> load(std::size_t(processes), 0);
+    for (std::size_t t : order) {
+        const auto least = std::min_element(load.begin(), load.end());
+        owner[t] = int(least - load.begin());
+        *least += double(needs[t].points) + 1;
+    }
+    return owner;
 }
 
 bool fewer_cycles(const TileRun& run, const std::vector<int>& most) {
@@ -194,84 +229,172 @@ void merge_steps(const std::vector<TileRun>& runs, int steps, Result& res) {
     }
 }
 
+// The tiles of one run, on this process and (with a scheduler) the others.
+template <class Real>
+class TiledRun {
+public:
+    TiledRun(const PointCloud& measured, const DomainPlan& plan, const Parameters& params, TileScheduler* on,
+             const ProgressCallback& progress, Result& res)
+        : measured_(measured), plan_(plan), params_(params), on_(on), progress_(progress), res_(res), field_(plan.domain) {
+        TileFacts& facts = res.tiles;
+        tiles_ = plan_tiles(plan.domain, facts.core_cells, facts.halo_cells);
+        facts.tiles = tiles_.size();
+        facts.processes = on ? on->processes() : 1;
+        const double reach = plan.offset + std::max(params.band_xi * plan.xi, plan.domain.h) + plan.domain.h;
+        needs_ = needs_of(detail::tree_of(measured), plan.domain, tiles_, facts.core_cells, facts.halo_cells, reach);
+        owner_ = owners_of(needs_, facts.processes);
+        runs_.resize(tiles_.size());
+    }
+
+    // Every tile once; then those that took fewer V-cycles in a step than the one that
+    // took most, again with as many: the stopping is the run's, not each tile's (a tile
+    // run again with more cycles needs no more).
+    void run() {
+        std::vector<int> most(std::size_t(plan_.planned_steps), 0);
+        std::vector<std::size_t> first;
+        for (const Tile& t : tiles_) first.push_back(std::size_t(t.index));
+        pass(first, std::vector<int>(most.size(), 0));
+        for (const TileRun& run : runs_)
+            for (std::size_t s = 0; s < run.steps.size(); ++s) most[s] = std::max(most[s], run.steps[s].cycles);
+        if (on_) most = on_->most(most);
+        std::vector<std::size_t> again;
+        for (const Tile& t : tiles_) {
+            const TileRun& run = runs_[std::size_t(t.index)];
+            if (!run.steps.empty() && fewer_cycles(run, most)) again.push_back(std::size_t(t.index));
+        }
+        res_.tiles.reruns = again.size();
+        pass(again, most);
+        if (on_ && !root()) on_->sent();
+    }
+
+    // The run's figures from its tiles'; the whole grid's phase field on the root.
+    void finish() {
+        TileFacts& facts = res_.tiles;
+        facts.worker = !root();
+        double cells_run = 0, core_cells = 0;
+        for (const Tile& t : tiles_) {
+            const TileRun& run = runs_[std::size_t(t.index)];
+            if (run.steps.empty()) continue;
+            ++facts.run;
+            facts.most_points = std::max(facts.most_points, needs_[std::size_t(t.index)].points);
+            facts.most_band_cells = std::max(facts.most_band_cells, run.facts.active_cells);
+            res_.active_cells += run.facts.active_cells;
+            res_.solver_bytes = std::max(res_.solver_bytes, run.facts.solver_bytes);
+            res_.seconds.distance += run.facts.seconds_distance;
+            res_.seconds.init += run.facts.seconds_domain + run.facts.seconds_init;
+            if (res_.backend.empty()) res_.backend = run.facts.backend;
+            for (const std::string& note : run.facts.notes)
+                if (std::find(res_.warnings.begin(), res_.warnings.end(), note) == res_.warnings.end())
+                    res_.warnings.push_back(note);
+            double cells = 1, core = 1;
+            for (int a = 0; a < 3; ++a) {
+                cells *= t.hi[std::size_t(a)] - t.lo[std::size_t(a)];
+                core *= t.core_hi[std::size_t(a)] - t.core_lo[std::size_t(a)];
+            }
+            cells_run += cells;
+            core_cells += core;
+        }
+        if (res_.backend.empty() && facts.run) res_.backend = "on the other processes";
+        facts.cells_run = core_cells > 0 ? cells_run / core_cells : 0;
+        merge_steps(runs_, plan_.planned_steps, res_);
+        if (!root()) return;
+        res_.phi = field_.take();
+        res_.active_bricks = res_.phi.stored_bricks() - kConstantSlots;
+        res_.total_bricks = res_.phi.brick_count();
+    }
+
+private:
+    int me() const { return on_ ? on_->rank() : 0; }
+    bool root() const { return me() == 0; }
+
+    // The tiles of `which` this process owns, run here (placed, or sent to the root); at
+    // the root, those the others run, taken as they come in (between its own).
+    void pass(const std::vector<std::size_t>& which, const std::vector<int>& least) {
+        Stopwatch clock;
+        std::size_t mine = 0, theirs = 0, done = 0;
+        for (std::size_t t : which) {
+            mine += owner_[t] == me();
+            theirs += root() && owner_[t] > 0;
+        }
+        const auto progress = [&] {
+            ++done;
+            seconds_ += clock.lap();
+            const std::size_t all = mine + theirs;
+            tell(progress_, std::to_string(done) + " of " + std::to_string(all) + " tiles with points" +
+                                (on_ ? " on " + std::to_string(on_->processes()) + " processes" : std::string()) +
+                                " (" + std::to_string(tiles_.size()) + " in all), about " +
+                                std::to_string(int(std::ceil(seconds_ / double(done) * double(all - done)))) + " s left");
+        };
+        std::size_t taken = 0;
+        const auto take = [&] {
+            TileResult got = on_->receive();
+            runs_[got.tile] = run_of(got.figures);
+            field_.place(got.field, tiles_[got.tile]);
+            ++taken;
+            progress();
+        };
+        for (std::size_t t : which) {
+            if (owner_[t] != me()) continue;
+            Field tile_field;
+            runs_[t] = run_tile(tiles_[t], least, tile_field);
+            if (root()) field_.place(tile_field, tiles_[t]);
+            else on_->send({t, std::move(tile_field), figures_of(runs_[t])});
+            progress();
+            while (root() && on_ && taken < theirs && on_->waiting()) take();
+        }
+        while (taken < theirs) take();
+    }
+
+    // The tile on the whole cloud's tree: its distance queries only the tile's cells, and
+    // finds there what the whole run finds. One backend serves every tile in turn.
+    TileRun run_tile(const Tile& tile, const std::vector<int>& least, Field& tile_field) {
+        SolverSession<Real> session(measured_, tile_plan(plan_, tile), params_, std::move(backend_));
+        TileRun run;
+        while (session.steps_done() < session.problem().steps)
+            run.steps.push_back(session.step(least[std::size_t(session.steps_done())]));
+        run.facts = session.facts();
+        tile_field = session.take_field();
+        backend_ = session.release_backend();
+        return run;
+    }
+
+    const PointCloud& measured_;
+    const DomainPlan& plan_;
+    const Parameters& params_;
+    TileScheduler* on_;
+    const ProgressCallback& progress_;
+    Result& res_;
+    FieldAssembly<Real> field_;
+    std::vector<Tile> tiles_;
+    std::vector<TileNeeds> needs_;
+    std::vector<int> owner_;
+    std::vector<TileRun> runs_;
+    std::unique_ptr<Backend<Real>> backend_;
+    double seconds_ = 0;
+};
+
 }  // namespace
 
 template <class Real>
 void reconstruct_tiled(const PointCloud& points, const Parameters& params, const ProgressCallback& progress,
-                       Result& res) {
+                       TileScheduler* tiles_on, Result& res) {
     Stopwatch clock;
     DomainPlan plan = plan_domain(points, params);
     res.seconds.domain = clock.lap();
     const PointCloud with_added = points_with_added(points, plan);
-    const PointCloud& measured = with_added.empty() ? points : with_added;
     static_cast<DomainPlan&>(res) = plan;
-    TileFacts& facts = res.tiles;
-    facts.core_cells = params.tile_cells;
-    facts.halo_cells = halo_of(plan, params, facts.halo_derived);
-    const std::vector<Tile> tiles = plan_tiles(plan.domain, facts.core_cells, facts.halo_cells);
-    facts.tiles = tiles.size();
-    const detail::PointTree& tree = detail::tree_of(measured);
-    const double reach = plan.offset + std::max(params.band_xi * plan.xi, plan.domain.h) + plan.domain.h;
-    const std::vector<TileNeeds> needs = needs_of(tree, plan.domain, tiles, facts.core_cells, facts.halo_cells, reach);
+    res.tiles.core_cells = params.tile_cells;
+    res.tiles.halo_cells = halo_of(plan, params, res.tiles.halo_derived);
+    TiledRun<Real> tiled(with_added.empty() ? points : with_added, plan, params, tiles_on, progress, res);
     res.seconds.distance = clock.lap();
-    FieldAssembly<Real> field(plan.domain);
-    std::unique_ptr<Backend<Real>> backend;
-    std::vector<TileRun> runs(tiles.size());
-    std::vector<int> most(std::size_t(plan.planned_steps), 0);
-    double cells_run = 0, core_cells = 0;
-    std::size_t done = 0, to_run = 0;
-    double tiles_seconds = 0;
-    for (const TileNeeds& need : needs) to_run += need.core_near;
-    for (const Tile& t : tiles) {
-        if (!needs[std::size_t(t.index)].core_near) continue;
-        TileRun& run = runs[std::size_t(t.index)];
-        run = run_tile<Real>(measured, plan, params, t, std::vector<int>(most.size(), 0), backend, field);
-        for (std::size_t s = 0; s < most.size(); ++s) most[s] = std::max(most[s], run.steps[s].cycles);
-        ++done;
-        tiles_seconds += clock.lap();
-        const double per_tile = tiles_seconds / double(done);
-        tell(progress, std::to_string(done) + " of " + std::to_string(to_run) + " with points (" +
-                           std::to_string(tiles.size()) + " in all), about " +
-                           std::to_string(int(std::ceil(per_tile * double(to_run - done)))) + " s left");
-    }
-    // Every tile as many V-cycles in each step as the one that took most: the stopping
-    // is the run's, not each tile's. A tile run again with more cycles needs no more.
-    for (const Tile& t : tiles) {
-        TileRun& run = runs[std::size_t(t.index)];
-        if (run.steps.empty() || !fewer_cycles(run, most)) continue;
-        run = run_tile<Real>(measured, plan, params, t, most, backend, field);
-        ++facts.reruns;
-    }
-    for (const Tile& t : tiles) {
-        const TileRun& run = runs[std::size_t(t.index)];
-        if (run.steps.empty()) continue;
-        ++facts.run;
-        facts.most_points = std::max(facts.most_points, needs[std::size_t(t.index)].points);
-        facts.most_band_cells = std::max(facts.most_band_cells, run.facts.active_cells);
-        res.active_cells += run.facts.active_cells;
-        res.solver_bytes = std::max(res.solver_bytes, run.facts.solver_bytes);
-        res.seconds.distance += run.facts.seconds_distance;
-        res.seconds.init += run.facts.seconds_domain + run.facts.seconds_init;
-        if (res.backend.empty()) res.backend = run.facts.backend;
-        for (const std::string& note : run.facts.notes)
-            if (std::find(res.warnings.begin(), res.warnings.end(), note) == res.warnings.end())
-                res.warnings.push_back(note);
-        double cells = 1, core = 1;
-        for (int a = 0; a < 3; ++a) {
-            cells *= t.hi[std::size_t(a)] - t.lo[std::size_t(a)];
-            core *= t.core_hi[std::size_t(a)] - t.core_lo[std::size_t(a)];
-        }
-        cells_run += cells;
-        core_cells += core;
-    }
-    facts.cells_run = core_cells > 0 ? cells_run / core_cells : 0;
-    merge_steps(runs, plan.planned_steps, res);
-    res.phi = field.take();
-    res.active_bricks = res.phi.stored_bricks() - kConstantSlots;
-    res.total_bricks = res.phi.brick_count();
+    tiled.run();
+    res.tiles.seconds = clock.lap();
+    tiled.finish();
 }
 
-template void reconstruct_tiled<double>(const PointCloud&, const Parameters&, const ProgressCallback&, Result&);
-template void reconstruct_tiled<float>(const PointCloud&, const Parameters&, const ProgressCallback&, Result&);
+template void reconstruct_tiled<double>(const PointCloud&, const Parameters&, const ProgressCallback&, TileScheduler*,
+                                        Result&);
+template void reconstruct_tiled<float>(const PointCloud&, const Parameters&, const ProgressCallback&, TileScheduler*,
+                                       Result&);
 
 }  // namespace snvr

@@ -4,11 +4,13 @@
 #pragma once
 #include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
+#include "snvr/tiles.hpp"
 
 namespace snvr {
 
+// `tiles_on` (tiles.hpp) spreads the tiles over processes; null: all run here.
 template <class Real>
 void reconstruct_tiled(const PointCloud& points, const Parameters& params, const ProgressCallback& progress,
-                       Result& res);
+                       TileScheduler* tiles_on, Result& res);
 
 }  // namespace snvr

@@ -1,0 +1,151 @@
+// The processes of an MPI job as a tiled run's scheduler (processes.hpp).
+#include <mpi.h>
+
+#include <array>
+#include <climits>
+#include <list>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "processes.hpp"
+#include "snvr/error.hpp"
+
+namespace cli {
+
+namespace {
+
+bool started = false;
+
+void check(int code, const char* what) {
+    if (code != MPI_SUCCESS) throw snvr::Error(std::string("MPI: ") + what + " failed");
+}
+
+int as_count(std::size_t n, const char* what) {
+    if (n > std::size_t(INT_MAX)) throw snvr::ResourceError(std::string("MPI: ") + what + " too large to send at once");
+    return int(n);
+}
+
+enum Tag { kHeader = 1, kTable, kStored, kFigures };
+
+// A worker's results go out as it goes on (MPI_Isend), each kept until sent() has waited
+// for the root to take them; the root takes whichever comes in first.
+class MpiTiles : public snvr::TileScheduler {
+public:
+    int processes() const override { return process_count(); }
+    int rank() const override { return process_rank(); }
+
+    void send(snvr::TileResult result) override {
+        outgoing_.push_back({std::move(result), {}});
+        Outgoing& out = outgoing_.back();
+        const snvr::Field& f = out.result.field;
+        const bool single = f.precision == snvr::Precision::Single;
+        const std::size_t stored = single ? f.stored_f32().size() : f.stored_f64().size();
+        out.header = {std::int64_t(out.result.tile), f.nx, f.ny, f.nz, single ? 1 : 0,
+                      std::int64_t(f.brick_table().size()), std::int64_t(stored), std::int64_t(out.result.figures.size())};
+        const auto post = [&](const void* data, std::size_t n, MPI_Datatype type, int tag) {
+            requests_.emplace_back();
+            check(MPI_Isend(data, as_count(n, "a tile"), type, 0, tag, MPI_COMM_WORLD, &requests_.back()), "sending a tile");
+        };
+        post(out.header.data(), out.header.size(), MPI_INT64_T, kHeader);
+        post(f.brick_table().data(), f.brick_table().size(), MPI_UINT32_T, kTable);
+        if (single) post(f.stored_f32().data(), stored, MPI_FLOAT, kStored);
+        else post(f.stored_f64().data(), stored, MPI_DOUBLE, kStored);
+        post(out.result.figures.data(), out.result.figures.size(), MPI_DOUBLE, kFigures);
+    }
+
+    void sent() override {
+        check(MPI_Waitall(int(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE), "sending the tiles");
+        requests_.clear();
+        outgoing_.clear();
+    }
+
+    bool waiting() override {
+        int flag = 0;
+        check(MPI_Iprobe(MPI_ANY_SOURCE, kHeader, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE), "looking for tiles");
+        return flag != 0;
+    }
+
+    snvr::TileResult receive() override {
+        MPI_Status status;
+        check(MPI_Probe(MPI_ANY_SOURCE, kHeader, MPI_COMM_WORLD, &status), "waiting for a tile");
+        const int from = status.MPI_SOURCE;
+        std::int64_t header[8];
+        check(MPI_Recv(header, 8, MPI_INT64_T, from, kHeader, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receiving a tile");
+        std::vector<std::uint32_t> table(static_cast<std::size_t>(header[5]));
+        check(MPI_Recv(table.data(), int(table.size()), MPI_UINT32_T, from, kTable, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+              "receiving a tile");
+        snvr::TileResult r;
+        r.tile = std::size_t(header[0]);
+        const int nx = int(header[1]), ny = int(header[2]), nz = int(header[3]);
+        if (header[4]) {
+            std::vector<float> stored(static_cast<std::size_t>(header[6]));
+            check(MPI_Recv(stored.data(), int(stored.size()), MPI_FLOAT, from, kStored, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+                  "receiving a tile");
+            r.field = snvr::Field::from_bricks(nx, ny, nz, std::move(table), std::move(stored));
+        } else {
+            std::vector<double> stored(static_cast<std::size_t>(header[6]));
+            check(MPI_Recv(stored.data(), int(stored.size()), MPI_DOUBLE, from, kStored, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+                  "receiving a tile");
+            r.field = snvr::Field::from_bricks(nx, ny, nz, std::move(table), std::move(stored));
+        }
+        r.figures.resize(static_cast<std::size_t>(header[7]));
+        check(MPI_Recv(r.figures.data(), int(r.figures.size()), MPI_DOUBLE, from, kFigures, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE),
+              "receiving a tile");
+        return r;
+    }
+
+    std::vector<int> most(const std::vector<int>& mine) override {
+        std::vector<int> out(mine.size());
+        check(MPI_Allreduce(mine.data(), out.data(), int(mine.size()), MPI_INT, MPI_MAX, MPI_COMM_WORLD),
+              "agreeing on the V-cycles");
+        return out;
+    }
+
+private:
+    struct Outgoing {
+        snvr::TileResult result;
+        std::array<std::int64_t, 8> header;
+    };
+    std::list<Outgoing> outgoing_;  // a list: what is sent from must not move
+    std::vector<MPI_Request> requests_;
+};
+
+}  // namespace
+
+void start_processes(int& argc, char**& argv) {
+    if (launched_size() < 2) return;  // alone: one process, no MPI
+    int provided = 0;
+    // Only the main thread calls MPI; OpenMP's threads never do.
+    check(MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided), "starting");
+    started = true;
+}
+
+void end_processes(bool failed) {
+    if (!started) return;
+    // A failure on one process would leave the others waiting for its tiles.
+    if (failed && process_count() > 1) MPI_Abort(MPI_COMM_WORLD, 1);
+    MPI_Finalize();
+    started = false;
+}
+
+int process_count() {
+    int n = 1;
+    if (started) MPI_Comm_size(MPI_COMM_WORLD, &n);
+    return n;
+}
+
+int process_rank() {
+    int r = 0;
+    if (started) MPI_Comm_rank(MPI_COMM_WORLD, &r);
+    return r;
+}
+
+std::shared_ptr<snvr::TileScheduler> process_tiles() {
+    if (process_count() < 2) return nullptr;
+    return std::make_shared<MpiTiles>();
+}
+
+}  // namespace cli

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# snvr-cl under mpirun (2 processes, as CI runs it: root, oversubscribed): the tiled run's
+# shell byte for byte the one process's; --tile-cells required; one process failing
+# fails the run, names the process, and nothing is written.
+set -uo pipefail
+cli=$1 data=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+export OMP_NUM_THREADS=1 OMPI_MCA_btl_vader_single_copy_mechanism=none
+mpi=(mpirun --oversubscribe --allow-run-as-root)
+run=(reconstruct "$data/bunny.ply" --resolution 96 --tile-cells 24 --device openmp --quiet)
+fail() { echo "FAIL: $*"; exit 1; }
+
+"$cli" "${run[@]}" -o "$tmp/one.stl" || fail "one process"
+"${mpi[@]}" -np 2 "$cli" "${run[@]}" -o "$tmp/two.stl" --report "$tmp/two.json" || fail "two processes"
+cmp "$tmp/one.stl" "$tmp/two.stl" || fail "two processes wrote other bytes than one"
+grep -q '"processes": 2' "$tmp/two.json" || fail "the report does not say 2 processes"
+echo "2 processes: the same bytes as 1"
+
+out=$("${mpi[@]}" -np 2 "$cli" reconstruct "$data/bunny.ply" -o "$tmp/x.stl" --quiet 2>&1)
+[ $? -ne 0 ] || fail "no --tile-cells under mpirun was accepted"
+grep -q "give --tile-cells N" <<<"$out" || fail "no --tile-cells: $out"
+[ "$(grep -c 'give --tile-cells' <<<"$out")" -eq 1 ] || fail "the usage error said more than once: $out"
+[ ! -e "$tmp/x.stl" ] || fail "an output was written"
+echo "no --tile-cells: refused once"
+
+# Process 1 fails to read its input (the read-fault hook): the run fails, says which
+# process, and writes nothing.
+out=$("${mpi[@]}" -np 1 "$cli" "${run[@]}" -o "$tmp/y.stl" : -np 1 -x SNVR_TEST_READ_FAULT=eio:1000 "$cli" "${run[@]}" \
+      -o "$tmp/y.stl" 2>&1)
+[ $? -ne 0 ] || fail "a process that failed did not fail the run"
+grep -q "process 1 of 2" <<<"$out" || fail "the failure does not name the process: $out"
+[ ! -e "$tmp/y.stl" ] || fail "an output was written"
+ls "$tmp" | grep -v -E '^(one|two)\.(stl|json)$' && fail "something was left beside the outputs"
+echo "a failing process: the run failed, nothing written"
