@@ -73,6 +73,8 @@ struct TileFacts {
     std::size_t most_band_cells = 0;     // band cells of the busiest tile, halo included
     double cells_run = 0;                // cells of the tiles run over the cells of their cores
     double seconds = 0;                  // wall clock of the tiles, all passes (stage seconds sum the tiles')
+    double busiest_over_mean = 0;        // the work (the tiles' seconds) of the busiest process over the mean
+    std::size_t bytes_received = 0;      // the tiles' results the first process took from the others
 };
 
 // What reconstruct() ran (the plan it fitted to the points) and what it found.

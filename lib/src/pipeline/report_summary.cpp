@@ -69,7 +69,12 @@ std::string report_summary(const RunReport& report) {
                                  "points, %s band cells",
                                  t.tiles, t.core_cells, t.halo_cells, t.halo_derived ? "as far as the flow reaches" : "as given",
                                  t.run, t.cells_run,
-                                 t.processes > 1 ? format_text(" on %d processes", t.processes).c_str() : "", t.seconds,
+                                 t.processes > 1 ? format_text(" on %d processes (the busiest %.2f x the mean; %.3g MiB "
+                                                               "sent to the first)",
+                                                               t.processes, t.busiest_over_mean, mib(t.bytes_received))
+                                                       .c_str()
+                                                 : "",
+                                 t.seconds,
                                  t.reruns,
                                  grouped(t.most_points).c_str(), grouped(t.most_band_cells).c_str()));
     row("active cells", format_text("%s (%.1f%% of the grid)%s", grouped(r.active_cells).c_str(),

@@ -295,6 +295,17 @@ public:
             core_cells += core;
         }
         if (res_.backend.empty() && facts.run) res_.backend = "on the other processes";
+        std::vector<double> work(std::size_t(facts.processes), 0);
+        for (const Tile& t : tiles_) {
+            const TileRun& run = runs_[std::size_t(t.index)];
+            if (run.steps.empty()) continue;
+            double seconds = run.facts.seconds_distance + run.facts.seconds_domain + run.facts.seconds_init;
+            for (const StepStats& st : run.steps) seconds += st.seconds_linear + st.seconds_nonlinear;
+            work[std::size_t(owner_[std::size_t(t.index)])] += seconds;
+        }
+        double all = 0;
+        for (double w : work) all += w;
+        facts.busiest_over_mean = all > 0 ? *std::max_element(work.begin(), work.end()) / (all / double(work.size())) : 0;
         facts.cells_run = core_cells > 0 ? cells_run / core_cells : 0;
         merge_steps(runs_, plan_.planned_steps, res_);
         if (!root()) return;
@@ -328,6 +339,7 @@ private:
         std::size_t taken = 0;
         const auto take = [&] {
             TileResult got = on_->receive();
+            res_.tiles.bytes_received += got.field.bytes() + got.figures.size() * sizeof(double);
             runs_[got.tile] = run_of(got.figures);
             field_.place(got.field, tiles_[got.tile]);
             ++taken;
