@@ -20,8 +20,12 @@ struct Domain {
     Vec3 cell_center(int i, int j, int k) const {
         return {origin[0] + (i + 0.5) * h, origin[1] + (j + 0.5) * h, origin[2] + (k + 0.5) * h};
     }
+    // The solver's unit length in cells: the longest side, or (a tile of a larger grid) the
+    // whole grid's, so that a tile computes in the same numbers as the whole run.
+    int unit_cells = 0;  // 0: the longest side
+    int unit() const { return unit_cells > 0 ? unit_cells : std::max({nx, ny, nz}); }
     // Length that maps to 1 in the solver's normalised units.
-    double length_scale() const { return h * std::max({nx, ny, nz}); }
+    double length_scale() const { return h * unit(); }
 };
 
 }  // namespace snvr

@@ -6,7 +6,7 @@ namespace snvr {
 
 Hierarchy make_levels(const Domain& domain) {
     Hierarchy hier;
-    const int longest = std::max({domain.nx, domain.ny, domain.nz});
+    const int longest = domain.unit();
     for (int l = 0; l < domain.levels; ++l) {
         Level lv;
         static_cast<BrickTiling&>(lv) = BrickTiling::of(domain.nx >> l, domain.ny >> l, domain.nz >> l);

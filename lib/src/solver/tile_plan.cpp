@@ -69,6 +69,7 @@ Domain tile_domain(const Domain& whole, const Tile& tile) {
     d.nx = tile.hi[0] - tile.lo[0];
     d.ny = tile.hi[1] - tile.lo[1];
     d.nz = tile.hi[2] - tile.lo[2];
+    d.unit_cells = whole.unit();  // the whole run's numbers: the same rounding in every cell
     // Every axis a multiple of 2^(levels - 1), the coarsest longest at least 8 cells.
     const int longest = std::max({d.nx, d.ny, d.nz});
     d.levels = 1;

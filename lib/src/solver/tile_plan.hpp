@@ -48,8 +48,10 @@ struct Tile {
 // halo of `halo_cells` (a multiple of the brick) beyond it where the grid goes on.
 std::vector<Tile> plan_tiles(const Domain& whole, int core_cells, int halo_cells);
 
-// A tile's own grid: the whole run's voxel and lattice, its box, and as many multigrid
-// levels as its size takes (at most the whole run's).
+// A tile's own grid: the whole run's voxel, lattice and unit length (so that each cell's
+// arithmetic rounds as the whole run's: with the tile's own, float's rounding differed and
+// flipped phi's sign at nodes near 0), its box, and as many multigrid levels as its size
+// takes (at most the whole run's).
 Domain tile_domain(const Domain& whole, const Tile& tile);
 
 }  // namespace snvr

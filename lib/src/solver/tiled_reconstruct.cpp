@@ -125,13 +125,10 @@ std::vector<TileNeeds> needs_of(const detail::PointTree& tree, const Domain& who
     return needs;
 }
 
-// The tile's own plan: the whole run's in world units, on the tile's grid (whose longest
-// side is the solver's unit length: dt, given normalised, follows it).
+// The tile's own plan: the whole run's, in the whole run's units, on the tile's grid.
 DomainPlan tile_plan(const DomainPlan& whole, const Tile& tile) {
     DomainPlan plan = whole;
     plan.domain = tile_domain(whole.domain, tile);
-    const double ratio = whole.domain.length_scale() / plan.domain.length_scale();
-    plan.dt = whole.dt * ratio * ratio;
     plan.estimated_bytes = estimate_plan_bytes(plan.domain);
     return plan;
 }
