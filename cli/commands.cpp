@@ -56,6 +56,15 @@ int run_devices(const std::vector<std::string>& args) {
 int run_sample(const std::vector<std::string>& args) {
     const std::optional<SampleOptions> parsed = parse_sample(args, std::cout);
     if (!parsed) return 0;
+    if (parsed->shape == "city") {  // made as it is written
+        snvr::write_point_stream(
+            parsed->output, parsed->points,
+            snvr::format_text("snvr-cl sample city --points %zu --seed %llu (metres)", parsed->points,
+                              (unsigned long long)parsed->seed),
+            [&](const std::function<void(const snvr::PointSet&)>& emit) { snvr::shapes::city_scan(parsed->points, parsed->seed, emit); });
+        std::cerr << "wrote " << grouped(parsed->points) << " points to " << snvr::printable(parsed->output) << '\n';
+        return 0;
+    }
     snvr::PointSet points;
     try {
         const snvr::PointSet surface = parsed->random ? snvr::shapes::random_by_name(parsed->shape, parsed->random, parsed->seed)

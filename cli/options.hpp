@@ -36,6 +36,7 @@ struct SampleOptions {
     double outliers = 0;  // fraction of random points added in the shape's box
     std::size_t random = 0;  // points drawn at random on the surface instead of spaced; 0: spaced
     std::uint64_t seed = 1;
+    std::size_t points = 0;  // the city's returns
 };
 
 // Each returns nullopt when -h/--help was given; the help then went to `help_out`.

@@ -1,6 +1,7 @@
 // Points and their reading (and writing): every point format snvr-cl reads, as a
 // PointSet or straight into a PointCloud (lib/src/io/).
 #pragma once
+#include <functional>
 #include <string>
 
 #include "snvr/geometry.hpp"
@@ -24,5 +25,10 @@ PointCloud read_point_cloud(const std::string& path);
 // header) or text (.xyz/.pts/.txt, one "x y z" line each, digits that read back
 // exactly), atomically like write_mesh. Throws InputError for another extension.
 void write_points(const PointSet& points, const std::string& path, const std::string& comment = "");
+// The same for `count` points made as they are written, never held whole: `produce`
+// hands them to its argument in chunks. Binary PLY only (its header has the count);
+// IoError when `produce` makes more or fewer, and nothing is written.
+void write_point_stream(const std::string& path, std::size_t count, const std::string& comment,
+                        const std::function<void(const std::function<void(const PointSet&)>&)>& produce);
 
 }  // namespace snvr

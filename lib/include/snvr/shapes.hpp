@@ -98,4 +98,14 @@ std::function<double(const Vec3&)> exact_distance_by_name(const std::string& nam
 // The names by_name knows, in a fixed order.
 std::vector<std::string> names();
 
+// A city block as a mobile and an airborne LiDAR return it, in metres: 4 x 4 lots of 48 m
+// between streets 12 m wide (a 252 m square about the origin), one or two box buildings
+// a lot, 6 to 45 m high (by `seed`); 70% of the `count` points from a scanner 2.5 m up
+// driving every street, a 900-ray profile across the street at each stop (80 m range),
+// the rest from flight lines 300 m up every 30 m (a swath of +-30 degrees): ground, walls
+// and roofs in scan lines, with the gaps occlusion leaves (no wall behind another, no
+// street-side roof, the ground under the eaves); 1 cm range noise. Handed to `emit` in
+// chunks of at most 2^20 points as they are made, never held whole.
+void city_scan(std::size_t count, std::uint64_t seed, const std::function<void(const PointSet&)>& emit);
+
 }  // namespace snvr::shapes
