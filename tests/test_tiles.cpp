@@ -1,7 +1,8 @@
 // Tiled runs (Parameters::tile_cells): the halo derived from the flow, and the shell of a
 // run cut into tiles the whole run's shell (every vertex within 0.01 voxels, the same
 // pieces, genus and enclosure) on shapes that cross tiles' corners and lie on their
-// faces; a halo narrower than the flow's reach shows.
+// faces, with a cluster of strays split by a face; a halo narrower than the flow's reach
+// shows.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -173,6 +174,23 @@ TEST_CASE("shapes across tiles: sheets through tile corners, a rod on a tile fac
         CHECK(tiled.run.tiles.run < tiled.run.tiles.tiles);
         same_shell(whole, tiled);
     }
+}
+
+TEST_CASE("a cluster of stray points split by a tile face: dropped alike, the same shell") {
+    // The unit box in 64 cells, tiles of 16: faces at x = 0.25, 0.5, 0.75.
+    PointSet points = shapes::sphere({0.45, 0.45, 0.45}, 0.2, 0.01);
+    for (int i = 0; i < 6; ++i) points.push_back({0.5 + (i - 2.5) * 0.002, 0.85, 0.85});  // 6 strays across x = 0.5
+    ShellSettings s;
+    s.params.resolution = 64;
+    s.params.box = std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{1, 1, 1}};
+    s.params.device = "openmp";
+    const Shell whole = make_shell(points, s);
+    s.params.tile_cells = 16;
+    const Shell tiled = make_shell(points, s);
+    CHECK(whole.outliers.points.size() >= 6);
+    CHECK(tiled.outliers.points == whole.outliers.points);
+    CHECK(whole.quality.solids == 1);
+    same_shell(whole, tiled);
 }
 
 TEST_CASE("FieldAssembly: cores placed into the whole grid's bricks, constants shared, a core placed again replaced") {
