@@ -237,3 +237,17 @@ TEST_CASE("one tile over the whole grid is the whole run, bit for bit; a cancel 
                     Cancelled);
     CHECK(tiles_seen == 3);
 }
+
+TEST_CASE("a tile's warning names the tile") {
+    ShellSettings s;
+    s.params.resolution = 64;
+    s.params.device = "openmp";
+    s.params.tile_cells = 32;
+    s.params.tol = 1e-9;  // out of reach in one V-cycle
+    s.params.max_cycles = 1;
+    const Shell shell = make_shell(shapes::by_name("torus", 0.02), s);
+    bool named = false;
+    for (const std::string& w : shell.warnings)
+        named = named || (w.rfind("tile 0 (cells 0-32, 0-32, 0-32): ", 0) == 0 && w.find("steps did not converge") != std::string::npos);
+    CHECK(named);
+}

@@ -15,6 +15,12 @@ namespace snvr {
 
 namespace {
 
+std::string not_converged(const StepStats& st, double tol) {
+    char text[160];
+    std::snprintf(text, sizeof text, "step %d did not converge: residual %.3g after %d V-cycles (tol %g)", st.step,
+                  st.residual, st.cycles, tol);
+    return text;
+}
 
 template <class Real>
 void run(const PointCloud& points, const Parameters& params, const ProgressCallback& progress, Result& res) {
@@ -37,12 +43,7 @@ void run(const PointCloud& points, const Parameters& params, const ProgressCallb
         res.steps.push_back(session.step());
         const StepStats& st = res.steps.back();
         res.seconds.steps += st.seconds_linear + st.seconds_nonlinear;
-        if (!st.converged) {
-            char text[160];
-            std::snprintf(text, sizeof text, "step %d did not converge: residual %.3g after %d V-cycles (tol %g)",
-                          st.step, st.residual, st.cycles, params.tol);
-            res.warnings.push_back(text);
-        }
+        if (!st.converged) res.warnings.push_back(not_converged(st, params.tol));
         if (progress) {
             Progress p;
             p.stage = "step";

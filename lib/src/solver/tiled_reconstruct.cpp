@@ -189,6 +189,14 @@ std::vector<int> owners_of(const std::vector<TileNeeds>& needs, int processes) {
     return owner;
 }
 
+// "tile 12 (cells 128-256, 0-128, 64-192)": where a warning comes from.
+std::string tile_name(const Tile& t) {
+    std::string s = "tile " + std::to_string(t.index) + " (cells ";
+    for (int a = 0; a < 3; ++a)
+        s += (a ? ", " : "") + std::to_string(t.core_lo[std::size_t(a)]) + "-" + std::to_string(t.core_hi[std::size_t(a)]);
+    return s + ")";
+}
+
 bool fewer_cycles(const TileRun& run, const std::vector<int>& most) {
     for (std::size_t s = 0; s < run.steps.size(); ++s)
         if (run.steps[s].cycles < most[s]) return true;
@@ -283,6 +291,22 @@ public:
             for (const std::string& note : run.facts.notes)
                 if (std::find(res_.warnings.begin(), res_.warnings.end(), note) == res_.warnings.end())
                     res_.warnings.push_back(note);
+            // One warning a tile, naming it, for its worst step.
+            const StepStats* worst = nullptr;
+            std::size_t missed = 0;
+            for (const StepStats& st : run.steps)
+                if (!st.converged) {
+                    ++missed;
+                    if (!worst || st.residual > worst->residual) worst = &st;
+                }
+            if (worst) {
+                char text[200];
+                std::snprintf(text, sizeof text,
+                              ": %zu of %zu steps did not converge (the worst: step %d, residual %.3g after %d "
+                              "V-cycles; tol %g)",
+                              missed, run.steps.size(), worst->step, worst->residual, worst->cycles, params_.tol);
+                res_.warnings.push_back(tile_name(t) + text);
+            }
             double cells = 1, core = 1;
             for (int a = 0; a < 3; ++a) {
                 cells *= t.hi[std::size_t(a)] - t.lo[std::size_t(a)];
