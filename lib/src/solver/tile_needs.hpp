@@ -1,0 +1,30 @@
+// What a tiled run's tiles need of the points, and which process runs each
+// (tiled_reconstruct.cpp).
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "geometry/point_tree.hpp"
+#include "snvr/domain.hpp"
+#include "solver/tile_plan.hpp"
+
+namespace snvr {
+
+// How many points lie within `reach` of a tile's box (halo included), and whether any
+// lies within reach of its core. A cell's distance and band depend only on the points
+// within the offset and the band's cut of it; where no point comes that near the core,
+// every cell of it is -1 in the whole run from the start, and the tile need not run.
+struct TileNeeds {
+    std::size_t points = 0;
+    bool core_near = false;
+};
+
+// Each tile's needs, leaf by leaf of the tree (in parallel).
+std::vector<TileNeeds> needs_of(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
+                                int core_cells, int halo_cells, double reach);
+
+// Which process runs each tile: the heaviest first (by the points near it), each to the
+// process with the least so far; the same on every process. -1: not run.
+std::vector<int> owners_of(const std::vector<TileNeeds>& needs, int processes);
+
+}  // namespace snvr
