@@ -79,17 +79,13 @@ public:
         snvr::TileResult r;
         r.tile = std::size_t(header[0]);
         const int nx = int(header[1]), ny = int(header[2]), nz = int(header[3]);
-        if (header[4]) {
-            std::vector<float> stored(static_cast<std::size_t>(header[6]));
-            check(MPI_Recv(stored.data(), int(stored.size()), MPI_FLOAT, from, kStored, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+        const auto field = [&](auto real, MPI_Datatype type) {
+            std::vector<decltype(real)> stored(static_cast<std::size_t>(header[6]));
+            check(MPI_Recv(stored.data(), int(stored.size()), type, from, kStored, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
                   "receiving a tile");
-            r.field = snvr::Field::from_bricks(nx, ny, nz, std::move(table), std::move(stored));
-        } else {
-            std::vector<double> stored(static_cast<std::size_t>(header[6]));
-            check(MPI_Recv(stored.data(), int(stored.size()), MPI_DOUBLE, from, kStored, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
-                  "receiving a tile");
-            r.field = snvr::Field::from_bricks(nx, ny, nz, std::move(table), std::move(stored));
-        }
+            return snvr::Field::from_bricks(nx, ny, nz, std::move(table), std::move(stored));
+        };
+        r.field = header[4] ? field(0.0f, MPI_FLOAT) : field(0.0, MPI_DOUBLE);
         r.figures.resize(static_cast<std::size_t>(header[7]));
         check(MPI_Recv(r.figures.data(), int(r.figures.size()), MPI_DOUBLE, from, kFigures, MPI_COMM_WORLD,
                        MPI_STATUS_IGNORE),

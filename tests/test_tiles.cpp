@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "snvr/error.hpp"
 #include "snvr/point_io.hpp"
@@ -41,6 +42,18 @@ void same_shell(const Shell& whole, const Shell& tiled, double most = 0.01) {
     const VertexDistance d = vertex_distance(whole.mesh, tiled.mesh);
     CAPTURE(d.max / whole.run.domain.h);
     CHECK(d.max <= most * whole.run.domain.h);
+}
+
+// The points whole and in tiles of 16 on the unit box in 64 cells (h = 1/64, no padding):
+// tiles' faces at 0.25, 0.5 and 0.75.
+std::pair<Shell, Shell> whole_and_tiled_in_unit_box(const PointSet& points) {
+    ShellSettings s;
+    s.params.resolution = 64;
+    s.params.box = std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{1, 1, 1}};
+    s.params.device = "openmp";
+    Shell whole = make_shell(points, s);
+    s.params.tile_cells = 16;
+    return {std::move(whole), make_shell(points, s)};
 }
 
 FlowReach defaults_flow() {
@@ -161,13 +174,7 @@ TEST_CASE("shapes across tiles: sheets through tile corners, a rod on a tile fac
         for (double y = 0.3; y <= 0.7; y += 0.002) points.push_back({0.5, y, 0.8});  // on the face x = 0.5
         const PointSet ball = shapes::sphere({0.5 + 4.0 / 64, 0.75, 0.72}, 0.02, 0.005);
         points.insert(points.end(), ball.begin(), ball.end());
-        ShellSettings s;
-        s.params.resolution = 64;
-        s.params.box = std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{1, 1, 1}};
-        s.params.device = "openmp";
-        const Shell whole = make_shell(points, s);
-        s.params.tile_cells = 16;
-        const Shell tiled = make_shell(points, s);
+        const auto [whole, tiled] = whole_and_tiled_in_unit_box(points);
         CHECK(whole.run.domain.h == 1.0 / 64);
         CHECK(whole.quality.solids == 3);
         CHECK(tiled.run.tiles.tiles == 64);
@@ -180,13 +187,7 @@ TEST_CASE("a cluster of stray points split by a tile face: dropped alike, the sa
     // The unit box in 64 cells, tiles of 16: faces at x = 0.25, 0.5, 0.75.
     PointSet points = shapes::sphere({0.45, 0.45, 0.45}, 0.2, 0.01);
     for (int i = 0; i < 6; ++i) points.push_back({0.5 + (i - 2.5) * 0.002, 0.85, 0.85});  // 6 strays across x = 0.5
-    ShellSettings s;
-    s.params.resolution = 64;
-    s.params.box = std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{1, 1, 1}};
-    s.params.device = "openmp";
-    const Shell whole = make_shell(points, s);
-    s.params.tile_cells = 16;
-    const Shell tiled = make_shell(points, s);
+    const auto [whole, tiled] = whole_and_tiled_in_unit_box(points);
     CHECK(whole.outliers.points.size() >= 6);
     CHECK(tiled.outliers.points == whole.outliers.points);
     CHECK(whole.quality.solids == 1);

@@ -57,6 +57,14 @@ void run(const PointCloud& points, const Parameters& params, const ProgressCallb
     res.phi = session.take_field();
 }
 
+// Tiled where Parameters::tile_cells asks (plan_domain validates the parameters either way).
+template <class Real>
+void run_whole_or_tiled(const PointCloud& points, const Parameters& params, const ProgressCallback& progress,
+                        TileScheduler* tiles_on, Result& res) {
+    if (params.tile_cells > 0) reconstruct_tiled<Real>(points, params, progress, tiles_on, res);
+    else run<Real>(points, params, progress, res);
+}
+
 }  // namespace
 
 Result reconstruct(const PointSet& points, const Parameters& params, const ProgressCallback& progress) {
@@ -68,15 +76,8 @@ Result reconstruct(const PointCloud& points, const Parameters& params, const Pro
     if (points.empty()) throw InputError("the point set is empty");
     Stopwatch total;
     Result res;
-    if (params.tile_cells > 0) {
-        params.validate();
-        if (params.precision == Precision::Double) reconstruct_tiled<double>(points, params, progress, tiles_on, res);
-        else reconstruct_tiled<float>(points, params, progress, tiles_on, res);
-    } else if (params.precision == Precision::Double) {
-        run<double>(points, params, progress, res);
-    } else {
-        run<float>(points, params, progress, res);
-    }
+    if (params.precision == Precision::Double) run_whole_or_tiled<double>(points, params, progress, tiles_on, res);
+    else run_whole_or_tiled<float>(points, params, progress, tiles_on, res);
     res.seconds.total = total.lap();
     return res;
 }
