@@ -304,6 +304,12 @@ Command reconstruct_command(ReconstructOptions& o) {
          store(p.tile_cells), "Tiles"},
         {"--tile-halo-cells", "", "N",
          "the tiles' halo in cells (a multiple of 8) instead of the one\nderived from the flow", store(p.tile_halo_cells)},
+        {"--max-memory", "", "SIZE",
+         "memory the run may take, e.g. 2G or 512M (powers of 1024): the\n"
+         "points it files and all after; the grid whole where it fits, else\n"
+         "in the largest tiles that fit, else an error saying what does not\n"
+         "(default: whole where the memory available holds it, else tiles)",
+         [&p](const std::string& option, const std::string& value) { p.max_memory = parse_size(option, value); }},
         {"--fairing", "", "N",
          snvr::format_text("passes of Taubin smoothing over the mesh, 0 for the raw\nisosurface (default %d)", shell.fairing.passes),
          store(shell.fairing.passes), "Mesh"},
@@ -409,6 +415,25 @@ double parse_real(const std::string& option, const std::string& text) {
     if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v))
         bad_value(option, text, "a finite number in the range of double");
     return v;
+}
+
+std::size_t parse_size(const std::string& option, const std::string& text) {
+    std::string number = text, unit;
+    while (!number.empty() && std::isalpha(static_cast<unsigned char>(number.back()))) {
+        unit.insert(unit.begin(), char(std::toupper(static_cast<unsigned char>(number.back()))));
+        number.pop_back();
+    }
+    const char* expected = "a size: bytes, or a number with K, M, G or T (powers of 1024: 2G, 512M, 1.5GiB)";
+    if (!unit.empty() && unit.back() == 'B') unit.pop_back();
+    if (unit.size() == 2 && unit[1] == 'I') unit.pop_back();
+    const std::string units = "KMGT";
+    const std::size_t power = unit.empty() ? 0 : unit.size() == 1 ? units.find(unit[0]) + 1 : 0;
+    if (number.empty() || !is_decimal(number) || number[0] == '-' || number[0] == '+' ||
+        (!unit.empty() && power == 0) || (!unit.empty() && power > units.size()))
+        bad_value(option, text, expected);
+    const double bytes = std::strtod(number.c_str(), nullptr) * std::pow(1024.0, double(power));
+    if (!(bytes >= 1 && bytes < 9.2e18)) bad_value(option, text, expected);
+    return std::size_t(bytes);
 }
 
 int parse_int(const std::string& option, const std::string& text) {

@@ -21,6 +21,8 @@ struct UsageError : std::runtime_error {
 // naming the option and the value.
 double parse_real(const std::string& option, const std::string& text);
 int parse_int(const std::string& option, const std::string& text);
+// Bytes: a number with an optional K, M, G or T (powers of 1024), "i" and "B" allowed.
+std::size_t parse_size(const std::string& option, const std::string& text);
 
 struct ReconstructOptions {
     std::string input, output, volume, report, outliers, preview;  // outliers: where the dropped points go

@@ -55,6 +55,7 @@ def shell(
     max_cycles: Optional[int] = None,
     tile_cells: int = 0,
     tile_halo_cells: Optional[int] = None,
+    max_memory: Optional[int] = None,
     precision: str = "float",
     device: str = "auto",
     written_as: str = ".stl",

@@ -2,6 +2,9 @@
 #include "process_limits.hpp"
 
 #include <sys/resource.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <unistd.h>
 
 #include <algorithm>
@@ -83,9 +86,57 @@ Limit tightest_limit() {
 
 }  // namespace
 
-std::size_t available_memory() { return std::min(meminfo_available(), tightest_limit().room); }
+namespace {
+// The budget in force and the resident bytes its run started from (its held bytes taken off).
+std::size_t budget_bytes = 0, budget_base = 0;
 
-std::string memory_limit_text() { return tightest_limit().text; }
+std::string mib(std::size_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
+}  // namespace
+
+std::size_t resident_bytes() {
+    std::ifstream in("/proc/self/statm");
+    std::size_t size = 0, resident = 0;
+    in >> size >> resident;
+    return resident * std::size_t(::sysconf(_SC_PAGESIZE));
+}
+
+BudgetScope::BudgetScope(std::size_t budget, std::size_t held) {
+    if (!budget || budget_bytes) return;
+    outermost_ = true;
+    const std::size_t now = resident_bytes();
+    budget_base = now > held ? now - held : 0;
+    budget_bytes = budget;
+}
+
+BudgetScope::~BudgetScope() {
+    if (outermost_) budget_bytes = 0;
+}
+
+void release_free_memory() {
+#if defined(__GLIBC__)
+    ::malloc_trim(0);
+#endif
+}
+
+std::size_t budget_in_force() { return budget_bytes; }
+
+std::size_t budget_used() {
+    const std::size_t now = resident_bytes();
+    return budget_bytes && now > budget_base ? now - budget_base : 0;
+}
+
+std::size_t available_memory() {
+    std::size_t room = std::min(meminfo_available(), tightest_limit().room);
+    if (budget_bytes) room = std::min(room, budget_bytes > budget_used() ? budget_bytes - budget_used() : 0);
+    return room;
+}
+
+std::string memory_limit_text() {
+    const Limit tightest = tightest_limit();
+    if (budget_bytes && budget_bytes - std::min(budget_bytes, budget_used()) <= tightest.room)
+        return "the run's memory budget (--max-memory) is " + mib(budget_bytes) + ", " + mib(budget_used()) + " of it used";
+    return tightest.text;
+}
 
 const std::string& settle_threads() {
     static std::once_flag once;

@@ -258,3 +258,13 @@ def test_tiles_give_the_whole_runs_shell():
     assert np.abs(tiled.vertices - whole.vertices).max() <= 0.01 * voxel
     with pytest.raises(ValueError, match=r"tile size \(--tile-cells\)"):
         snvr.shell(points, resolution=64, tile_cells=12)
+
+
+def test_memory_budget():
+    points = sphere(0.01)
+    fits = snvr.shell(points, resolution=64, device="openmp", max_memory=2**30)
+    memory = fits.report["memory"]
+    assert memory["budget_given"] and memory["budget_bytes"] == 2**30
+    assert memory["estimated"]["peak"] <= 2**30 and fits.report["tiles"]["core_cells"] == 0
+    with pytest.raises(MemoryError, match=r"memory budget \(--max-memory\) is 64 MiB"):
+        snvr.shell(points, resolution=1024, device="openmp", max_memory=64 * 2**20)

@@ -2,6 +2,7 @@
 // Lengths are in world units (the points' units) unless the name says cells.
 #pragma once
 #include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -27,6 +28,7 @@ struct ParameterLimits {
     static constexpr double min_upsample_spacing = 0.1;  // share of the offset: 100 points a point
     static constexpr int max_cycles = 10000;
     static constexpr int min_tile_cells = 16;
+    static constexpr std::size_t min_memory = std::size_t(64) << 20;  // max_memory: below it a run holds little but the program
 };
 
 struct Parameters {
@@ -114,6 +116,12 @@ struct Parameters {
     // solver memory at a time.
     int tile_cells = 0;
     std::optional<int> tile_halo_cells;
+    // A memory budget in bytes: what the run may add to the process (the points it files and
+    // everything after; lib/src/solver/memory_budget.hpp). The run goes whole where its
+    // estimate fits, else in tiles of the largest size that fits, else stops with an error
+    // naming what does not fit. Unset: the memory available decides alike (whole wherever
+    // it fits, as before). tile_cells, when given, is kept and checked against the budget.
+    std::optional<std::size_t> max_memory;
 
     // Throws ParameterError naming the first bad value.
     void validate() const;

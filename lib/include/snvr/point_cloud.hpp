@@ -58,6 +58,8 @@ public:
     std::array<Vec3, 2> box() const;
     // The points in world units, in input order.
     PointSet to_point_set() const;
+    // The memory the cloud holds: its coordinates, their input places and the tree over them.
+    std::size_t bytes() const;
 
     // Keeps the points whose flag (by the cloud's order) is set: the order of the rest, and
     // each one's input index, stay as they were.

@@ -77,6 +77,24 @@ struct TileFacts {
     std::size_t bytes_received = 0;      // the tiles' results the first process took from the others
 };
 
+// How the run fitted its memory (Parameters::max_memory, or what the machine had free),
+// estimated after the plan, before the band's distance (lib/src/solver/memory_budget.hpp).
+struct MemoryFacts {
+    std::size_t budget = 0;          // what the run could use: the budget, or what it held and had free
+    bool budget_given = false;       // Parameters::max_memory (else the memory available)
+    std::size_t held = 0;            // what it held then: the points, filed
+    std::size_t near_bricks = 0;     // bricks within the band's reach of a point (the band's at most)
+    std::size_t whole_solver = 0;    // the whole grid's solver
+    std::size_t tile_solver = 0;     // the largest tile's solver at the size run (0: whole)
+    std::size_t field = 0;           // the phase field kept for the mesh
+    std::size_t mesh = 0;            // the mesh, its fairing and guard, and its check
+    std::size_t grid = 0;            // the whole grid's tables (the mesher's sign bits)
+    std::size_t runtime = 0;         // an OpenCL runtime's own (0 on OpenMP)
+    std::size_t estimated_peak = 0;  // held + the largest stage after
+    bool tiled_by_budget = false;    // tiles chosen to fit (Parameters::tile_cells was 0)
+    std::string bound;               // what sets the estimated peak ("the points", "the mesh and its check", ...)
+};
+
 // What reconstruct() ran (the plan it fitted to the points) and what it found.
 struct Result : DomainPlan {
     Field phi;                    // phi^{Nt} in the band's bricks (+-1 beyond); the shell is where phi > 0
@@ -88,6 +106,7 @@ struct Result : DomainPlan {
     StageSeconds seconds;
     std::vector<std::string> warnings;
     TileFacts tiles;
+    MemoryFacts memory;
 };
 
 // A run's progress, as each stage ends (reconstruct: "domain", "distance", "init", "step";

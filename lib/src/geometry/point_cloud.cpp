@@ -108,6 +108,11 @@ std::unique_ptr<detail::PointTree> file_array(const Real* xyz, std::size_t n) {
 
 }  // namespace
 
+std::size_t PointCloud::bytes() const {
+    return tree_->xyz.capacity() * sizeof(Vec3f) + tree_->input.capacity() * sizeof(std::uint32_t) +
+           tree_->nodes.capacity() * sizeof(detail::PointTree::Node);
+}
+
 PointCloud::PointCloud() : tree_(std::make_unique<detail::PointTree>()) {}
 
 PointCloud::PointCloud(const PointSet& points)

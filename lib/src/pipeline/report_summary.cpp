@@ -66,7 +66,7 @@ std::string report_summary(const RunReport& report) {
     if (t.core_cells > 0)
         row("tiles", format_text("%zu of %d cells a side, halo %d cells (%s), %zu with points run (%.2g x their cores' "
                                  "cells)%s in %.3g s, %zu run again to take as many V-cycles as the others; the largest: %s "
-                                 "points, %s band cells",
+                                 "points, %s band cells%s",
                                  t.tiles, t.core_cells, t.halo_cells, t.halo_derived ? "as far as the flow reaches" : "as given",
                                  t.run, t.cells_run,
                                  t.processes > 1 ? format_text(" on %d processes (the busiest %.2f x the mean; %.3g MiB "
@@ -76,12 +76,26 @@ std::string report_summary(const RunReport& report) {
                                                  : "",
                                  t.seconds,
                                  t.reruns,
-                                 grouped(t.most_points).c_str(), grouped(t.most_band_cells).c_str()));
+                                 grouped(t.most_points).c_str(), grouped(t.most_band_cells).c_str(),
+                                 r.memory.tiled_by_budget
+                                     ? (r.memory.budget_given ? "; tiled to fit the memory budget (--max-memory)"
+                                                              : "; tiled to fit the memory available")
+                                     : ""));
     row("active cells", format_text("%s (%.1f%% of the grid)%s", grouped(r.active_cells).c_str(),
                             cells > 0 ? 100.0 * double(r.active_cells) / cells : 0.0,
                             t.core_cells > 0 ? ", the tiles' halos counted" : ""));
+    const MemoryFacts& budget = r.memory;
     row("memory", format_text("solver %.1f MiB%s, peak RSS %.1f MiB", mib(r.solver_bytes),
                               t.core_cells > 0 ? " (the largest tile's)" : "", mib(report.peak_rss_bytes)));
+    if (budget.budget)
+        row("", format_text("%s %.1f MiB%s: estimated peak %.1f MiB, set by %s (held %.1f MiB, the solver %.1f MiB "
+                            "whole%s, the phase field %.1f, the mesh and its check %.1f, the grid's tables %.1f%s)",
+                            budget.budget_given ? "budget" : "room", mib(budget.budget),
+                            budget.budget_given ? " (--max-memory)" : " (held and available)", mib(budget.estimated_peak),
+                            budget.bound.c_str(), mib(budget.held), mib(budget.whole_solver),
+                            budget.tile_solver ? format_text(", %.1f MiB the largest tile", mib(budget.tile_solver)).c_str() : "",
+                            mib(budget.field), mib(budget.mesh), mib(budget.grid),
+                            budget.runtime ? format_text(", the OpenCL runtime %.0f", mib(budget.runtime)).c_str() : ""));
     const CycleTotals& c = report.cycles;
     row("V-cycles", format_text("%d in %zu steps, at most %d in a step%s", c.total, r.steps.size(), c.most_in_a_step,
                         c.not_converged ? format_text(", %d not converged", c.not_converged).c_str() : ""));

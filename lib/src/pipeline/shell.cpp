@@ -12,6 +12,7 @@
 #include "geometry/vec3_math.hpp"
 #include "io/formats.hpp"
 #include "process_limits.hpp"
+#include "solver/memory_budget.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
 #include "snvr/point_cloud.hpp"
@@ -85,6 +86,7 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     };
     given.validate();
     if (points.empty()) throw InputError("the point set is empty");
+    require_points_fit(points.size(), given.params.max_memory.value_or(0));
     shell.units = given.units;
     shell.to_millimetres = given.to_millimetres();
     const double to_mm = shell.to_millimetres;
@@ -116,6 +118,7 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
 
     now = "reconstruction";
     shell.run = reconstruct(points, settings.params, progress, settings.tiles_on.get());
+    detail::release_free_memory();
     shell.seconds.reconstruct = stage.lap();
     if (shell.run.tiles.worker) return shell;  // its tiles are the root's now
     const Result& run = shell.run;
@@ -146,6 +149,7 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
         shell.mesh = as_written(std::move(shell.mesh), as);
     }
     if (!settings.keep_field) shell.run.phi = Field();  // its memory goes to the check
+    detail::release_free_memory();
     shell.seconds.mesh = stage.lap();
 
     enter("check");
@@ -174,6 +178,8 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
 
 Shell make_shell(PointCloud points, const ShellSettings& given, const ProgressCallback& progress) {
     const char* now = "settings";
+    // The points are the run's now: they count against its budget.
+    detail::BudgetScope budget(given.params.max_memory.value_or(0), points.bytes());
     try {
         return shell_stages(std::move(points), given, progress, now);
     } catch (const std::bad_alloc&) {

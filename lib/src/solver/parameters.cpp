@@ -89,6 +89,10 @@ void Parameters::validate() const {
         require(*tile_halo_cells >= 0 && *tile_halo_cells <= L::max_resolution && *tile_halo_cells % 8 == 0,
                 "the tile halo (--tile-halo-cells) must be a multiple of 8 from 0 to " +
                     std::to_string(L::max_resolution) + " cells, got " + std::to_string(*tile_halo_cells));
+    if (max_memory)
+        require(*max_memory >= L::min_memory,
+                "the memory budget (--max-memory) must be at least " + std::to_string(L::min_memory >> 20) +
+                    " MiB, got " + std::to_string(*max_memory) + " bytes");
     if (box) {
         for (int a = 0; a < 3; ++a)
             require(std::isfinite((*box)[0][a]) && std::isfinite((*box)[1][a]) && (*box)[1][a] > (*box)[0][a],

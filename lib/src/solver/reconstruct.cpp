@@ -7,7 +7,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "process_limits.hpp"
 #include "snvr/error.hpp"
+#include "solver/memory_budget.hpp"
 #include "solver/session.hpp"
 #include "solver/tiled_reconstruct.hpp"
 
@@ -23,20 +25,18 @@ std::string not_converged(const StepStats& st, double tol) {
 }
 
 template <class Real>
-void run(const PointCloud& points, const Parameters& params, const ProgressCallback& progress, Result& res) {
-    SolverSession<Real> session(points, params, progress);
+void run(const PointCloud& measured, const DomainPlan& plan, const Parameters& params, BackendStart<Real>& start,
+         const ProgressCallback& progress, Result& res) {
+    SolverSession<Real> session(measured, plan, params, start, progress);
     const Problem& problem = session.problem();
-    const DomainPlan& plan = problem.plan;
     const SessionFacts& facts = session.facts();
-    static_cast<DomainPlan&>(res) = plan;
     res.backend = facts.backend;
     res.warnings = facts.notes;
     res.active_cells = facts.active_cells;
     res.active_bricks = facts.active_bricks;
     res.total_bricks = facts.total_bricks;
     res.solver_bytes = facts.solver_bytes;
-    res.seconds.domain = facts.seconds_domain;
-    res.seconds.distance = facts.seconds_distance;
+    res.seconds.distance += facts.seconds_distance;
     res.seconds.init = facts.seconds_init;
 
     while (session.steps_done() < problem.steps) {
@@ -57,12 +57,35 @@ void run(const PointCloud& points, const Parameters& params, const ProgressCallb
     res.phi = session.take_field();
 }
 
-// Tiled where Parameters::tile_cells asks (plan_domain validates the parameters either way).
+// The plan, then the whole grid or tiles as the memory allows (memory_budget.hpp), or as
+// Parameters::tile_cells asks.
 template <class Real>
-void run_whole_or_tiled(const PointCloud& points, const Parameters& params, const ProgressCallback& progress,
-                        TileScheduler* tiles_on, Result& res) {
-    if (params.tile_cells > 0) reconstruct_tiled<Real>(points, params, progress, tiles_on, res);
-    else run<Real>(points, params, progress, res);
+void plan_and_run(const PointCloud& points, const Parameters& params, const ProgressCallback& progress,
+                  TileScheduler* tiles_on, Result& res) {
+    Stopwatch clock;
+    BackendStart<Real> start(params.device);
+    DomainPlan plan = plan_domain(points, params);
+    res.seconds.domain = clock.lap();
+    if (progress) {
+        Progress p;
+        p.stage = "domain";
+        p.message = "grid " + std::to_string(plan.domain.nx) + "x" + std::to_string(plan.domain.ny) + "x" +
+                    std::to_string(plan.domain.nz) + ", " + std::to_string(plan.domain.levels) + " multigrid levels";
+        if (!progress(p)) throw Cancelled("cancelled after the domain stage");
+    }
+    const PointCloud with_added = points_with_added(points, plan);
+    const PointCloud& measured = with_added.empty() ? points : with_added;
+    static_cast<DomainPlan&>(res) = plan;
+    const MemoryChoice memory = fit_memory(measured, plan, params);
+    res.memory = memory.facts;
+    res.seconds.distance = clock.lap();  // the points added and the memory's estimate: for the distance
+    if (memory.tile_cells > 0) {
+        Parameters tiled = params;
+        tiled.tile_cells = memory.tile_cells;
+        reconstruct_tiled<Real>(measured, plan, tiled, start, progress, tiles_on, res);
+    } else {
+        run<Real>(measured, plan, params, start, progress, res);
+    }
 }
 
 }  // namespace
@@ -76,8 +99,9 @@ Result reconstruct(const PointCloud& points, const Parameters& params, const Pro
     if (points.empty()) throw InputError("the point set is empty");
     Stopwatch total;
     Result res;
-    if (params.precision == Precision::Double) run_whole_or_tiled<double>(points, params, progress, tiles_on, res);
-    else run_whole_or_tiled<float>(points, params, progress, tiles_on, res);
+    detail::BudgetScope budget(params.max_memory.value_or(0), 0);
+    if (params.precision == Precision::Double) plan_and_run<double>(points, params, progress, tiles_on, res);
+    else plan_and_run<float>(points, params, progress, tiles_on, res);
     res.seconds.total = total.lap();
     return res;
 }

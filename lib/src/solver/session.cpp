@@ -62,56 +62,59 @@ PointCloud points_with_added(const PointCloud& points, DomainPlan& plan) {
 }
 
 template <class Real>
-SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& params, const ProgressCallback& progress) {
-    Stopwatch clock;
-    // Under `auto` the backend starts beside the planning and the distance (on PoCL,
-    // loading the driver and the program takes 0.1 s), as any failure there only falls
-    // back to OpenMP; a named device starts first, so that a wrong one stops the run
-    // before any work.
-    // Under a memory limit, or where its thread cannot start, the backend starts here
-    // after the planning: a thread of its own would start a team of OpenMP threads of its
-    // own too, which the runtime ends the process for when the room is not there.
-    if (!detail::settle_threads().empty()) facts_.notes.push_back(detail::settle_threads());
-    std::vector<std::string> start_notes;
-    std::future<std::unique_ptr<Backend<Real>>> starting;
-    bool start_later = params.device == "auto" && !detail::memory_limit_text().empty();
-    if (params.device != "auto") {
-        backend_ = make_backend<Real>(params.device, facts_.notes);
-    } else if (!start_later) {
+BackendStart<Real>::BackendStart(const std::string& device) : device_(device) {
+    if (!detail::settle_threads().empty()) notes_.push_back(detail::settle_threads());
+    later_ = device == "auto" && !detail::memory_limit_text().empty();
+    if (device != "auto") {
+        backend_ = make_backend<Real>(device, notes_);
+    } else if (!later_) {
         try {
-            starting = std::async(std::launch::async, [&] { return make_backend<Real>(params.device, start_notes); });
+            starting_ = std::async(std::launch::async, [this] { return make_backend<Real>(device_, starting_notes_); });
         } catch (const std::system_error& e) {
-            start_later = true;
-            facts_.notes.push_back(std::string("the backend could not start beside the planning (") + e.what() +
-                                   "): started after it");
+            later_ = true;
+            notes_.push_back(std::string("the backend could not start beside the planning (") + e.what() +
+                             "): started after it");
         }
     }
-    problem_ = make_problem(plan_domain(points, params), params);
+}
+
+template <class Real>
+std::unique_ptr<Backend<Real>> BackendStart<Real>::take(std::vector<std::string>& notes) {
+    if (starting_.valid()) backend_ = starting_.get();
+    if (later_ && !backend_) backend_ = make_backend<Real>(device_, starting_notes_);
+    notes.insert(notes.end(), notes_.begin(), notes_.end());
+    notes.insert(notes.end(), starting_notes_.begin(), starting_notes_.end());
+    notes_.clear();
+    starting_notes_.clear();
+    return std::move(backend_);
+}
+
+template <class Real>
+SolverSession<Real>::SolverSession(const PointCloud& points, const Parameters& params, const ProgressCallback& progress) {
+    Stopwatch clock;
+    BackendStart<Real> start(params.device);
+    DomainPlan plan = plan_domain(points, params);
     facts_.seconds_domain = clock.lap();
     report(progress, "domain",
-           "grid " + std::to_string(domain().nx) + "x" + std::to_string(domain().ny) + "x" +
-               std::to_string(domain().nz) + ", " + std::to_string(domain().levels) + " multigrid levels");
-    const PointCloud with_added = points_with_added(points, problem_.plan);
+           "grid " + std::to_string(plan.domain.nx) + "x" + std::to_string(plan.domain.ny) + "x" +
+               std::to_string(plan.domain.nz) + ", " + std::to_string(plan.domain.levels) + " multigrid levels");
+    const PointCloud with_added = points_with_added(points, plan);
     const double adding = clock.lap();  // charged to the distance, which it is for
-    prepare(with_added.empty() ? points : with_added, params, progress, [&] {
-        if (starting.valid()) backend_ = starting.get();
-        if (start_later) backend_ = make_backend<Real>(params.device, start_notes);
-        facts_.notes.insert(facts_.notes.end(), start_notes.begin(), start_notes.end());
-    });
+    problem_ = make_problem(plan, params);
+    prepare(with_added.empty() ? points : with_added, params, progress, start);
     facts_.seconds_distance += adding;
 }
 
 template <class Real>
 SolverSession<Real>::SolverSession(const PointCloud& measured, const DomainPlan& plan, const Parameters& params,
-                                   std::unique_ptr<Backend<Real>> backend, const ProgressCallback& progress) {
-    backend_ = backend ? std::move(backend) : make_backend<Real>(params.device, facts_.notes);
+                                   BackendStart<Real>& start, const ProgressCallback& progress) {
     problem_ = make_problem(plan, params);
-    prepare(measured, params, progress, [] {});
+    prepare(measured, params, progress, start);
 }
 
 template <class Real>
 void SolverSession<Real>::prepare(const PointCloud& measured, const Parameters& params,
-                                  const ProgressCallback& progress, const std::function<void()>& backend_ready) {
+                                  const ProgressCallback& progress, BackendStart<Real>& start) {
     Stopwatch clock;
     const Domain& dom = domain();
     const Band& band = problem_.band;
@@ -125,7 +128,7 @@ void SolverSession<Real>::prepare(const PointCloud& measured, const Parameters& 
     report(progress, "distance",
            std::to_string(dist.queried_cells) + " cells queried, " + std::to_string(dist.active_cells) + " in the band");
 
-    backend_ready();
+    backend_ = start.take(facts_.notes);
     layout_ = make_layout(dom, dist.brick_mask, dist.inside_bricks);
     {
         // Held now: the band's distance; then its packed copy beside it, then the fields
@@ -190,6 +193,8 @@ Field SolverSession<Real>::take_field() {
     return Field::from_bricks(dom.nx, dom.ny, dom.nz, layout_.grid(0).slot, backend_->take_phase());
 }
 
+template class BackendStart<double>;
+template class BackendStart<float>;
 template class SolverSession<double>;
 template class SolverSession<float>;
 

@@ -6,6 +6,7 @@
 //   Field phi = s.take_field();                // phi in the band's bricks; ends the session
 #pragma once
 #include <functional>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,6 +35,29 @@ struct SessionFacts {
     double seconds_domain = 0, seconds_distance = 0, seconds_init = 0;
 };
 
+// A backend started by backend.hpp's rule for the run's device: a named device at once, so
+// that a wrong one stops the run before any work; `auto` on a thread of its own beside the
+// planning and the distance (on PoCL, loading the driver and the program takes 0.1 s), as
+// any failure there only falls back to OpenMP. Under a memory limit, or where its thread
+// cannot start, `auto` starts when taken: a thread of its own would start a team of OpenMP
+// threads of its own too, which the runtime ends the process for when the room is not there.
+template <class Real>
+class BackendStart {
+public:
+    explicit BackendStart(const std::string& device);
+    explicit BackendStart(std::unique_ptr<Backend<Real>> ready) : backend_(std::move(ready)) {}
+    BackendStart(const BackendStart&) = delete;  // its thread refers to it
+    BackendStart& operator=(const BackendStart&) = delete;
+    // The backend (waiting for it); the start's notes go to `notes`. Once.
+    std::unique_ptr<Backend<Real>> take(std::vector<std::string>& notes);
+private:
+    std::string device_;
+    std::unique_ptr<Backend<Real>> backend_;
+    std::future<std::unique_ptr<Backend<Real>>> starting_;
+    std::vector<std::string> notes_, starting_notes_;
+    bool later_ = false;
+};
+
 template <class Real>
 class SolverSession {
 public:
@@ -41,11 +65,10 @@ public:
     // up on it (backend.hpp's rule), initialises phi and g and the coarse levels.
     // `progress` hears "domain", "distance" and "init" as each is done.
     SolverSession(const PointCloud& points, const Parameters& params, const ProgressCallback& progress = {});
-    // The same on a plan made elsewhere (a tile's: tiled_reconstruct.cpp), the points
-    // already with those added on their surface; on `backend` when given (one a session
-    // before has released), else on a new one.
+    // The same on a plan made elsewhere (reconstruct.cpp's, or a tile's), the points
+    // already with those added on their surface, on the backend `start` gives.
     SolverSession(const PointCloud& measured, const DomainPlan& plan, const Parameters& params,
-                  std::unique_ptr<Backend<Real>> backend = nullptr, const ProgressCallback& progress = {});
+                  BackendStart<Real>& start, const ProgressCallback& progress = {});
 
     // One operator-split time step: the linear half by multigrid, then the exact
     // nonlinear half held in the tube. Waits for the device, so its seconds are its own.
@@ -70,9 +93,10 @@ public:
     Backend<Real>& backend() { return *backend_; }
 
 private:
-    // The distance, the layout, the backend (`backend_ready` makes it so), phi0 and g.
+    // The distance, the layout, the backend (taken from `start` once the distance is
+    // done), phi0 and g.
     void prepare(const PointCloud& measured, const Parameters& params, const ProgressCallback& progress,
-                 const std::function<void()>& backend_ready);
+                 BackendStart<Real>& start);
     Problem problem_;
     BrickLayout layout_;
     std::unique_ptr<Backend<Real>> backend_;

@@ -45,7 +45,8 @@ void require_memory(std::size_t bytes, const Domain& d, std::size_t held) {
         throw ResourceError("a " + std::to_string(d.nx) + "x" + std::to_string(d.ny) + "x" + std::to_string(d.nz) +
                             " grid needs about " + gib(bytes) + " GiB but only " + gib(avail) +
                             " GiB of memory is available" + (limit.empty() ? "" : " (" + limit + ")") +
-                            "; lower the resolution or raise the voxel size");
+                            (detail::budget_in_force() ? "; give a larger budget, lower the resolution or raise the voxel size"
+                                                       : "; lower the resolution or raise the voxel size"));
     }
 }
 

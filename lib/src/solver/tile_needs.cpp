@@ -49,6 +49,10 @@ void add_leaf(const detail::PointTree& tree, const detail::PointTree::Node& leaf
 
 }  // namespace
 
+double band_reach(const DomainPlan& plan, const Parameters& params) {
+    return plan.offset + std::max(params.band_xi * plan.xi, plan.domain.h) + plan.domain.h;
+}
+
 std::vector<TileNeeds> needs_of(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
                                 int core_cells, int halo_cells, double reach) {
     std::vector<const detail::PointTree::Node*> leaves;

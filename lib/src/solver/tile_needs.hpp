@@ -6,9 +6,14 @@
 
 #include "geometry/point_tree.hpp"
 #include "snvr/domain.hpp"
+#include "snvr/reconstruct.hpp"
 #include "solver/tile_plan.hpp"
 
 namespace snvr {
+
+// How far from a point a cell can be and still be in the band or the offset's reach: the
+// offset, the band's cut (band_xi xi, at least a voxel) and a voxel more.
+double band_reach(const DomainPlan& plan, const Parameters& params);
 
 // How many points lie within `reach` of a tile's box (halo included), and whether any
 // lies within reach of its core. A cell's distance and band depend only on the points

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solver/brick_grid.hpp"
 
 namespace snvr {
 
@@ -27,7 +28,23 @@ double log_reach(const FlowReach& flow, double r, int n) {
     return std::log(2.0 * flow.steps) + 0.5 * flow.steps * flow.rate + best;
 }
 
+constexpr double kHaloMostVoxels = 1e-3;  // tile_halo's bound (tile_plan.hpp)
+
+int round_to_bricks(int cells) { return (cells + kBrick - 1) / kBrick * kBrick; }
+
 }  // namespace
+
+int tile_halo(const DomainPlan& plan, const Parameters& params, bool& derived) {
+    derived = !params.tile_halo_cells;
+    if (!derived) return *params.tile_halo_cells;
+    const double h = plan.domain.h, L = plan.domain.length_scale();
+    FlowReach flow;
+    flow.dt_cells = plan.dt / ((h / L) * (h / L));
+    flow.steps = plan.planned_steps;
+    flow.rate = 2 * flow.dt_cells * (h / plan.eps) * (h / plan.eps);
+    flow.width_cells = std::max(plan.xi, plan.eps) / h;
+    return round_to_bricks(flow_halo_cells(flow, kHaloMostVoxels));
+}
 
 int flow_halo_cells(const FlowReach& flow, double most) {
     if (flow.steps <= 0) return 0;

@@ -23,6 +23,8 @@
 #include <vector>
 
 #include "snvr/domain.hpp"
+#include "snvr/parameters.hpp"
+#include "snvr/reconstruct.hpp"
 
 namespace snvr {
 
@@ -36,6 +38,12 @@ struct FlowReach {
 // The least halo (cells, unrounded) beyond which the flow moves the surface in the
 // core by at most `most` voxels; derived above.
 int flow_halo_cells(const FlowReach& flow, double most);
+
+// The run's halo in cells: as given (Parameters::tile_halo_cells), else the least that
+// keeps the tile's edge from moving the surface in its core by more than 1e-3 voxels
+// (a tenth of what a tiled run promises against the whole one, the rest left to the
+// linear solve's stopping), rounded up to whole bricks. `derived` says which.
+int tile_halo(const DomainPlan& plan, const Parameters& params, bool& derived);
 
 // A tile: its core and its box with the halo (global cells, [lo, hi)), the box clipped
 // to the grid.

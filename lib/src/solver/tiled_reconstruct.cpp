@@ -17,25 +17,6 @@ namespace snvr {
 
 namespace {
 
-// What the halo may let the tile's edge move the surface in its core, in voxels: a tenth
-// of what a tiled run promises against the whole one (0.01 voxels), the rest left to the
-// linear solve's stopping.
-constexpr double kHaloMostVoxels = 1e-3;
-
-int round_to_bricks(int cells) { return (cells + kBrick - 1) / kBrick * kBrick; }
-
-int halo_of(const DomainPlan& plan, const Parameters& params, bool& derived) {
-    derived = !params.tile_halo_cells;
-    if (!derived) return *params.tile_halo_cells;
-    const double h = plan.domain.h, L = plan.domain.length_scale();
-    FlowReach flow;
-    flow.dt_cells = plan.dt / ((h / L) * (h / L));
-    flow.steps = plan.planned_steps;
-    flow.rate = 2 * flow.dt_cells * (h / plan.eps) * (h / plan.eps);
-    flow.width_cells = std::max(plan.xi, plan.eps) / h;
-    return round_to_bricks(flow_halo_cells(flow, kHaloMostVoxels));
-}
-
 // The tile's own plan: the whole run's, in the whole run's units, on the tile's grid.
 DomainPlan tile_plan(const DomainPlan& whole, const Tile& tile) {
     DomainPlan plan = whole;
@@ -131,15 +112,16 @@ void merge_steps(const std::vector<TileRun>& runs, int steps, Result& res) {
 template <class Real>
 class TiledRun {
 public:
-    TiledRun(const PointCloud& measured, const DomainPlan& plan, const Parameters& params, TileScheduler* on,
-             const ProgressCallback& progress, Result& res)
-        : measured_(measured), plan_(plan), params_(params), on_(on), progress_(progress), res_(res), field_(plan.domain) {
+    TiledRun(const PointCloud& measured, const DomainPlan& plan, const Parameters& params, BackendStart<Real>& start,
+             TileScheduler* on, const ProgressCallback& progress, Result& res)
+        : measured_(measured), plan_(plan), params_(params), start_(start), on_(on), progress_(progress), res_(res),
+          field_(plan.domain) {
         TileFacts& facts = res.tiles;
         tiles_ = plan_tiles(plan.domain, facts.core_cells, facts.halo_cells);
         facts.tiles = tiles_.size();
         facts.processes = on ? on->processes() : 1;
-        const double reach = plan.offset + std::max(params.band_xi * plan.xi, plan.domain.h) + plan.domain.h;
-        needs_ = needs_of(detail::tree_of(measured), plan.domain, tiles_, facts.core_cells, facts.halo_cells, reach);
+        needs_ = needs_of(detail::tree_of(measured), plan.domain, tiles_, facts.core_cells, facts.halo_cells,
+                          band_reach(plan, params));
         owner_ = owners_of(needs_, facts.processes);
         runs_.resize(tiles_.size());
     }
@@ -274,7 +256,9 @@ private:
     // The tile on the whole cloud's tree: its distance queries only the tile's cells, and
     // finds there what the whole run finds. One backend serves every tile in turn.
     TileRun run_tile(const Tile& tile, const std::vector<int>& least, Field& tile_field) {
-        SolverSession<Real> session(measured_, tile_plan(plan_, tile), params_, std::move(backend_));
+        const bool started = bool(backend_);
+        BackendStart<Real> again(std::move(backend_));
+        SolverSession<Real> session(measured_, tile_plan(plan_, tile), params_, started ? again : start_);
         TileRun run;
         while (session.steps_done() < session.problem().steps)
             run.steps.push_back(session.step(least[std::size_t(session.steps_done())]));
@@ -287,6 +271,7 @@ private:
     const PointCloud& measured_;
     const DomainPlan& plan_;
     const Parameters& params_;
+    BackendStart<Real>& start_;  // the first tile's backend
     TileScheduler* on_;
     const ProgressCallback& progress_;
     Result& res_;
@@ -302,25 +287,22 @@ private:
 }  // namespace
 
 template <class Real>
-void reconstruct_tiled(const PointCloud& points, const Parameters& params, const ProgressCallback& progress,
-                       TileScheduler* tiles_on, Result& res) {
+void reconstruct_tiled(const PointCloud& measured, const DomainPlan& plan, const Parameters& params,
+                       BackendStart<Real>& start, const ProgressCallback& progress, TileScheduler* tiles_on,
+                       Result& res) {
     Stopwatch clock;
-    DomainPlan plan = plan_domain(points, params);
-    res.seconds.domain = clock.lap();
-    const PointCloud with_added = points_with_added(points, plan);
-    static_cast<DomainPlan&>(res) = plan;
     res.tiles.core_cells = params.tile_cells;
-    res.tiles.halo_cells = halo_of(plan, params, res.tiles.halo_derived);
-    TiledRun<Real> tiled(with_added.empty() ? points : with_added, plan, params, tiles_on, progress, res);
-    res.seconds.distance = clock.lap();
+    res.tiles.halo_cells = tile_halo(plan, params, res.tiles.halo_derived);
+    TiledRun<Real> tiled(measured, plan, params, start, tiles_on, progress, res);
+    res.seconds.distance += clock.lap();
     tiled.run();
     res.tiles.seconds = clock.lap();
     tiled.finish();
 }
 
-template void reconstruct_tiled<double>(const PointCloud&, const Parameters&, const ProgressCallback&, TileScheduler*,
-                                        Result&);
-template void reconstruct_tiled<float>(const PointCloud&, const Parameters&, const ProgressCallback&, TileScheduler*,
-                                       Result&);
+template void reconstruct_tiled<double>(const PointCloud&, const DomainPlan&, const Parameters&, BackendStart<double>&,
+                                        const ProgressCallback&, TileScheduler*, Result&);
+template void reconstruct_tiled<float>(const PointCloud&, const DomainPlan&, const Parameters&, BackendStart<float>&,
+                                       const ProgressCallback&, TileScheduler*, Result&);
 
 }  // namespace snvr

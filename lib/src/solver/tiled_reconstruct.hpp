@@ -5,12 +5,16 @@
 #include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/tiles.hpp"
+#include "solver/session.hpp"
 
 namespace snvr {
 
-// `tiles_on` (tiles.hpp) spreads the tiles over processes; null: all run here.
+// On the whole run's plan and the points it measures (those added included); the first
+// tile's backend from `start`. `tiles_on` (tiles.hpp) spreads the tiles over processes;
+// null: all run here.
 template <class Real>
-void reconstruct_tiled(const PointCloud& points, const Parameters& params, const ProgressCallback& progress,
-                       TileScheduler* tiles_on, Result& res);
+void reconstruct_tiled(const PointCloud& measured, const DomainPlan& plan, const Parameters& params,
+                       BackendStart<Real>& start, const ProgressCallback& progress, TileScheduler* tiles_on,
+                       Result& res);
 
 }  // namespace snvr
