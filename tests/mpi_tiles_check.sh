@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # snvr-cl under mpirun (2 processes, as CI runs it: root, oversubscribed): the tiled run's
 # shell byte for byte the one process's; --tile-cells required; one process failing
-# fails the run, names the process, and nothing is written.
+# (reading, or in a tile) fails the run, names the process (and the tile), and nothing is
+# written.
 set -uo pipefail
 cli=$1 data=$2
 tmp=$(mktemp -d)
@@ -31,5 +32,14 @@ out=$("${mpi[@]}" -np 1 "$cli" "${run[@]}" -o "$tmp/y.stl" : -np 1 -x SNVR_TEST_
 [ $? -ne 0 ] || fail "a process that failed did not fail the run"
 grep -q "process 1 of 2" <<<"$out" || fail "the failure does not name the process: $out"
 [ ! -e "$tmp/y.stl" ] || fail "an output was written"
+
+# Process 1 fails in the first tile it runs (the tile-fault hook): the message names the
+# tile and the process; nothing is written.
+out=$("${mpi[@]}" -np 1 "$cli" "${run[@]}" -o "$tmp/z.stl" : -np 1 -x SNVR_TEST_TILE_FAULT=first "$cli" "${run[@]}" \
+      -o "$tmp/z.stl" 2>&1)
+[ $? -ne 0 ] || fail "a tile that failed did not fail the run"
+grep -q "error (process 1 of 2): .*: tile [0-9]* (cells [0-9-]*, [0-9-]*, [0-9-]*): a test fault" <<<"$out" ||
+    fail "the failure does not name the tile and the process: $out"
+[ ! -e "$tmp/z.stl" ] || fail "an output was written"
 ls "$tmp" | grep -v -E '^(one|two)\.(stl|json)$' && fail "something was left beside the outputs"
-echo "a failing process: the run failed, nothing written"
+echo "a failing process: the run failed, naming the process (and the tile), nothing written"

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 #include <utility>
 
@@ -237,6 +238,21 @@ TEST_CASE("one tile over the whole grid is the whole run, bit for bit; a cancel 
     CHECK_THROWS_AS(make_shell(points, s, [&](const Progress& p) { return !(p.stage == "tile" && ++tiles_seen == 3); }),
                     Cancelled);
     CHECK(tiles_seen == 3);
+}
+
+TEST_CASE("a tile that fails names the tile; nothing comes back") {
+    ::setenv("SNVR_TEST_TILE_FAULT", "first", 1);
+    std::string message;
+    try {
+        shell_of(shapes::sphere({0.45, 0.45, 0.45}, 0.2, 0.01), 64, 16);
+    } catch (const ResourceError& e) {
+        message = e.what();
+    }
+    ::unsetenv("SNVR_TEST_TILE_FAULT");
+    CAPTURE(message);
+    CHECK(message.rfind("tile ", 0) == 0);
+    CHECK(message.find(" (cells ") != std::string::npos);
+    CHECK(message.find("): a test fault (SNVR_TEST_TILE_FAULT)") != std::string::npos);
 }
 
 TEST_CASE("a tile's warning names the tile") {

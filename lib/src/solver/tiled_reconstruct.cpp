@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <new>
+#include <string>
 
 #include "snvr/error.hpp"
 #include "snvr/stopwatch.hpp"
@@ -244,13 +247,46 @@ private:
         for (std::size_t t : which) {
             if (owner_[t] != me()) continue;
             Field tile_field;
-            runs_[t] = run_tile(tiles_[t], least, tile_field);
+            runs_[t] = run_named(tiles_[t], least, tile_field);
             if (root()) field_.place(tile_field, tiles_[t]);
             else on_->send({t, std::move(tile_field), figures_of(runs_[t])});
             progress();
             while (root() && on_ && taken < theirs && on_->waiting()) take();
         }
         while (taken < theirs) take();
+    }
+
+    // run_tile, its failure naming the tile (a process's failure names the process too:
+    // the scheduler's).
+    TileRun run_named(const Tile& tile, const std::vector<int>& least, Field& tile_field) {
+        const std::string where = tile_name(tile) + ": ";
+        try {
+            test_fault(tile);
+            return run_tile(tile, least, tile_field);
+        } catch (const Cancelled&) {
+            throw;
+        } catch (const ResourceError& e) {
+            throw ResourceError(where + e.what());
+        } catch (const std::bad_alloc&) {
+            throw ResourceError(where + "out of memory");
+        } catch (const InputError& e) {
+            throw InputError(where + e.what());
+        } catch (const ParameterError& e) {
+            throw ParameterError(where + e.what());
+        } catch (const Error& e) {
+            throw Error(where + e.what());
+        }
+    }
+
+    // For tests only: SNVR_TEST_TILE_FAULT=K fails tile K as running out of memory would
+    // ("first": the first tile this process runs).
+    void test_fault(const Tile& tile) {
+        const char* text = std::getenv("SNVR_TEST_TILE_FAULT");
+        if (!text) return;
+        const std::string spec = text;
+        if ((spec == "first" && !ran_one_) || spec == std::to_string(tile.index))
+            throw ResourceError("a test fault (SNVR_TEST_TILE_FAULT)");
+        ran_one_ = true;
     }
 
     // The tile on the whole cloud's tree: its distance queries only the tile's cells, and
@@ -282,6 +318,7 @@ private:
     std::vector<TileRun> runs_;
     std::unique_ptr<Backend<Real>> backend_;
     double seconds_ = 0;
+    bool ran_one_ = false;
 };
 
 }  // namespace
