@@ -81,6 +81,36 @@ TEST_CASE("memory limits: no abort; OpenCL is not loaded and the reason is named
     CHECK(fs::exists(t.out()));
 }
 
+TEST_CASE("a whole run the memory limit cannot hold goes in tiles by itself, the same solid") {
+    TempDir t;
+    const std::string bunny = std::string(SNVR_DATA_DIR) + "/bunny.ply";
+    const std::string args = " reconstruct " + bunny + " -o " + t.out() +
+                             " --resolution 256 --precision double --device openmp --report " + t.file("r.json", "");
+    const Run free = run(args);
+    REQUIRE(free.code == 0);
+    CHECK(free.output.find("tiled to fit") == std::string::npos);
+    const std::size_t genus_at = free.output.find("genus ");
+    REQUIRE(genus_at != std::string::npos);
+    const std::string genus = free.output.substr(genus_at, free.output.find(' ', genus_at + 6) - genus_at);
+    // Address space limits from where the whole run fits down to where nothing does: each
+    // run ends with the shell or an error that names the memory, never a kill; at least one
+    // fits only in tiles, and gives the same solid.
+    int tiled = 0;
+    for (int kb : {320000, 290000, 270000, 250000, 230000, 210000}) {
+        CAPTURE(kb);
+        const Run r = run_command("bash -c 'ulimit -v " + std::to_string(kb) + "; " + std::string(SNVR_CLI) + args +
+                                  "; echo rc=$?'");
+        CAPTURE(r.output);
+        const bool ok = r.output.find("rc=0") != std::string::npos;
+        CHECK((ok || (r.output.find("rc=1\n") != std::string::npos && r.output.find("memory") != std::string::npos)));
+        if (ok && r.output.find("tiled to fit the memory available") != std::string::npos) {
+            ++tiled;
+            CHECK(r.output.find(genus) != std::string::npos);
+        }
+    }
+    CHECK(tiled > 0);
+}
+
 TEST_CASE("file-size and open-file limits, a reader that has gone: a reported failure or a finished run, never a kill") {
     TempDir t;
     const std::string input = t.file("in.xyz", sphere_xyz());
