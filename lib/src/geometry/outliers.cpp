@@ -173,17 +173,19 @@ std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cl
         if (!plan) plan = lengths_of(cloud);
         link = 2 * plan->offset;
         plan.reset();
-        const std::vector<std::uint32_t> root = detail::cluster_roots(detail::tree_of(cloud), link);
-        std::vector<std::uint32_t> members(root.size(), 0);
-        for (std::uint32_t r : root) ++members[r];
-        const std::vector<std::uint32_t> far = far_clusters(cloud, root, members, total, s);
-        const auto is_far = [&far](std::uint32_t r) { return !far.empty() && std::binary_search(far.begin(), far.end(), r); };
-        std::vector<std::uint8_t> small(root.size());
+        std::vector<std::uint8_t> small(cloud.size());
         std::size_t roots = 0;
-        for (std::size_t k = 0; k < root.size(); ++k) {
-            const std::uint32_t m = members[root[k]];
-            small[k] = (m < s.min_cluster && double(m) < 0.01 * double(total)) || is_far(root[k]);
-            roots += root[k] == k;
+        {  // the clusters' lists (8 bytes a point) gone before the cloud is refiled
+            const std::vector<std::uint32_t> root = detail::cluster_roots(detail::tree_of(cloud), link);
+            std::vector<std::uint32_t> members(root.size(), 0);
+            for (std::uint32_t r : root) ++members[r];
+            const std::vector<std::uint32_t> far = far_clusters(cloud, root, members, total, s);
+            const auto is_far = [&far](std::uint32_t r) { return !far.empty() && std::binary_search(far.begin(), far.end(), r); };
+            for (std::size_t k = 0; k < root.size(); ++k) {
+                const std::uint32_t m = members[root[k]];
+                small[k] = (m < s.min_cluster && double(m) < 0.01 * double(total)) || is_far(root[k]);
+                roots += root[k] == k;
+            }
         }
         if (!take(cloud, small, out)) {
             clusters = roots;  // nothing dropped: these are the kept points' clusters
