@@ -64,60 +64,111 @@ double brute_nearest_sq(const PointTree& t, const Vec3& q, double bound) {
     return best;
 }
 
-}  // namespace
+// Faults of a tree's shape over `count` points: each node reached once, from its parent,
+// its children after it, side by side, splitting its range in order; each point in its
+// node's box, the boxes tight; each point in one leaf; a leaf of more than kLeafSize only
+// where its points share one finest cell (`leaf_rule`). 0 when none.
+std::size_t tree_faults(const PointTree& t, std::size_t count, bool leaf_rule) {
+    std::vector<std::uint8_t> seen(count, 0);
+    std::size_t bad = 0;
+    std::vector<std::uint32_t> reached(t.nodes.size(), 0);
+    reached[0] = 1;
+    for (std::size_t i = 0; i < t.nodes.size(); ++i) {
+        const PointTree::Node& n = t.nodes[i];
+        bad += reached[i] != 1 || n.begin >= n.end;
+        Vec3f lo = t.xyz[n.begin], hi = lo;
+        for (std::uint32_t k = n.begin; k < n.end; ++k)
+            for (int a = 0; a < 3; ++a) {
+                bad += t.xyz[k][a] < n.lo[a] || t.xyz[k][a] > n.hi[a];
+                lo[a] = std::min(lo[a], t.xyz[k][a]);
+                hi[a] = std::max(hi[a], t.xyz[k][a]);
+            }
+        bad += lo != n.lo || hi != n.hi;
+        if (n.leaf()) {
+            // More points only when they share one finest cell (2^-21 of the box).
+            const PointTree::Node& root = t.nodes[0];
+            float span = 0, cell = 0;
+            for (int a = 0; a < 3; ++a) {
+                span = std::max(span, n.hi[a] - n.lo[a]);
+                cell = std::max(cell, (root.hi[a] - root.lo[a]) * 0x1p-20f);
+            }
+            bad += leaf_rule && n.count() > PointTree::kLeafSize && span > cell;
+            for (std::uint32_t k = n.begin; k < n.end; ++k) bad += seen[k]++ != 0;
+            continue;
+        }
+        std::uint32_t at = n.begin;
+        for (std::uint32_t c = 0; c < n.children; ++c) {
+            const PointTree::Node& kid = t.nodes[n.child + c];
+            bad += n.child + c <= i || kid.begin != at;
+            at = kid.end;
+            ++reached[n.child + c];
+        }
+        bad += at != n.end;
+    }
+    bad += std::size_t(std::count(seen.begin(), seen.end(), 0));
+    return bad;
+}
 
-TEST_CASE("PointTree: the nodes split their points in order and hold them in their boxes, threaded build included") {
-    // Past 2^16 points the tree's lower levels are built by tasks and copied into place.
+PointSet noisy_dense_sphere() {
     PointSet dense = shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.0015);
     std::mt19937 rng(11);
     std::normal_distribution<double> gauss(0.0, 1e-3);
     for (Vec3& p : dense)
         for (double& x : p) x += gauss(rng);
+    return dense;
+}
+
+}  // namespace
+
+TEST_CASE("PointTree: the nodes split their points in order and hold them in their boxes, threaded build included") {
+    // Past 2^16 points the tree's lower levels are built by tasks and copied into place.
+    const PointSet dense = noisy_dense_sphere();
     REQUIRE(dense.size() > (std::size_t(1) << 17));
     for (const PointSet& points : {dense, awkward_clouds()[2].points}) {
         const PointCloud cloud(points);
         const PointTree& t = detail::tree_of(cloud);
         REQUIRE(t.size() == points.size());
-        std::vector<std::uint8_t> seen(points.size(), 0);
-        std::size_t bad = 0, leaves = 0;
-        std::vector<std::uint32_t> reached(t.nodes.size(), 0);
-        reached[0] = 1;
-        for (std::size_t i = 0; i < t.nodes.size(); ++i) {
-            const PointTree::Node& n = t.nodes[i];
-            bad += reached[i] != 1 || n.begin >= n.end;
-            for (std::uint32_t k = n.begin; k < n.end; ++k)
-                for (int a = 0; a < 3; ++a) bad += t.xyz[k][a] < n.lo[a] || t.xyz[k][a] > n.hi[a];
-            if (n.leaf()) {
-                ++leaves;
-                // More points only when they share one finest cell (2^-21 of the box).
-                const PointTree::Node& root = t.nodes[0];
-                float span = 0, cell = 0;
-                for (int a = 0; a < 3; ++a) {
-                    span = std::max(span, n.hi[a] - n.lo[a]);
-                    cell = std::max(cell, (root.hi[a] - root.lo[a]) * 0x1p-20f);
-                }
-                bad += n.count() > PointTree::kLeafSize && span > cell;
-                for (std::uint32_t k = n.begin; k < n.end; ++k) bad += seen[t.input[k]]++ != 0;
-                continue;
-            }
-            // Children after their parent, side by side, splitting its range in order.
-            std::uint32_t at = n.begin;
-            for (std::uint32_t c = 0; c < n.children; ++c) {
-                const PointTree::Node& kid = t.nodes[n.child + c];
-                bad += n.child + c <= i || kid.begin != at;
-                at = kid.end;
-                ++reached[n.child + c];
-            }
-            bad += at != n.end;
-        }
-        CHECK(bad == 0);
-        CHECK(std::count(seen.begin(), seen.end(), 1) == std::ptrdiff_t(points.size()));
+        CHECK(tree_faults(t, points.size(), true) == 0);
+        std::size_t leaves = 0;
+        for (const PointTree::Node& n : t.nodes) leaves += n.leaf();
         CHECK(leaves > 0);
         // Each point where the input had it, in float about the origin.
         std::size_t moved = 0;
         for (std::size_t k = 0; k < t.size(); ++k)
             for (int a = 0; a < 3; ++a) moved += std::abs(t.point(k)[a] - points[t.input[k]][a]) > 1e-6;
         CHECK(moved == 0);
+    }
+}
+
+TEST_CASE("PointCloud::keep prunes the tree: its shape sound, its boxes tight, its queries brute force's") {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(0, 1);
+    for (const double drop : {0.001, 0.1, 0.6, 0.9999}) {
+        CAPTURE(drop);
+        const PointSet points = noisy_dense_sphere();
+        PointCloud cloud(points);
+        std::vector<std::uint8_t> flags(cloud.size());
+        std::size_t kept = 0;
+        for (std::uint8_t& f : flags) kept += f = unit(rng) >= drop;
+        const std::vector<std::uint32_t> inputs_before(detail::tree_of(cloud).input.begin(), detail::tree_of(cloud).input.end());
+        cloud.keep(flags);
+        const PointTree& t = detail::tree_of(cloud);
+        REQUIRE(t.size() == kept);
+        CHECK(tree_faults(t, kept, false) == 0);
+        // The points kept, in their order, each with its input place.
+        std::size_t at = 0, wrong = 0;
+        for (std::size_t k = 0; k < flags.size(); ++k)
+            if (flags[k]) wrong += t.input[at++] != inputs_before[k];
+        CHECK(wrong == 0);
+        for (int q = 0; q < 200; ++q) {
+            const Vec3 p{unit(rng), unit(rng), unit(rng)};
+            const PointTree::Hit hit = t.nearest(p);
+            CHECK(hit.dist_sq == brute_nearest_sq(t, p, std::numeric_limits<double>::infinity()));
+            std::size_t within = 0, brute = 0;
+            t.for_each_within(p, 0.01, [&](std::uint32_t) { ++within; });
+            for (std::size_t k = 0; k < t.size(); ++k) brute += PointTree::dist_sq(p, t.point(k)) < 0.01;
+            CHECK(within == brute);
+        }
     }
 }
 

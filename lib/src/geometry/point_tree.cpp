@@ -202,14 +202,64 @@ PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> 
     build_nodes(keys.get());
 }
 
-void PointTree::refile() {
-    nodes.clear();
-    if (xyz.empty()) return;
-    UnsetVector<std::uint64_t> keys(xyz.size());
-    const std::ptrdiff_t n = std::ptrdiff_t(xyz.size());
-#pragma omp parallel for schedule(static) if (n > kParallelCheapItems)
-    for (std::ptrdiff_t i = 0; i < n; ++i) keys[i] = frame_.key(xyz[i]);
-    build_nodes(keys.data());
+void PointTree::keep_only(const std::vector<std::uint8_t>& flags) {
+    // Every node's ends, and where each falls among the points kept.
+    std::vector<std::uint32_t> cuts;
+    cuts.reserve(2 * nodes.size());
+    for (const Node& node : nodes) cuts.insert(cuts.end(), {node.begin, node.end});
+    std::sort(cuts.begin(), cuts.end());
+    cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+    std::vector<std::uint32_t> moved(cuts.size());
+    std::uint32_t to = 0;
+    std::size_t c = 0;
+    for (std::uint32_t k = 0; k < std::uint32_t(xyz.size()); ++k) {
+        while (c < cuts.size() && cuts[c] == k) moved[c++] = to;
+        if (!flags[k]) continue;
+        xyz[to] = xyz[k];
+        input[to] = input[k];
+        ++to;
+    }
+    for (; c < cuts.size(); ++c) moved[c] = to;
+    // Shrunk only after a large drop: a new array beside the old one would hold every
+    // point twice for a moment (the outlier rules drop a few).
+    const bool shrink = to < xyz.size() / 8 * 7;
+    xyz.resize(to);
+    input.resize(to);
+    if (shrink) {
+        xyz.shrink_to_fit();
+        input.shrink_to_fit();
+    }
+    const auto place = [&](std::uint32_t at) {
+        return moved[std::size_t(std::lower_bound(cuts.begin(), cuts.end(), at) - cuts.begin())];
+    };
+    // The nodes again, those left with points only, breadth first from the root (each
+    // one's children together, after it).
+    std::vector<Node> kept;
+    std::vector<std::uint32_t> was;  // the node each kept one was
+    if (to > 0) {
+        Node root = nodes[0];
+        root.begin = 0;
+        root.end = to;
+        kept.push_back(root);
+        was.push_back(0);
+    }
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        const Node old = nodes[was[i]];
+        if (old.leaf()) continue;
+        const std::uint32_t first = std::uint32_t(kept.size());
+        for (std::uint32_t k = 0; k < old.children; ++k) {
+            Node child = nodes[old.child + k];
+            child.begin = place(child.begin);
+            child.end = place(child.end);
+            if (child.begin == child.end) continue;
+            kept.push_back(child);
+            was.push_back(old.child + k);
+        }
+        kept[i].child = first;
+        kept[i].children = std::uint32_t(kept.size()) - first;
+    }
+    nodes = std::move(kept);
+    tighten_boxes(nodes.size() > (1u << 12) && threads_here() > 1);
 }
 
 namespace {
@@ -303,8 +353,12 @@ void PointTree::build_nodes(const std::uint64_t* keys) {
         std::copy(part.begin() + 1, part.end(), nodes.begin() + std::ptrdiff_t(offset[t]));
         std::vector<Node>().swap(part);
     }
-    // Boxes: each leaf's from its points, then each inner node's from its children (which
-    // always come after it).
+    tighten_boxes(parallel);
+}
+
+// Each leaf's box from its points, then each inner node's from its children (which
+// always come after it).
+void PointTree::tighten_boxes(bool parallel) {
     const std::ptrdiff_t nn = std::ptrdiff_t(nodes.size());
 #pragma omp parallel for schedule(dynamic, 1024) if (parallel)
     for (std::ptrdiff_t i = 0; i < nn; ++i) {

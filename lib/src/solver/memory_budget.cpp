@@ -32,9 +32,9 @@ constexpr double kSolverCopies = 5;
 constexpr std::size_t kMeshBytesPerBrick = 90 * 96;
 constexpr std::size_t kCheckBytesPerPoint = 8;
 // A point at the outlier rules' peak: its coordinates (12) and input place (4) in the tree,
-// the tree's nodes (about 2) and the rules' lists (the 200 M-point city block: 33 bytes a
-// point then).
-constexpr std::size_t kPointBytes = 40;
+// the tree's nodes (about 2) and the rules' lists (the clusters' 9; the 200 M-point city
+// block: 29 bytes a point then, the program's own included).
+constexpr std::size_t kPointBytes = 36;
 // An OpenCL runtime's own memory once loaded (PoCL on this machine: 80 MiB resident).
 constexpr std::size_t kDeviceRuntimeBytes = std::size_t(96) << 20;
 
