@@ -304,6 +304,11 @@ Command reconstruct_command(ReconstructOptions& o) {
          store(p.tile_cells), "Tiles"},
         {"--tile-halo-cells", "", "N",
          "the tiles' halo in cells (a multiple of 8) instead of the one\nderived from the flow", store(p.tile_halo_cells)},
+        {"--temp-dir", "", "DIR",
+         "where temporary files go: a .gz input is inflated there into an\n"
+         "unnamed file, gone when the run ends however it ends (default:\n"
+         "the output's folder)",
+         store(p.temp_dir)},
         {"--max-memory", "", "SIZE",
          "memory the run may take, e.g. 2G or 512M (powers of 1024): the\n"
          "points it files and all after; the grid whole where it fits, else\n"
@@ -478,6 +483,10 @@ std::optional<ReconstructOptions> parse_reconstruct(const std::vector<std::strin
         bad_value("--scale", snvr::format_text("%g", scale), snvr::ShellSettings::scale_range);
     o.shell.written_as = o.output;
     o.shell.keep_field = !o.volume.empty();
+    if (o.shell.params.temp_dir.empty()) {  // beside the output, where its own temporary goes
+        const std::string folder = std::filesystem::path(o.output).parent_path().string();
+        o.shell.params.temp_dir = folder.empty() ? "." : folder;
+    }
     // Out-of-range values are the command line's fault, so a usage error, not a failure.
     try {
         o.shell.validate();

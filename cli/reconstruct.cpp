@@ -1,9 +1,13 @@
 // snvr-cl reconstruct: read, reconstruct, mesh, check, write, report.
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <system_error>
@@ -83,6 +87,12 @@ void check_outputs(const ReconstructOptions& o) {
         check_writable_location(out.path);
         refuse_overwriting_input(o.input, out.path, out.which);
     }
+    const std::string& temp = o.shell.params.temp_dir;
+    std::error_code ec;
+    if (!std::filesystem::is_directory(temp, ec))
+        throw snvr::IoError("--temp-dir '" + temp + "' is not a directory");
+    if (::access(temp.c_str(), W_OK | X_OK) != 0)
+        throw snvr::IoError("--temp-dir '" + temp + "': cannot write there (" + std::strerror(errno) + ")");
 }
 
 // Errors about the points name the input too (a file's own errors name their file).

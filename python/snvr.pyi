@@ -56,6 +56,7 @@ def shell(
     tile_cells: int = 0,
     tile_halo_cells: Optional[int] = None,
     max_memory: Optional[int] = None,
+    temp_dir: str = "",
     precision: str = "float",
     device: str = "auto",
     written_as: str = ".stl",

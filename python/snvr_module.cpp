@@ -100,7 +100,7 @@ PyShell shell(const py::handle& points, std::optional<int> resolution, std::opti
               std::optional<int> steps, std::optional<double> tube_inner, std::optional<double> tube_outer,
               bool free_flow, bool points_as_given, std::optional<double> eps_cells, std::optional<double> xi_cells,
               std::optional<double> tol, std::optional<int> max_cycles, int tile_cells,
-              std::optional<int> tile_halo_cells, std::optional<std::size_t> max_memory, const std::string& precision, const std::string& device, const std::string& written_as, bool keep_field,
+              std::optional<int> tile_halo_cells, std::optional<std::size_t> max_memory, const std::string& temp_dir, const std::string& precision, const std::string& device, const std::string& written_as, bool keep_field,
               const std::string& units, double scale, const py::object& progress) {
     snvr::ShellSettings s;
     snvr::Parameters& p = s.params;
@@ -123,6 +123,7 @@ PyShell shell(const py::handle& points, std::optional<int> resolution, std::opti
     p.tile_cells = tile_cells;
     p.tile_halo_cells = tile_halo_cells;
     p.max_memory = max_memory;
+    p.temp_dir = temp_dir;
     if (precision == "double") p.precision = snvr::Precision::Double;
     else if (precision == "float") p.precision = snvr::Precision::Single;
     else throw py::value_error("precision must be 'float' or 'double', got '" + precision + "'");
@@ -240,14 +241,15 @@ PYBIND11_MODULE(snvr, m) {
           py::arg("dt_cells") = py::none(), py::arg("steps") = py::none(), py::arg("tube_inner") = py::none(),
           py::arg("tube_outer") = py::none(), py::arg("free_flow") = false, py::arg("points_as_given") = false, py::arg("eps_cells") = py::none(),
           py::arg("xi_cells") = py::none(), py::arg("tol") = py::none(), py::arg("max_cycles") = py::none(),
-          py::arg("tile_cells") = 0, py::arg("tile_halo_cells") = py::none(), py::arg("max_memory") = py::none(), py::arg("precision") = "float", py::arg("device") = "auto", py::arg("written_as") = ".stl",
+          py::arg("tile_cells") = 0, py::arg("tile_halo_cells") = py::none(), py::arg("max_memory") = py::none(), py::arg("temp_dir") = "", py::arg("precision") = "float", py::arg("device") = "auto", py::arg("written_as") = ".stl",
           py::arg("keep_field") = false, py::arg("units") = shell_defaults.units,
           py::arg("scale") = shell_defaults.scale, py::arg("progress") = py::none(),
           "The printable shell around points ((N, 3) array, lengths in their units; or a file's path, read as "
           "snvr-cl reads it, meshes sampled), as snvr-cl reconstruct makes it. Keywords are snvr-cl's options (resolution, voxel, offset, thickness, offset_cells, "
           "keep_outliers, origin, fairing, min_piece_volume, keep_largest, measure, smoothing, dt_cells, steps, "
           "tube_inner, tube_outer, free_flow, points_as_given, eps_cells, xi_cells, tol, max_cycles, tile_cells, tile_halo_cells, precision, device; max_memory in bytes, the memory the call may add: "
-          "what it makes of the points and all after, not the caller's array); "
+          "what it makes of the points and all after, not the caller's array); temp_dir: where a .gz file "
+          "is inflated (default TMPDIR, else /tmp); "
           "written_as: the format the mesh is meant for ('.stl': float32). units ('mm', 'cm', 'm' or 'in') and scale: "
           "the points' unit and a factor on it, as snvr-cl's --units and --scale (the shell comes back in millimetres). progress(stage, step, steps) may "
           "return False to cancel (snvr.Cancelled); Ctrl-C cancels too (KeyboardInterrupt).");

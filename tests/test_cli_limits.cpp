@@ -2,6 +2,7 @@
 // here broke on the main of 2026-11-26 (an abort, a kill by signal, a wrong result with
 // exit 0, a message naming the wrong thing).
 #include <doctest/doctest.h>
+#include <zlib.h>
 
 #include <array>
 #include <cmath>
@@ -109,6 +110,38 @@ TEST_CASE("a whole run the memory limit cannot hold goes in tiles by itself, the
         }
     }
     CHECK(tiled > 0);
+}
+
+TEST_CASE("a .gz input inflated in the temporary folder: --temp-dir checked, a folder without room named, nothing left") {
+    TempDir t;
+    std::string text;
+    for (int copy = 0; copy < 400; ++copy) text += sphere_xyz();  // about 3 MB, compressed far smaller
+    const std::string input = t.file("in.xyz.gz", "");
+    {
+        gzFile f = gzopen(input.c_str(), "wb");
+        REQUIRE(f != nullptr);
+        REQUIRE(gzwrite(f, text.data(), unsigned(text.size())) == int(text.size()));
+        gzclose(f);
+    }
+    const std::string run_args = " reconstruct " + input + " -o " + t.out() + " --resolution 24";
+    expect_failure(run_args + " --temp-dir " + t.file("absent", "") + "/not-there", 1, "is not a directory", t);
+    fs::create_directories(t.path / "tmp");
+    // 1 MiB of file size allowed: the inflated file (3 MB) stops there, named.
+    const Run r = run_command("bash -c 'ulimit -f 1024; " + std::string(SNVR_CLI) + run_args + " --temp-dir " +
+                              (t.path / "tmp").string() + "; echo rc=$?'");
+    CAPTURE(r.output);
+    CHECK(r.output.find("rc=1\n") != std::string::npos);
+    CHECK(r.output.find("cannot inflate") != std::string::npos);
+    CHECK(r.output.find((t.path / "tmp").string()) != std::string::npos);
+    CHECK(!fs::exists(t.out()));
+    CHECK(fs::is_empty(t.path / "tmp"));
+    // With room, beside the output by default: the run, and nothing left beside it.
+    const Run ok = run(run_args);
+    CAPTURE(ok.output);
+    CHECK(ok.code == 0);
+    std::size_t entries = 0;
+    for (const auto& e : fs::directory_iterator(t.path)) entries += e.path().filename() != "tmp";
+    CHECK(entries == 3);  // absent's empty file, the input and the output
 }
 
 TEST_CASE("file-size and open-file limits, a reader that has gone: a reported failure or a finished run, never a kill") {

@@ -725,6 +725,34 @@ TEST_CASE("read_points: gzip-compressed files and LAS point records") {
     check_throws<snvr::InputError>([&] { snvr::read_points(dir.file("scan.laz")); }, dir.file("scan.laz"), {"laszip"});
 }
 
+TEST_CASE("a .gz input inflated into an unnamed file in the temporary folder: the plain file's points, nothing left") {
+    TempDir dir("io");
+    // 200,000 points as binary PLY (2.4 MB): records read part by part from the file inflated.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> unit(-1, 1);
+    PointSet points(200000);
+    for (Vec3& p : points) p = {unit(rng), unit(rng), unit(rng)};
+    const std::string plain = dir.file("cloud.ply");
+    snvr::write_points(points, plain);
+    const std::string gz = dir.file("cloud.ply.gz");
+    {
+        const std::string bytes = read_bytes(plain);
+        gzFile f = gzopen(gz.c_str(), "wb1");
+        REQUIRE(f != nullptr);
+        REQUIRE(gzwrite(f, bytes.data(), unsigned(bytes.size())) == int(bytes.size()));
+        gzclose(f);
+    }
+    std::filesystem::create_directories(dir.path / "tmp");
+    snvr::Parameters params;
+    params.temp_dir = dir.file("tmp");
+    const snvr::InputPoints in = snvr::read_input(gz, params);
+    CHECK(in.points.to_point_set() == snvr::read_points(plain));
+    CHECK(std::filesystem::is_empty(dir.path / "tmp"));  // the inflated file had no name, and is gone
+    // A folder that is not there: named.
+    params.temp_dir = dir.file("absent");
+    check_throws<snvr::IoError>([&] { snvr::read_input(gz, params); }, gz, {"temporary folder", "absent"});
+}
+
 TEST_CASE("read_input: meshes are thickened by their triangles, point files read as points") {
     TempDir dir("io");
     snvr::Mesh tet;  // the unit tetrahedron, outward

@@ -122,6 +122,10 @@ struct Parameters {
     // naming what does not fit. Unset: the memory available decides alike (whole wherever
     // it fits, as before). tile_cells, when given, is kept and checked against the budget.
     std::optional<std::size_t> max_memory;
+    // Where the run may put its temporary files: a .gz input is inflated there into an
+    // unnamed file (gone with the process however it ends), never whole in memory. Empty:
+    // TMPDIR, else /tmp (snvr-cl: the output's folder, or --temp-dir).
+    std::string temp_dir;
 
     // Throws ParameterError naming the first bad value.
     void validate() const;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "snvr/error.hpp"
 
@@ -21,61 +22,89 @@ struct Inflater {
 
 // Deflate's largest expansion is 1032:1 (a run of 258 bytes in about two bits).
 constexpr std::uint64_t kMaxRatio = 1032;
+constexpr std::size_t kPiece = std::size_t(1) << 20;  // compressed bytes read, inflated bytes written, at a time
 
 }  // namespace
 
-std::string gunzip(std::string_view data, const std::string& path,
+void gunzip_stream(std::uint64_t size, const std::function<std::size_t(char*, std::size_t)>& read,
+                   const std::function<void(std::string_view)>& write, const std::string& path,
                    const std::function<void(std::string_view first)>& look_first) {
     const auto fail = [&](const std::string& what, std::uint64_t at) -> InputError {
         return InputError(path + ": " + what + " (compressed byte offset " + std::to_string(at) + ")");
     };
-    if (data.size() < 2 || std::uint8_t(data[0]) != 0x1f || std::uint8_t(data[1]) != 0x8b)
+    std::vector<char> in(std::size_t(std::min<std::uint64_t>(size, kPiece)) + 1), out(kPiece);
+    std::uint64_t fed = 0;  // compressed bytes given to zlib
+    const auto refill = [&](z_stream& z) {
+        const std::size_t got = fed < size ? read(in.data(), std::size_t(std::min<std::uint64_t>(size - fed, kPiece))) : 0;
+        if (got == 0 && fed < size) throw fail("the compressed file ends early", fed);
+        z.next_in = reinterpret_cast<Bytef*>(in.data());
+        z.avail_in = uInt(got);
+        fed += got;
+        return got;
+    };
+    Inflater inflater;
+    z_stream& z = inflater.z;
+    refill(z);
+    if (z.avail_in < 2 || std::uint8_t(in[0]) != 0x1f || std::uint8_t(in[1]) != 0x8b)
         throw fail("not gzip data (no 1f 8b signature)", 0);
-    Inflater in;
     // 16 + MAX_WBITS: gzip members only, with their headers and CRC checked.
-    if (inflateInit2(&in.z, 16 + MAX_WBITS) != Z_OK) throw ResourceError(path + ": zlib could not start");
-    in.open = true;
-    in.z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
-    in.z.avail_in = uInt(std::min<std::size_t>(data.size(), UINT32_MAX));
-    std::uint64_t fed = in.z.avail_in;
-    const std::uint64_t limit = kMaxRatio * data.size() + 1024;
-    std::string out;
-    out.resize(std::min<std::uint64_t>(limit, std::max<std::uint64_t>(4 * data.size(), 1 << 16)));
-    std::size_t produced = 0;
+    if (inflateInit2(&z, 16 + MAX_WBITS) != Z_OK) throw ResourceError(path + ": zlib could not start");
+    inflater.open = true;
+    const std::uint64_t limit = kMaxRatio * size + 1024;
+    std::uint64_t produced = 0;
+    // The first bytes are held until look_first has seen them.
+    std::string first;
     bool looked = !look_first;
+    const auto emit = [&](std::string_view bytes) {
+        if (looked) {
+            if (!bytes.empty()) write(bytes);
+            return;
+        }
+        first.append(bytes);
+        if (first.size() < kFirstLookBytes) return;
+        look_first(first);
+        looked = true;
+        write(first);
+        std::string().swap(first);
+    };
     for (;;) {
-        if (!looked && produced >= kFirstLookBytes) {
-            look_first(std::string_view(out.data(), produced));
-            looked = true;
-        }
-        if (produced == out.size()) {
-            if (out.size() >= limit) throw fail("decompresses beyond deflate's own bound: corrupt data", fed - in.z.avail_in);
-            out.resize(std::min<std::uint64_t>(limit, 2 * out.size()));
-        }
-        in.z.next_out = reinterpret_cast<Bytef*>(&out[produced]);
-        in.z.avail_out = uInt(std::min<std::size_t>(out.size() - produced, UINT32_MAX));
-        const std::size_t room = in.z.avail_out;
-        const int status = inflate(&in.z, Z_NO_FLUSH);
-        produced += room - in.z.avail_out;
-        if (in.z.avail_in == 0 && fed < data.size()) {  // inputs beyond 4 GiB come in pieces
-            const std::size_t more = std::min<std::size_t>(data.size() - fed, UINT32_MAX);
-            in.z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data() + fed));
-            in.z.avail_in = uInt(more);
-            fed += more;
-        }
-        const std::uint64_t at = fed - in.z.avail_in;
+        z.next_out = reinterpret_cast<Bytef*>(out.data());
+        z.avail_out = uInt(out.size());
+        const int status = inflate(&z, Z_NO_FLUSH);
+        const std::size_t made = out.size() - z.avail_out;
+        produced += made;
+        if (produced > limit) throw fail("decompresses beyond deflate's own bound: corrupt data", fed - z.avail_in);
+        emit(std::string_view(out.data(), made));
+        if (z.avail_in == 0 && fed < size) refill(z);
+        const std::uint64_t at = fed - z.avail_in;
         if (status == Z_STREAM_END) {
-            if (at == data.size()) break;
-            if (inflateReset(&in.z) != Z_OK) throw fail("a following gzip member cannot be read", at);
+            if (at == size) break;
+            if (inflateReset(&z) != Z_OK) throw fail("a following gzip member cannot be read", at);
             continue;  // the next member of a concatenated file
         }
-        if (status == Z_BUF_ERROR && in.z.avail_in == 0 && at == data.size())
-            throw fail("the gzip data ends early", at);
+        if (status == Z_BUF_ERROR && z.avail_in == 0 && at == size) throw fail("the gzip data ends early", at);
         if (status != Z_OK && status != Z_BUF_ERROR)
-            throw fail(std::string("corrupt gzip data") + (in.z.msg ? std::string(": ") + in.z.msg : std::string()), at);
+            throw fail(std::string("corrupt gzip data") + (z.msg ? std::string(": ") + z.msg : std::string()), at);
     }
-    out.resize(produced);
-    if (!looked) look_first(out);
+    if (!looked) {
+        look_first(first);
+        write(first);
+    }
+}
+
+std::string gunzip(std::string_view data, const std::string& path,
+                   const std::function<void(std::string_view first)>& look_first) {
+    std::string out;
+    std::size_t at = 0;
+    gunzip_stream(
+        data.size(),
+        [&](char* to, std::size_t most) {
+            const std::size_t n = std::min(most, data.size() - at);
+            std::copy(data.data() + at, data.data() + at + n, to);
+            at += n;
+            return n;
+        },
+        [&](std::string_view bytes) { out.append(bytes); }, path, look_first);
     return out;
 }
 

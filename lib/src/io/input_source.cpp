@@ -4,11 +4,13 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -65,6 +67,15 @@ struct OpenFile {
         if (!S_ISREG(opened.st_mode)) {
             ::close(fd);
             require_regular(path, opened);
+        }
+        size = std::size_t(opened.st_size);
+    }
+    // An open file of this process's own (a temporary), as it is now.
+    OpenFile(int open_fd, const std::string& path) : fd(open_fd) {
+        if (::fstat(fd, &opened) != 0) {
+            const int err = errno;
+            ::close(fd);
+            throw IoError("cannot read '" + path + "': " + system_reason(err));
         }
         size = std::size_t(opened.st_size);
     }
@@ -140,15 +151,97 @@ std::string format_name(const std::string& path) {
     return lower_extension(path) == ".gz" ? path.substr(0, path.size() - 3) : path;
 }
 
-InputSource::InputSource(const std::string& path)
+namespace {
+
+// An unnamed file in `folder` for this process alone (Linux's O_TMPFILE: it goes with the
+// process however it ends, SIGKILL included); where the file system has none, a named
+// one removed at once. -1 with errno where neither can be made.
+int unnamed_file(const std::string& folder) {
+#ifdef O_TMPFILE
+    const int fd = ::open(folder.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+    if (fd >= 0 || (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)) return fd;
+#endif
+    std::string name = folder + "/.snvr-inflated-XXXXXX";
+    const int named = ::mkstemp(name.data());
+    if (named >= 0) ::unlink(name.c_str());
+    return named;
+}
+
+std::string temporary_folder(const std::string& given) {
+    if (!given.empty()) return given;
+    const char* tmp = std::getenv("TMPDIR");
+    return tmp && *tmp ? tmp : "/tmp";
+}
+
+// Free bytes for this process in the folder's file system (0 where unknown).
+std::uint64_t free_bytes(const std::string& folder) {
+    struct statvfs fs {};
+    if (::statvfs(folder.c_str(), &fs) != 0) return 0;
+    return std::uint64_t(fs.f_bavail) * std::uint64_t(fs.f_frsize);
+}
+
+// What the last gzip member says it inflates to (its size mod 2^32): for a file of one
+// member under 4 GiB, the size. 0 where the file is too short to say.
+std::uint64_t stated_size(const OpenFile& file) {
+    unsigned char tail[4];
+    if (file.size < 18 || ::pread(file.fd, tail, 4, off_t(file.size - 4)) != 4) return 0;
+    return std::uint64_t(tail[0]) | std::uint64_t(tail[1]) << 8 | std::uint64_t(tail[2]) << 16 |
+           std::uint64_t(tail[3]) << 24;
+}
+
+}  // namespace
+
+InputSource::InputSource(const std::string& path, const std::string& temp_folder)
     : path_(path), file_(std::make_unique<OpenFile>(path)), fault_(std::make_unique<ReadFault>()), size_(file_->size) {
     if (lower_extension(path) != ".gz") return;
-    const std::string_view packed = all();
-    owned_ = gunzip(packed, path, [&path](std::string_view first) { require_signature(first, path); });
-    read_.reset();
-    file_.reset();
-    memory_ = owned_;
-    size_ = owned_.size();
+    const auto look = [&path](std::string_view first) { require_signature(first, path); };
+    // Inflated into an unnamed file in the temporary folder, a piece at a time (never whole
+    // in memory: a PLY's records are then read in parts as from any file); where no such
+    // file can be made there, into memory.
+    const std::string folder = temporary_folder(temp_folder);
+    const int fd = unnamed_file(folder);
+    if (fd < 0 && !temp_folder.empty())
+        throw IoError("cannot inflate '" + path + "' into the temporary folder '" + folder + "': " + system_reason(errno));
+    if (fd < 0) {  // the system's folder unusable: as before, in memory
+        const std::string_view packed = all();
+        owned_ = gunzip(packed, path, look);
+        read_.reset();
+        file_.reset();
+        memory_ = owned_;
+        size_ = owned_.size();
+        return;
+    }
+    auto inflated = std::make_unique<OpenFile>(fd, path);
+    const std::uint64_t stated = stated_size(*file_), room = free_bytes(folder);
+    const auto no_room = [&](std::uint64_t bytes, const std::string& why) {
+        return IoError("cannot inflate '" + path + "' into the temporary folder '" + folder + "': " + why + " (" +
+                       std::to_string(bytes) + " bytes; " + std::to_string(room) +
+                       " free there); give a folder with room (--temp-dir)");
+    };
+    if (stated > 0 && room > 0 && stated > room) throw no_room(stated, "it inflates to more than is free");
+    std::uint64_t read_at = 0, written = 0;
+    gunzip_stream(
+        file_->size,
+        [&](char* to, std::size_t most) {
+            if (!read_range(read_at, read_at + most, to)) finish();
+            read_at += most;
+            return most;
+        },
+        [&](std::string_view bytes) {
+            for (std::size_t done = 0; done < bytes.size();) {
+                const ssize_t n = ::pwrite(inflated->fd, bytes.data() + done, bytes.size() - done, off_t(written + done));
+                if (n < 0 && errno == EINTR) continue;
+                if (n < 0) throw no_room(written + done, system_reason(errno));
+                done += std::size_t(n);
+            }
+            written += bytes.size();
+        },
+        path, look);
+    finish();  // the compressed file as it was opened, read whole
+    file_ = std::move(inflated);
+    if (::fstat(file_->fd, &file_->opened) != 0) throw IoError("cannot read '" + path + "': " + system_reason(errno));
+    file_->size = written;
+    size_ = written;
 }
 
 InputSource::InputSource(std::string_view bytes, const std::string& path)

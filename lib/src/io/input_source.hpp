@@ -1,7 +1,8 @@
 // A file's bytes as its parser asks for them: a header, the whole, or the records part by
 // part for each thread. A plain file is read, never mapped (a mapped file cut short by
 // another process ends the process with SIGBUS), and refused when it shrinks, grows or is
-// rewritten before its parser is done; a .gz file is inflated into memory.
+// rewritten before its parser is done; a .gz file is inflated into an unnamed temporary
+// file, a piece at a time.
 #pragma once
 #include <atomic>
 #include <cstddef>
@@ -28,9 +29,12 @@ struct ReadFault;
 class InputSource {
 public:
     // A file: a plain one opened (nothing read yet), a .gz one inflated (its first bytes
-    // checked against its name's format). Throws IoError naming the file and the system's
-    // reason when it cannot be opened or read, or is not a regular file.
-    explicit InputSource(const std::string& path);
+    // checked against its name's format) into an unnamed file in `temp_folder` (empty:
+    // TMPDIR, else /tmp, and into memory where no file can be made there), read from
+    // there as a plain one. Throws IoError naming the file and
+    // the system's reason when it cannot be opened or read, or is not a regular file, or
+    // the folder has no room for it inflated.
+    explicit InputSource(const std::string& path, const std::string& temp_folder = {});
     // Bytes in memory, read as a file named path would be.
     InputSource(std::string_view bytes, const std::string& path);
     ~InputSource();

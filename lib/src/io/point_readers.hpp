@@ -51,7 +51,8 @@ struct ParseOptions {
 // non-finite coordinates and empty sets refused, a file changed while read refused), as
 // floats. Binary records are read part by part, never the whole file at once; text is
 // read whole and released before this returns: the points alone remain.
-FloatPoints read_float_points(const std::string& path, const ParseOptions& options = {});
+FloatPoints read_float_points(const std::string& path, const ParseOptions& options = {},
+                              const std::string& temp_folder = {});
 
 // The source's points by its format (its path's), checked (not empty, all held, the
 // file unchanged): read_float_points once the file is open.
@@ -68,7 +69,8 @@ struct PointsOrMesh {
     FloatPoints points;  // when not a mesh
     Mesh mesh;           // when one
 };
-PointsOrMesh read_points_or_mesh(const std::string& path);
+// A .gz file is inflated into an unnamed file in `temp_folder` (input_source.hpp).
+PointsOrMesh read_points_or_mesh(const std::string& path, const std::string& temp_folder = {});
 
 // World coordinates in doubles: origin + xyz.
 PointSet world_points(const FloatPoints& points);

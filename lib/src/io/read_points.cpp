@@ -36,22 +36,23 @@ detail::FloatPoints detail::parse_points(std::string_view data, const std::strin
     return parse_points(source, options);
 }
 
-detail::FloatPoints detail::read_float_points(const std::string& path, const ParseOptions& options) {
+detail::FloatPoints detail::read_float_points(const std::string& path, const ParseOptions& options,
+                                              const std::string& temp_folder) {
     require_regular_file(path);               // before the extension: "'dir' is a directory"
     format_for(path, FormatUse::ReadPoints);  // an unknown extension fails before any read
-    InputSource source(path);
+    InputSource source(path, temp_folder);
     return parse_points(source, options);  // the file's bytes released on the way out
 }
 
-detail::PointsOrMesh detail::read_points_or_mesh(const std::string& path) {
+detail::PointsOrMesh detail::read_points_or_mesh(const std::string& path, const std::string& temp_folder) {
     require_regular_file(path);
     const Format* format = read_format(path);
     PointsOrMesh content;
     if (!format || !format->read.mesh) {
-        content.points = read_float_points(path);
+        content.points = read_float_points(path, {}, temp_folder);
         return content;
     }
-    InputSource source(path);
+    InputSource source(path, temp_folder);
     source.skip_bom();
     content.is_mesh = format->read.faces && format->read.faces(source, path);
     if (content.is_mesh) {

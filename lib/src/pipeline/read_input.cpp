@@ -39,7 +39,7 @@ void require_float_range(const Mesh& mesh, const std::string& path) {
 
 // The file's points, or its mesh sampled at half the run's voxel.
 InputPoints read_or_sample(const std::string& path, const Parameters& params) {
-    detail::PointsOrMesh content = detail::read_points_or_mesh(path);
+    detail::PointsOrMesh content = detail::read_points_or_mesh(path, params.temp_dir);
     if (!content.is_mesh) return {PointCloud(std::move(content.points.xyz), content.points.origin), 0, 0};
     const Mesh& mesh = content.mesh;
     require_float_range(mesh, path);
