@@ -13,9 +13,13 @@ run=(reconstruct "$data/bunny.ply" --resolution 96 --tile-cells 24 --device open
 fail() { echo "FAIL: $*"; exit 1; }
 
 "$cli" "${run[@]}" -o "$tmp/one.stl" || fail "one process"
-"${mpi[@]}" -np 2 "$cli" "${run[@]}" -o "$tmp/two.stl" --report "$tmp/two.json" || fail "two processes"
+"${mpi[@]}" -np 2 "$cli" "${run[@]/--quiet/--report}" "$tmp/two.json" -o "$tmp/two.stl" 2>"$tmp/two.log" ||
+    fail "two processes"
 cmp "$tmp/one.stl" "$tmp/two.stl" || fail "two processes wrote other bytes than one"
 grep -q '"processes": 2' "$tmp/two.json" || fail "the report does not say 2 processes"
+grep -q "tile: .* s left; process 0: [0-9]* of [0-9]*, process 1: [0-9]* of [0-9]*" "$tmp/two.log" ||
+    fail "the progress does not show each process's tiles: $(tail -3 "$tmp/two.log")"
+rm "$tmp/two.log"
 echo "2 processes: the same bytes as 1"
 
 out=$("${mpi[@]}" -np 2 "$cli" reconstruct "$data/bunny.ply" -o "$tmp/x.stl" --quiet 2>&1)

@@ -222,18 +222,28 @@ private:
     void pass(const std::vector<std::size_t>& which, const std::vector<int>& least) {
         Stopwatch clock;
         std::size_t mine = 0, theirs = 0, done = 0;
+        // Each process's tiles in this pass, and those done (as far as this one knows).
+        const std::size_t processes = on_ ? std::size_t(on_->processes()) : 1;
+        std::vector<std::size_t> owned(processes, 0), finished(processes, 0);
         for (std::size_t t : which) {
             mine += owner_[t] == me();
             theirs += root() && owner_[t] > 0;
+            if (owner_[t] >= 0) ++owned[std::size_t(owner_[t])];
         }
-        const auto progress = [&] {
+        const auto progress = [&](std::size_t tile) {
             ++done;
+            ++finished[std::size_t(owner_[tile])];
             seconds_ += clock.lap();
             const std::size_t all = mine + theirs;
+            std::string per;  // "; process 0: 12 of 23, process 1: 10 of 22"
+            for (std::size_t p = 0; processes > 1 && root() && p < processes; ++p)
+                per += (p ? ", " : "; ") + std::string("process ") + std::to_string(p) + ": " +
+                       std::to_string(finished[p]) + " of " + std::to_string(owned[p]);
             tell(progress_, std::to_string(done) + " of " + std::to_string(all) + " tiles with points" +
                                 (on_ ? " on " + std::to_string(on_->processes()) + " processes" : std::string()) +
                                 " (" + std::to_string(tiles_.size()) + " in all), about " +
-                                std::to_string(int(std::ceil(seconds_ / double(done) * double(all - done)))) + " s left");
+                                std::to_string(int(std::ceil(seconds_ / double(done) * double(all - done)))) +
+                                " s left" + per);
         };
         std::size_t taken = 0;
         const auto take = [&] {
@@ -242,7 +252,7 @@ private:
             runs_[got.tile] = run_of(got.figures);
             field_.place(got.field, tiles_[got.tile]);
             ++taken;
-            progress();
+            progress(got.tile);
         };
         for (std::size_t t : which) {
             if (owner_[t] != me()) continue;
@@ -250,7 +260,7 @@ private:
             runs_[t] = run_named(tiles_[t], least, tile_field);
             if (root()) field_.place(tile_field, tiles_[t]);
             else on_->send({t, std::move(tile_field), figures_of(runs_[t])});
-            progress();
+            progress(t);
             while (root() && on_ && taken < theirs && on_->waiting()) take();
         }
         while (taken < theirs) take();
