@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # snvr-cl under mpirun (2 processes, as CI runs it: root, oversubscribed): the tiled run's
 # shell byte for byte the one process's; --tile-cells required; one process failing
-# (reading, or in a tile) fails the run, names the process (and the tile), and nothing is
-# written.
+# (reading, in a tile, or killed) fails the run, names the process (and the tile), and
+# nothing is written.
 set -uo pipefail
 cli=$1 data=$2
 tmp=$(mktemp -d)
@@ -45,5 +45,13 @@ out=$("${mpi[@]}" -np 1 "$cli" "${run[@]}" -o "$tmp/z.stl" : -np 1 -x SNVR_TEST_
 grep -q "error (process 1 of 2): .*: tile [0-9]* (cells [0-9-]*, [0-9-]*, [0-9-]*): a test fault" <<<"$out" ||
     fail "the failure does not name the tile and the process: $out"
 [ ! -e "$tmp/z.stl" ] || fail "an output was written"
+
+# Process 1 killed (SIGKILL) in its first tile: the run fails, the launcher names the
+# process, and nothing is written (the first process's staged outputs have no name).
+out=$("${mpi[@]}" -np 1 "$cli" "${run[@]}" -o "$tmp/k.stl" : -np 1 -x SNVR_TEST_TILE_FAULT=kill "$cli" "${run[@]}" \
+      -o "$tmp/k.stl" 2>&1)
+[ $? -ne 0 ] || fail "a process killed did not fail the run"
+grep -q "rank 1" <<<"$out" || fail "the kill does not name the process: $out"
+[ ! -e "$tmp/k.stl" ] || fail "an output was written"
 ls "$tmp" | grep -v -E '^(one|two)\.(stl|json)$' && fail "something was left beside the outputs"
-echo "a failing process: the run failed, naming the process (and the tile), nothing written"
+echo "a failing process (an error, or killed): the run failed, naming the process (and the tile), nothing written"

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <new>
@@ -289,11 +290,12 @@ private:
     }
 
     // For tests only: SNVR_TEST_TILE_FAULT=K fails tile K as running out of memory would
-    // ("first": the first tile this process runs).
+    // ("first": the first tile this process runs; "kill": the process is killed there).
     void test_fault(const Tile& tile) {
         const char* text = std::getenv("SNVR_TEST_TILE_FAULT");
         if (!text) return;
         const std::string spec = text;
+        if (spec == "kill") ::raise(SIGKILL);
         if ((spec == "first" && !ran_one_) || spec == std::to_string(tile.index))
             throw ResourceError("a test fault (SNVR_TEST_TILE_FAULT)");
         ran_one_ = true;
