@@ -1,6 +1,7 @@
 // The processes of an MPI job as a tiled run's scheduler (processes.hpp).
 #include <mpi.h>
 
+#include <algorithm>
 #include <array>
 #include <climits>
 #include <list>
@@ -27,7 +28,7 @@ int as_count(std::size_t n, const char* what) {
     return int(n);
 }
 
-enum Tag { kHeader = 1, kTable, kStored, kFigures };
+enum Tag { kHeader = 1, kTable, kStored, kFigures, kPoints };
 
 // A worker's results go out as it goes on (MPI_Isend), each kept until sent() has waited
 // for the root to take them; the root takes whichever comes in first.
@@ -98,6 +99,40 @@ public:
         check(MPI_Allreduce(mine.data(), out.data(), int(mine.size()), MPI_INT, MPI_MAX, MPI_COMM_WORLD),
               "agreeing on the V-cycles");
         return out;
+    }
+
+    void share(std::vector<double>& plan, std::vector<int>& owners) override {
+        std::int64_t sizes[2] = {std::int64_t(plan.size()), std::int64_t(owners.size())};
+        check(MPI_Bcast(sizes, 2, MPI_INT64_T, 0, MPI_COMM_WORLD), "sharing the plan");
+        plan.resize(std::size_t(sizes[0]));
+        owners.resize(std::size_t(sizes[1]));
+        check(MPI_Bcast(plan.data(), as_count(plan.size(), "the plan"), MPI_DOUBLE, 0, MPI_COMM_WORLD), "sharing the plan");
+        check(MPI_Bcast(owners.data(), as_count(owners.size(), "the tiles"), MPI_INT, 0, MPI_COMM_WORLD),
+              "sharing the tiles");
+    }
+
+    void give_points(int process, const snvr::Vec3& origin, const std::vector<float>& xyz) override {
+        const std::int64_t count = std::int64_t(xyz.size());
+        check(MPI_Send(origin.data(), 3, MPI_DOUBLE, process, kPoints, MPI_COMM_WORLD), "sending the points");
+        check(MPI_Send(&count, 1, MPI_INT64_T, process, kPoints, MPI_COMM_WORLD), "sending the points");
+        // In parts: MPI counts in int.
+        constexpr std::size_t kPart = std::size_t(1) << 28;
+        for (std::size_t at = 0; at < xyz.size(); at += kPart)
+            check(MPI_Send(xyz.data() + at, int(std::min(kPart, xyz.size() - at)), MPI_FLOAT, process, kPoints,
+                           MPI_COMM_WORLD),
+                  "sending the points");
+    }
+
+    void take_points(snvr::Vec3& origin, std::vector<float>& xyz) override {
+        std::int64_t count = 0;
+        check(MPI_Recv(origin.data(), 3, MPI_DOUBLE, 0, kPoints, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receiving the points");
+        check(MPI_Recv(&count, 1, MPI_INT64_T, 0, kPoints, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receiving the points");
+        xyz.resize(std::size_t(count));
+        constexpr std::size_t kPart = std::size_t(1) << 28;
+        for (std::size_t at = 0; at < xyz.size(); at += kPart)
+            check(MPI_Recv(xyz.data() + at, int(std::min(kPart, xyz.size() - at)), MPI_FLOAT, 0, kPoints, MPI_COMM_WORLD,
+                           MPI_STATUS_IGNORE),
+                  "receiving the points");
     }
 
 private:

@@ -120,7 +120,11 @@ int run_reconstruct(const std::vector<std::string>& args) {
         throw UsageError("under an MPI launcher (" + std::to_string(process_count()) +
                          " processes) give --tile-cells N: the processes share a tiled run's tiles");
     parsed->shell.tiles_on = process_tiles();
-    if (process_rank() != 0) parsed->quiet = true;
+    // The others read nothing: the first gives each its plan, its tiles and their points.
+    if (process_rank() != 0) {
+        snvr::reconstruct_tiles_of(parsed->shell.params, *parsed->shell.tiles_on);
+        return 0;
+    }
     const ReconstructOptions& o = *parsed;
     const auto say = [&o](const std::string& line) {
         if (!o.quiet) std::cerr << snvr::printable(line) << std::endl;

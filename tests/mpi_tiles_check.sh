@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # snvr-cl under mpirun (2 processes, as CI runs it: root, oversubscribed): the tiled run's
-# shell byte for byte the one process's; --tile-cells required; one process failing
+# shell byte for byte the one process's; the other process reads nothing (the first gives
+# it the plan and its points); --tile-cells required; one process failing
 # (reading, in a tile, or killed) fails the run, names the process (and the tile), and
 # nothing is written.
 set -uo pipefail
@@ -29,12 +30,21 @@ grep -q "give --tile-cells N" <<<"$out" || fail "no --tile-cells: $out"
 [ ! -e "$tmp/x.stl" ] || fail "an output was written"
 echo "no --tile-cells: refused once"
 
-# Process 1 fails to read its input (the read-fault hook): the run fails, says which
-# process, and writes nothing.
-out=$("${mpi[@]}" -np 1 "$cli" "${run[@]}" -o "$tmp/y.stl" : -np 1 -x SNVR_TEST_READ_FAULT=eio:1000 "$cli" "${run[@]}" \
+# The others read nothing: process 1 given an input that is not there runs its tiles as
+# the first gives them, the same bytes.
+absent=(reconstruct "$tmp/absent.ply" "${run[@]:2}")
+"${mpi[@]}" -np 1 "$cli" "${run[@]}" -o "$tmp/w.stl" : -np 1 "$cli" "${absent[@]}" -o "$tmp/w.stl" ||
+    fail "process 1 read its input"
+cmp "$tmp/one.stl" "$tmp/w.stl" || fail "process 1 without the input: other bytes"
+rm "$tmp/w.stl"
+echo "the other processes read nothing: the same bytes"
+
+# The first process fails to read the input (the read-fault hook): the run fails, says
+# which process, and writes nothing.
+out=$("${mpi[@]}" -np 1 -x SNVR_TEST_READ_FAULT=eio:1000 "$cli" "${run[@]}" -o "$tmp/y.stl" : -np 1 "$cli" "${run[@]}" \
       -o "$tmp/y.stl" 2>&1)
 [ $? -ne 0 ] || fail "a process that failed did not fail the run"
-grep -q "process 1 of 2" <<<"$out" || fail "the failure does not name the process: $out"
+grep -q "process 0 of 2" <<<"$out" || fail "the failure does not name the process: $out"
 [ ! -e "$tmp/y.stl" ] || fail "an output was written"
 
 # Process 1 fails in the first tile it runs (the tile-fault hook): the message names the
@@ -42,7 +52,7 @@ grep -q "process 1 of 2" <<<"$out" || fail "the failure does not name the proces
 out=$("${mpi[@]}" -np 1 "$cli" "${run[@]}" -o "$tmp/z.stl" : -np 1 -x SNVR_TEST_TILE_FAULT=first "$cli" "${run[@]}" \
       -o "$tmp/z.stl" 2>&1)
 [ $? -ne 0 ] || fail "a tile that failed did not fail the run"
-grep -q "error (process 1 of 2): .*: tile [0-9]* (cells [0-9-]*, [0-9-]*, [0-9-]*): a test fault" <<<"$out" ||
+grep -q "error (process 1 of 2): .*tile [0-9]* (cells [0-9-]*, [0-9-]*, [0-9-]*): a test fault" <<<"$out" ||
     fail "the failure does not name the tile and the process: $out"
 [ ! -e "$tmp/z.stl" ] || fail "an output was written"
 

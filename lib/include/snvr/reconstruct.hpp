@@ -75,6 +75,7 @@ struct TileFacts {
     double seconds = 0;                  // wall clock of the tiles, all passes (stage seconds sum the tiles')
     double busiest_over_mean = 0;        // the work (the tiles' seconds) of the busiest process over the mean
     std::size_t bytes_received = 0;      // the tiles' results the first process took from the others
+    std::size_t points_sent = 0;         // points the first process gave the others (each its tiles' own)
 };
 
 // How the run fitted its memory (Parameters::max_memory, or what the machine had free),
@@ -127,6 +128,12 @@ Result reconstruct(const PointCloud& points, const Parameters& params, const Pro
                    TileScheduler* tiles_on = nullptr);
 Result reconstruct(const PointSet& points, const Parameters& params,
                    const ProgressCallback& progress = {});  // makes a PointCloud
+
+// Another process's share of a tiled run whose root called reconstruct() with `tiles_on`
+// (tiles.hpp): it reads nothing, takes the plan and the points within reach of its own
+// tiles from the root, runs those tiles and sends them; Result::tiles.worker is set, and
+// the result holds the plan and its tiles' figures, no phase field.
+Result reconstruct_tiles_of(const Parameters& params, TileScheduler& tiles_on);
 
 DomainPlan plan_domain(const PointCloud& points, const Parameters& params);
 DomainPlan plan_domain(const PointSet& points, const Parameters& params);  // makes a PointCloud

@@ -1,15 +1,18 @@
 // Where the tiles of a tiled run (Parameters::tile_cells) run. Without a scheduler they
 // all run in this process, one after another. A scheduler spreads them over processes
-// that all make the same call on the same points (snvr-cl's MPI one, cli/mpi_tiles.cpp):
-// each runs the tiles it owns (balanced by the points near them) and sends the results
-// to the root (rank 0), which puts the cores together and goes on to mesh; on the other
-// processes the call returns once their tiles are sent, without a phase field or a mesh
-// (Result::tiles.worker).
+// (snvr-cl's MPI one, cli/processes_mpi.cpp): the root (rank 0) reads the points, makes
+// the plan and the global decisions, and gives each other process the plan, which
+// process runs which tile, and the points within reach of its own tiles (they never read
+// the input: reconstruct_tiles_of); each runs the tiles it owns (balanced by the points
+// near them) and sends the results to the root, which puts the cores together and goes on
+// to mesh; on the other processes the call returns once their tiles are sent, without a
+// phase field or a mesh (Result::tiles.worker).
 #pragma once
 #include <cstddef>
 #include <vector>
 
 #include "snvr/field.hpp"
+#include "snvr/geometry.hpp"
 
 namespace snvr {
 
@@ -34,6 +37,13 @@ public:
     virtual TileResult receive() = 0;
     // The elementwise largest of every process's `mine`, on every process.
     virtual std::vector<int> most(const std::vector<int>& mine) = 0;
+    // The root's `plan` figures and tile `owners` to every process (the others' are
+    // replaced).
+    virtual void share(std::vector<double>& plan, std::vector<int>& owners) = 0;
+    // At the root: a process's points, float coordinates about `origin`, x y z in turn.
+    virtual void give_points(int process, const Vec3& origin, const std::vector<float>& xyz) = 0;
+    // At another process: its points from the root.
+    virtual void take_points(Vec3& origin, std::vector<float>& xyz) = 0;
 };
 
 }  // namespace snvr

@@ -69,9 +69,10 @@ std::string report_summary(const RunReport& report) {
                                  "points, %s band cells%s",
                                  t.tiles, t.core_cells, t.halo_cells, t.halo_derived ? "as far as the flow reaches" : "as given",
                                  t.run, t.cells_run,
-                                 t.processes > 1 ? format_text(" on %d processes (the busiest %.2f x the mean; %.3g MiB "
-                                                               "sent to the first)",
-                                                               t.processes, t.busiest_over_mean, mib(t.bytes_received))
+                                 t.processes > 1 ? format_text(" on %d processes (the busiest %.2f x the mean; %s points "
+                                                               "given to the others, %.3g MiB of tiles sent back)",
+                                                               t.processes, t.busiest_over_mean,
+                                                               grouped(t.points_sent).c_str(), mib(t.bytes_received))
                                                        .c_str()
                                                  : "",
                                  t.seconds,

@@ -90,6 +90,17 @@ void plan_and_run(const PointCloud& points, const Parameters& params, const Prog
 
 }  // namespace
 
+Result reconstruct_tiles_of(const Parameters& params, TileScheduler& tiles_on) {
+    params.validate();
+    if (params.tile_cells <= 0) throw ParameterError("another process's share of a tiled run needs its tile size");
+    Stopwatch total;
+    Result res;
+    if (params.precision == Precision::Double) reconstruct_tiles_given<double>(params, tiles_on, res);
+    else reconstruct_tiles_given<float>(params, tiles_on, res);
+    res.seconds.total = total.lap();
+    return res;
+}
+
 Result reconstruct(const PointSet& points, const Parameters& params, const ProgressCallback& progress) {
     return reconstruct(PointCloud(points), params, progress);
 }

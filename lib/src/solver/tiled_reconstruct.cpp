@@ -112,22 +112,67 @@ void merge_steps(const std::vector<TileRun>& runs, int steps, Result& res) {
     }
 }
 
+// The plan as the other processes need it (the grid, the offset, the flow, the tube).
+std::vector<double> plan_figures(const DomainPlan& p) {
+    const Domain& d = p.domain;
+    return {d.origin[0], d.origin[1], d.origin[2], d.h, double(d.nx), double(d.ny), double(d.nz), double(d.levels),
+            double(d.unit_cells), p.offset, p.xi, p.eps, p.dt, double(p.planned_steps), p.tube_inner, p.tube_outer};
+}
+DomainPlan plan_of(const std::vector<double>& f) {
+    if (f.size() != 16) throw Error("tiles: the plan from the first process is not whole");
+    DomainPlan p;
+    Domain& d = p.domain;
+    d.origin = {f[0], f[1], f[2]};
+    d.h = f[3];
+    d.nx = int(f[4]);
+    d.ny = int(f[5]);
+    d.nz = int(f[6]);
+    d.levels = int(f[7]);
+    d.unit_cells = int(f[8]);
+    p.offset = f[9];
+    p.xi = f[10];
+    p.eps = f[11];
+    p.dt = f[12];
+    p.planned_steps = int(f[13]);
+    p.tube_inner = f[14];
+    p.tube_outer = f[15];
+    return p;
+}
+
 // The tiles of one run, on this process and (with a scheduler) the others.
 template <class Real>
 class TiledRun {
 public:
+    // At the root (or alone): which process runs each tile, from the points near each;
+    // with a scheduler, the plan, the owners and each process's points go to the others.
+    // At another process: `owners` as the root gave them (`measured`: its points alone).
     TiledRun(const PointCloud& measured, const DomainPlan& plan, const Parameters& params, BackendStart<Real>& start,
-             TileScheduler* on, const ProgressCallback& progress, Result& res)
+             TileScheduler* on, const ProgressCallback& progress, Result& res, const std::vector<int>* owners = nullptr)
         : measured_(measured), plan_(plan), params_(params), start_(start), on_(on), progress_(progress), res_(res),
           field_(plan.domain) {
         TileFacts& facts = res.tiles;
         tiles_ = plan_tiles(plan.domain, facts.core_cells, facts.halo_cells);
         facts.tiles = tiles_.size();
         facts.processes = on ? on->processes() : 1;
-        needs_ = needs_of(detail::tree_of(measured), plan.domain, tiles_, facts.core_cells, facts.halo_cells,
-                          band_reach(plan, params));
-        owner_ = owners_of(needs_, facts.processes);
         runs_.resize(tiles_.size());
+        if (owners) {
+            owner_ = *owners;
+            needs_.resize(tiles_.size());
+            return;
+        }
+        const double reach = band_reach(plan, params);
+        const detail::PointTree& tree = detail::tree_of(measured);
+        needs_ = needs_of(tree, plan.domain, tiles_, facts.core_cells, facts.halo_cells, reach);
+        owner_ = owners_of(needs_, facts.processes);
+        if (!on) return;
+        std::vector<double> figures = plan_figures(plan);
+        on->share(figures, owner_);
+        for (int p = 1; p < facts.processes; ++p) {
+            const std::vector<float> xyz =
+                points_for(tree, plan.domain, tiles_, owner_, p, facts.core_cells, facts.halo_cells, reach);
+            facts.points_sent += xyz.size() / 3;
+            on->give_points(p, tree.origin, xyz);
+        }
     }
 
     // Every tile once; then those that took fewer V-cycles in a step than the one that
@@ -348,6 +393,35 @@ void reconstruct_tiled(const PointCloud& measured, const DomainPlan& plan, const
     res.tiles.seconds = clock.lap();
     tiled.finish();
 }
+
+template <class Real>
+void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result& res) {
+    Stopwatch clock;
+    std::vector<double> figures;
+    std::vector<int> owners;
+    on.share(figures, owners);
+    const DomainPlan plan = plan_of(figures);
+    Vec3 origin{0, 0, 0};
+    std::vector<float> xyz;
+    on.take_points(origin, xyz);
+    std::vector<Vec3f> points(xyz.size() / 3);
+    for (std::size_t k = 0; k < points.size(); ++k) points[k] = {xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]};
+    std::vector<float>().swap(xyz);
+    const PointCloud measured(std::move(points), origin);
+    static_cast<DomainPlan&>(res) = plan;
+    res.tiles.core_cells = params.tile_cells;
+    res.tiles.halo_cells = tile_halo(plan, params, res.tiles.halo_derived);
+    BackendStart<Real> start(params.device);
+    const ProgressCallback quiet;
+    TiledRun<Real> tiled(measured, plan, params, start, &on, quiet, res, &owners);
+    res.seconds.distance = clock.lap();
+    tiled.run();
+    res.tiles.seconds = clock.lap();
+    tiled.finish();
+}
+
+template void reconstruct_tiles_given<double>(const Parameters&, TileScheduler&, Result&);
+template void reconstruct_tiles_given<float>(const Parameters&, TileScheduler&, Result&);
 
 template void reconstruct_tiled<double>(const PointCloud&, const DomainPlan&, const Parameters&, BackendStart<double>&,
                                         const ProgressCallback&, TileScheduler*, Result&);

@@ -17,4 +17,9 @@ void reconstruct_tiled(const PointCloud& measured, const DomainPlan& plan, const
                        BackendStart<Real>& start, const ProgressCallback& progress, TileScheduler* tiles_on,
                        Result& res);
 
+// Another process's share of a tiled run the root spreads (tiles.hpp): the plan, the
+// owners and its points from the root, its tiles run and sent.
+template <class Real>
+void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result& res);
+
 }  // namespace snvr
