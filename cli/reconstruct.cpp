@@ -87,12 +87,14 @@ void check_outputs(const ReconstructOptions& o) {
         check_writable_location(out.path);
         refuse_overwriting_input(o.input, out.path, out.which);
     }
+    // The temporary folder (--temp-dir, else the output's own) before the long run.
     const std::string& temp = o.shell.params.temp_dir;
     std::error_code ec;
     if (!std::filesystem::is_directory(temp, ec))
-        throw snvr::IoError("--temp-dir '" + temp + "' is not a directory");
+        throw snvr::IoError("the temporary folder '" + temp + "' (--temp-dir) is not a directory");
     if (::access(temp.c_str(), W_OK | X_OK) != 0)
-        throw snvr::IoError("--temp-dir '" + temp + "': cannot write there (" + std::strerror(errno) + ")");
+        throw snvr::IoError("cannot write temporary files in '" + temp + "' (--temp-dir, by default the output's folder): " +
+                            std::strerror(errno));
 }
 
 // Errors about the points name the input too (a file's own errors name their file).
