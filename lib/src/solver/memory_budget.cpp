@@ -21,16 +21,21 @@ namespace snvr {
 namespace {
 
 // The model's constants (memory_budget.hpp), measured per near brick with snvr-cl's
-// resident memory sampled through each stage (bunny at 512 and 1024 cells, dragon at 512,
+// resident memory sampled through each stage (bunny at 512 and 1024 cells, dragon,
 // igea at 512, cactus and a random sphere of 1,500 points at 256, the 24.6 M-point sphere
-// at 256, the 200 M-point city block at 1024): the solver held 2.6-4.2 x 512 r a near
-// brick (most near bricks are in the band), the meshes had 45-87 triangles a near
-// brick, and the mesh stage and the check peaked 49-86 bytes a triangle above where they
-// began (the check's frames alone are 72 bytes a triangle near the points), plus about 5
-// bytes a point in the check. Each is taken with a margin.
+// at 256, the 200 M-point city block at 1024 and 2048): the solver held 2.6-4.2 x 512 r a
+// near brick (most near bricks are in the band); the meshes had 45-87 triangles a near
+// brick; the mesh stage and the check peaked 49-87 bytes a triangle above where they
+// began, and where points cover every triangle (the city block at 2048: 38.5 M
+// triangles, 200 M points) their frames for the depth search, 72 bytes each, came on top:
+// 5.8 GB, about 150 bytes a triangle; the check's points a few bytes each. Each is taken
+// with a margin.
 constexpr double kSolverCopies = 5;
-constexpr std::size_t kMeshBytesPerBrick = 90 * 96;
+constexpr std::size_t kTrianglesPerBrick = 90;
+constexpr std::size_t kMeshBytesPerTriangle = 90;
+constexpr std::size_t kFrameBytes = 72, kFramesPerPoint = 2;  // at most this many frames a point makes
 constexpr std::size_t kCheckBytesPerPoint = 8;
+
 // A point at the outlier rules' peak: its coordinates (12) and input place (4) in the tree,
 // the tree's nodes (about 2) and the rules' lists (the clusters' 9; the 200 M-point city
 // block: 29 bytes a point then, the program's own included).
@@ -166,7 +171,9 @@ MemoryChoice fit_memory(const PointCloud& measured, const DomainPlan& plan, cons
 
     f.whole_solver = solver_bytes(f.near_bricks, real);
     f.field = f.near_bricks * kBrickCells * real;
-    f.mesh = f.near_bricks * kMeshBytesPerBrick + measured.size() * kCheckBytesPerPoint;
+    const std::size_t triangles = f.near_bricks * kTrianglesPerBrick;
+    f.mesh = triangles * kMeshBytesPerTriangle + std::min(triangles, kFramesPerPoint * measured.size()) * kFrameBytes +
+             measured.size() * kCheckBytesPerPoint;
     f.grid = plan.estimated_bytes;
     f.runtime = params.device == "openmp" ? 0 : kDeviceRuntimeBytes;
     f.budget_given = bool(params.max_memory);

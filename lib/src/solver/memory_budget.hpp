@@ -9,9 +9,9 @@
 //   copies come before them), and its grid's tables;
 // - the phase field kept for the mesh: 512 r a near brick (a tiled run holds it while its
 //   tiles run);
-// - the mesh, its fairing and guard, then its check: kMeshBytesPerBrick a near brick (at
-//   most about 90 triangles a near brick, 96 bytes a triangle at the stage's peak), and
-//   kCheckBytesPerPoint a point;
+// - the mesh, its fairing and guard, then its check: about 90 triangles a near brick,
+//   90 bytes each at the stage's peak, the check's frames (72 bytes) for as many of them
+//   as the points come near (at most two a point), and a few bytes a point;
 // - the whole grid's tables: the mesher's sign bits and the brick tables
 //   (DomainPlan::estimated_bytes).
 // What the run already holds (the points, filed) is measured, not modelled.
