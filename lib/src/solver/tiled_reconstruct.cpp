@@ -12,6 +12,7 @@
 #include "snvr/error.hpp"
 #include "snvr/stopwatch.hpp"
 #include "solver/field_assembly.hpp"
+#include "solver/memory_budget.hpp"
 #include "solver/session.hpp"
 #include "solver/solver_memory.hpp"
 #include "solver/tile_needs.hpp"
@@ -404,6 +405,7 @@ void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result
     Vec3 origin{0, 0, 0};
     std::vector<float> xyz;
     on.take_points(origin, xyz);
+    require_points_fit(xyz.size() / 3, params.max_memory.value_or(0));
     std::vector<Vec3f> points(xyz.size() / 3);
     for (std::size_t k = 0; k < points.size(); ++k) points[k] = {xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]};
     std::vector<float>().swap(xyz);
