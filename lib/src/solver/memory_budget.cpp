@@ -2,6 +2,7 @@
 #include "solver/memory_budget.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -89,33 +90,16 @@ public:
     }
 
     // The most near bricks in one tile's box (halo included).
-    std::size_t most_in_a_tile(const std::vector<Tile>& tiles, int core_cells, int halo_cells) const {
-        const int beyond = halo_cells / core_cells + 1;  // the tiles whose halo can reach a brick
-        int per[3];
-        for (int a = 0; a < 3; ++a) per[a] = 0;
-        for (const Tile& t : tiles)
-            for (int a = 0; a < 3; ++a) per[a] = std::max(per[a], t.core_lo[std::size_t(a)] / core_cells + 1);
+    std::size_t most_in_a_tile(const std::vector<Tile>& tiles, const Domain& d, int core_cells, int halo_cells) const {
         std::vector<std::size_t> in(tiles.size(), 0);
         for (std::size_t w = 0; w < bits_.size(); ++w)
             for (std::uint64_t bits = bits_[w]; bits; bits &= bits - 1) {
                 const std::size_t b = w * 64 + std::size_t(__builtin_ctzll(bits));
-                const int at[3] = {int(b % std::size_t(n_[0])), int(b / std::size_t(n_[0]) % std::size_t(n_[1])),
-                                   int(b / (std::size_t(n_[0]) * std::size_t(n_[1])))};
-                int from[3], to[3];
-                for (int a = 0; a < 3; ++a) {
-                    from[a] = std::max(0, at[a] * kBrick / core_cells - beyond);
-                    to[a] = std::min(per[a] - 1, at[a] * kBrick / core_cells + beyond);
-                }
-                for (int k = from[2]; k <= to[2]; ++k)
-                    for (int j = from[1]; j <= to[1]; ++j)
-                        for (int i = from[0]; i <= to[0]; ++i) {
-                            const std::size_t t = std::size_t(i + per[0] * (j + per[1] * k));
-                            bool inside = true;
-                            for (int a = 0; a < 3 && inside; ++a)
-                                inside = at[a] * kBrick < tiles[t].hi[std::size_t(a)] &&
-                                         (at[a] + 1) * kBrick > tiles[t].lo[std::size_t(a)];
-                            in[t] += inside;
-                        }
+                const std::array<int, 3> lo = {int(b % std::size_t(n_[0])) * kBrick,
+                                               int(b / std::size_t(n_[0]) % std::size_t(n_[1])) * kBrick,
+                                               int(b / (std::size_t(n_[0]) * std::size_t(n_[1]))) * kBrick};
+                const std::array<int, 3> hi = {lo[0] + kBrick, lo[1] + kBrick, lo[2] + kBrick};
+                for_tiles_meeting(tiles, d, core_cells, halo_cells, lo, hi, [&](std::size_t t) { ++in[t]; });
             }
         return in.empty() ? 0 : *std::max_element(in.begin(), in.end());
     }
@@ -190,7 +174,7 @@ MemoryChoice fit_memory(const PointCloud& measured, const DomainPlan& plan, cons
         const std::vector<Tile> tiles = plan_tiles(d, cells, halo);
         Tile largest;
         for (int a = 0; a < 3; ++a) largest.hi[std::size_t(a)] = std::min(cells + 2 * halo, a == 0 ? d.nx : a == 1 ? d.ny : d.nz);
-        return solver_bytes(near.most_in_a_tile(tiles, cells, halo), real) + estimate_plan_bytes(tile_domain(d, largest));
+        return solver_bytes(near.most_in_a_tile(tiles, d, cells, halo), real) + estimate_plan_bytes(tile_domain(d, largest));
     };
     const auto settle = [&](int cells, bool by_budget) {
         choice.tile_cells = cells;

@@ -47,26 +47,18 @@ void add_leaf(const detail::PointTree& tree, const detail::PointTree::Node& leaf
     for (std::uint32_t k = leaf.begin; k < leaf.end && !need.core_near; ++k) need.core_near = core.holds(tree.point(k));
 }
 
-// Calls f(t) for each tile whose box can come within `reach` of the box [lo, hi] (by
-// core: the caller checks exactly); `count` tiles along each axis.
+// Calls f(t) for each tile whose box may come within `reach` of the world box [lo, hi]
+// (by whole cells: the caller tests exactly).
 template <class F>
-void for_tiles_near(const Vec3& lo, const Vec3& hi, const Domain& whole, const int (&count)[3], int core_cells,
-                    int halo_cells, double reach, F&& f) {
-    int first[3], last[3];
+void for_tiles_near(const Vec3& lo, const Vec3& hi, const Domain& whole, const std::vector<Tile>& tiles,
+                    int core_cells, int halo_cells, double reach, F&& f) {
+    std::array<int, 3> from{}, to{};
     for (int a = 0; a < 3; ++a) {
-        const double cells = reach / whole.h + halo_cells;
-        first[a] = std::max(0, int(std::floor(((lo[a] - whole.origin[std::size_t(a)]) / whole.h - cells) / core_cells)));
-        last[a] = std::min(count[a] - 1,
-                           int(std::floor(((hi[a] - whole.origin[std::size_t(a)]) / whole.h + cells) / core_cells)));
+        const double o = whole.origin[std::size_t(a)];
+        from[std::size_t(a)] = int(std::floor((lo[a] - reach - o) / whole.h));
+        to[std::size_t(a)] = int(std::floor((hi[a] + reach - o) / whole.h)) + 1;
     }
-    for (int kz = first[2]; kz <= last[2]; ++kz)
-        for (int ky = first[1]; ky <= last[1]; ++ky)
-            for (int kx = first[0]; kx <= last[0]; ++kx) f(std::size_t(kx + count[0] * (ky + count[1] * kz)));
-}
-
-void tile_counts(const Domain& whole, int core_cells, int (&count)[3]) {
-    const int n[3] = {whole.nx, whole.ny, whole.nz};
-    for (int a = 0; a < 3; ++a) count[a] = (n[a] + core_cells - 1) / core_cells;
+    for_tiles_meeting(tiles, whole, core_cells, halo_cells, from, to, f);
 }
 
 }  // namespace
@@ -80,8 +72,6 @@ std::vector<TileNeeds> needs_of(const detail::PointTree& tree, const Domain& who
     std::vector<const detail::PointTree::Node*> leaves;
     tree.for_each_leaf([](const detail::PointTree::Node&) { return true; },
                        [&](const detail::PointTree::Node& leaf) { leaves.push_back(&leaf); });
-    int count[3];
-    tile_counts(whole, core_cells, count);
     std::vector<TileNeeds> needs(tiles.size());
     const std::ptrdiff_t nl = std::ptrdiff_t(leaves.size());
 #pragma omp parallel
@@ -91,7 +81,7 @@ std::vector<TileNeeds> needs_of(const detail::PointTree& tree, const Domain& who
         for (std::ptrdiff_t l = 0; l < nl; ++l) {
             const detail::PointTree::Node& leaf = *leaves[std::size_t(l)];
             const Vec3 lo = tree.lo(leaf), hi = tree.hi(leaf);
-            for_tiles_near(lo, hi, whole, count, core_cells, halo_cells, reach,
+            for_tiles_near(lo, hi, whole, tiles, core_cells, halo_cells, reach,
                            [&](std::size_t t) { add_leaf(tree, leaf, whole, tiles[t], reach, mine[t]); });
         }
 #pragma omp critical
@@ -121,14 +111,12 @@ std::vector<int> owners_of(const std::vector<TileNeeds>& needs, int processes) {
 
 std::vector<float> points_for(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
                               const std::vector<int>& owner, int process, int core_cells, int halo_cells, double reach) {
-    int count[3];
-    tile_counts(whole, core_cells, count);
     std::vector<float> xyz;
     std::vector<std::size_t> near;
     tree.for_each_leaf([](const detail::PointTree::Node&) { return true; }, [&](const detail::PointTree::Node& leaf) {
         const Vec3 lo = tree.lo(leaf), hi = tree.hi(leaf);
         near.clear();
-        for_tiles_near(lo, hi, whole, count, core_cells, halo_cells, reach, [&](std::size_t t) {
+        for_tiles_near(lo, hi, whole, tiles, core_cells, halo_cells, reach, [&](std::size_t t) {
             if (owner[t] == process && Reach(whole, tiles[t].lo, tiles[t].hi, reach).meets(lo, hi)) near.push_back(t);
         });
         for (std::uint32_t k = leaf.begin; k < leaf.end && !near.empty(); ++k) {

@@ -19,6 +19,7 @@
 // cells for 1e-3 voxels (10 for 1e-2, 17 for 1e-6), so 16. A longer flow (--smoothing) or longer steps (--dt-cells) widen it.
 // The linear solve's own stopping (tol) is a second, separate error (Parameters::tol).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -55,6 +56,30 @@ struct Tile {
 // Cores of `core_cells` (a multiple of the brick) over the grid, x fastest, each with a
 // halo of `halo_cells` (a multiple of the brick) beyond it where the grid goes on.
 std::vector<Tile> plan_tiles(const Domain& whole, int core_cells, int halo_cells);
+
+// Calls f(t) for each tile of `tiles` (plan_tiles(whole, core_cells, halo_cells)) whose
+// box, halo included, meets the cells [lo, hi) (lo may be below 0, hi beyond the grid).
+template <class F>
+void for_tiles_meeting(const std::vector<Tile>& tiles, const Domain& whole, int core_cells, int halo_cells,
+                       const std::array<int, 3>& lo, const std::array<int, 3>& hi, F&& f) {
+    const int n[3] = {whole.nx, whole.ny, whole.nz};
+    int count[3], first[3], last[3];
+    for (int a = 0; a < 3; ++a) {
+        count[a] = (n[a] + core_cells - 1) / core_cells;
+        // Tiles by core, widened by the halo in whole cores: tested exactly below.
+        const int halo_cores = halo_cells / core_cells + 1;
+        first[a] = std::max(0, std::max(0, lo[std::size_t(a)]) / core_cells - halo_cores);
+        last[a] = std::min(count[a] - 1, std::max(0, hi[std::size_t(a)] - 1) / core_cells + halo_cores);
+    }
+    for (int k = first[2]; k <= last[2]; ++k)
+        for (int j = first[1]; j <= last[1]; ++j)
+            for (int i = first[0]; i <= last[0]; ++i) {
+                const std::size_t t = std::size_t(i + count[0] * (j + count[1] * k));
+                bool meets = true;
+                for (std::size_t a = 0; a < 3 && meets; ++a) meets = lo[a] < tiles[t].hi[a] && hi[a] > tiles[t].lo[a];
+                if (meets) f(t);
+            }
+}
 
 // A tile's own grid: the whole run's voxel, lattice and unit length (so that each cell's
 // arithmetic rounds as the whole run's: with the tile's own, float's rounding differed and
