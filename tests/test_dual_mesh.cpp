@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "mesh/dual_pieces.hpp"
 #include "mesh_fields.hpp"
 #include "snvr/error.hpp"
 #include "snvr/quality.hpp"
@@ -268,4 +269,54 @@ TEST_CASE("dual: the same mesh on 1 and 2 threads, from doubles and from floats"
     CHECK(one.vertices == two.vertices);
     CHECK(single.triangles == one.triangles);
     CHECK(single.vertices == one.vertices);
+}
+
+// The dual mesh in pieces (what a tiled run's tiles extract) welded by the whole grid's
+// keys: the whole extraction's vertices and triangles, in its order, bit for bit.
+TEST_CASE("dual: pieces of any size and margin weld into the whole grid's mesh, bit for bit") {
+    const auto same = [](const Mesh& a, const Mesh& b) { return a.vertices == b.vertices && a.triangles == b.triangles; };
+    // A smooth field across many pieces, rows of 150 samples (partial 64-bit words), floats.
+    const double h = 0.02;
+    const Grid smooth = make_grid(150, 70, 61, h, {0.1, -0.2, 0.3}, [](const Vec3& p, int i, int j, int k) {
+        if (i == 0 || j == 0 || k == 0 || i == 149 || j == 69 || k == 60) return -1.0;
+        return std::tanh(4 * (std::sin(11 * p[0]) * std::sin(9 * p[1]) * std::sin(13 * p[2]) + 0.1 * std::cos(29 * p[0])));
+    }, Precision::Single);
+    const Mesh whole = extract_dual_isosurface(smooth.field, smooth.domain);
+    REQUIRE(whole.triangles.size() > 10000);
+    for (int cells : {8, 13, 64, 200})
+        for (int margin : {0, 3}) {
+            CAPTURE(cells);
+            CAPTURE(margin);
+            CHECK(same(detail::extract_in_pieces(smooth.field, smooth.domain, cells, margin), whole));
+        }
+    // Random signs: every ambiguous face and tunnel, many on the pieces' faces.
+    int compared = 0, tunnels = 0;
+    for (unsigned seed = 1; seed <= 12; ++seed) {
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<double> u(-1.0, 1.0);
+        const Grid g = make_grid(21, 18, 19, 0.5, {0.25, -1.0, 3.0}, [&](const Vec3&, int i, int j, int k) {
+            if (i == 0 || j == 0 || k == 0 || i == 20 || j == 17 || k == 18) return -1.0;
+            return u(rng);
+        }, seed % 2 ? Precision::Double : Precision::Single);
+        for (Interpolation mode : {Interpolation::Linear, Interpolation::PhaseField}) {
+            const Mesh m = extract_dual_isosurface(g.field, g.domain, 0.0, mode);
+            for (const Vec3& v : m.vertices)  // tunnel vertices lie on a face between samples
+                for (int a = 0; a < 3; ++a) tunnels += std::fabs(std::fmod(v[a] - g.domain.origin[a] - 0.25, 0.5)) < 1e-12;
+            for (int cells : {1, 3, 8})
+                for (int margin : {0, 2}) {
+                    if (cells == 1 && margin) continue;  // every sample its own piece: once is enough
+                    CAPTURE(seed);
+                    CAPTURE(cells);
+                    CHECK(same(detail::extract_in_pieces(g.field, g.domain, cells, margin, 0.0, mode), m));
+                    ++compared;
+                }
+        }
+    }
+    CHECK(compared == 120);
+    CHECK(tunnels > 0);
+    // A sign change on the whole grid's boundary is still found in a piece.
+    const Grid edge = make_grid(20, 20, 20, 1.0, {0, 0, 0}, [](const Vec3&, int i, int j, int) {
+        return i == 19 && j == 12 ? 1.0 : -1.0;
+    });
+    CHECK_THROWS_AS(detail::extract_in_pieces(edge.field, edge.domain, 8, 0), InputError);
 }

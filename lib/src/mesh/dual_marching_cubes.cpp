@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/dual_pieces.hpp"
 #include "mesh/isosurface_grid.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
@@ -289,9 +290,10 @@ struct Slab {
 
 // What every stage reads: the field, its cubes and their sign bits.
 struct DualGrid {
-    DualGrid(const Field& f, const Domain& d, double iso_value, Interpolation mode)
+    DualGrid(const Field& f, const Domain& d, double iso_value, Interpolation mode, const detail::DualRegion& r)
         : field(f),
           domain(d),
+          region(r),
           iso(iso_value),
           interpolation(mode),
           g{f.nx, f.ny, f.nz, (f.nx + 63) / 64},
@@ -312,7 +314,8 @@ struct DualGrid {
         for (int c = 0; c < 8; ++c) mask |= int(value[c] > iso) << c;
         return mask;
     }
-    // Cubes of row j in slab k whose corners are not all on one side, 64 at a time.
+    // Cubes of row j in slab k whose corners are not all on one side, 64 at a time
+    // (those of the region's cubes).
     std::uint64_t mixed_cubes(int j, int k, int w) const {
         std::uint64_t any = 0, all = ~std::uint64_t(0);
         for (int c = 0; c < 8; ++c) {
@@ -320,7 +323,15 @@ struct DualGrid {
             any |= bits;
             all &= bits;
         }
-        return any & ~all & sb.valid(w, 1);
+        return any & ~all & sb.valid(w, 1) & columns(w, region.cube_lo[0], region.cube_hi[0]);
+    }
+    // Bits of word w for the columns [lo, hi).
+    static std::uint64_t columns(int w, int lo, int hi) {
+        const auto below = [w](int c) {
+            const int n = c - 64 * w;
+            return n <= 0 ? std::uint64_t(0) : n >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1;
+        };
+        return below(hi) & ~below(lo);
     }
     // Sign changes along x, y, z leaving the samples of word w of row j in plane k.
     std::uint64_t changes(int j, int k, int w, std::uint64_t change[3]) const {
@@ -335,7 +346,8 @@ struct DualGrid {
     }
 
     const Field& field;
-    const Domain& domain;
+    const Domain& domain;  // the whole grid's
+    const detail::DualRegion& region;
     const double iso;
     const Interpolation interpolation;
     const Grid g;
@@ -363,7 +375,7 @@ void note_boundary_crossing(const DualGrid& d, int i, int j, int k, Topology top
     const int lo[3] = {i, j, k}, hi[3] = {d.cx, d.cy, d.cz};
     for (int n = 0; n < 3; ++n)
         for (int side = 0; side < 2; ++side) {
-            if (side ? lo[n] != hi[n] - 1 : lo[n] != 0) continue;
+            if (side ? lo[n] != hi[n] - 1 || d.region.open_hi[n] : lo[n] != 0 || d.region.open_lo[n]) continue;
             const Face& fc = d.tab.faces[2 * n + side];
             for (int e : {fc.u0, fc.u1, fc.v0, fc.v1})
                 if (patch_of(topo, e) != kNone)
@@ -445,7 +457,8 @@ void add_cube(const DualGrid& d, int i, int j, int k, UnfoldedPlanes* planes, Sl
         local[e] = corner_pos(c0);
         local[e][axis] += crossing(gv[c0], gv[c0 | 1 << axis], 0.0);
     }
-    const Vec3 base = d.domain.cell_center(i, j, k);
+    const auto& at = d.region.offset;
+    const Vec3 base = d.domain.cell_center(i + at[0], j + at[1], k + at[2]);
     patch_vertices(local, ct.topo, gv, base, d.domain.h, slab.vertices);
     tunnel_faces(d, i, j, k, mask, ct, local, base, rec, slab.vertices);
     slab.cubes.push_back(rec);
@@ -455,11 +468,12 @@ void add_cube(const DualGrid& d, int i, int j, int k, UnfoldedPlanes* planes, Sl
 void classify_slab(const DualGrid& d, int k, UnfoldedPlanes* planes, Slab& slab,
                    std::atomic<long long>& boundary_cube) {
     std::size_t count = 0;  // to size the slab's lists once
-    for (int j = 0; j < d.cy; ++j)
+    const int j_lo = d.region.cube_lo[1], j_hi = d.region.cube_hi[1];
+    for (int j = j_lo; j < j_hi; ++j)
         for (int w = 0; w < d.g.words; ++w) count += std::size_t(contour::popcount(d.mixed_cubes(j, k, w)));
     slab.cubes.reserve(count);
     slab.vertices.reserve(count + count / 8);
-    for (int j = 0; j < d.cy; ++j)
+    for (int j = j_lo; j < j_hi; ++j)
         for (int w = 0; w < d.g.words; ++w)
             for (std::uint64_t mixed = d.mixed_cubes(j, k, w); mixed; mixed &= mixed - 1)
                 add_cube(d, 64 * w + ctz(mixed), j, k, planes, slab, boundary_cube);
@@ -474,7 +488,7 @@ std::vector<Slab> classify_cubes(const DualGrid& d, const std::string& who) {
     // slab at a time, two threads each took every other slab and unfolded every plane
     // twice: 1.5x from the second thread instead of 2x).
 #pragma omp parallel for schedule(dynamic, kSlabRun) if (d.parallel)
-    for (int k = 0; k < d.cz; ++k) {
+    for (int k = d.region.cube_lo[2]; k < d.region.cube_hi[2]; ++k) {
         std::unique_ptr<UnfoldedPlanes>& mine = thread_planes[std::size_t(detail::thread_number())];
         if (d.unfolded && !mine) mine = std::make_unique<UnfoldedPlanes>(std::size_t(d.g.nx) * std::size_t(d.g.ny));
         classify_slab(d, k, mine.get(), slabs[k], boundary_cube);
@@ -582,25 +596,40 @@ struct PlanePolygons {
     const std::uint32_t* above;
     int k;
     std::vector<Tri>& tris;
+    std::vector<std::uint64_t>* keys;  // a piece's: each triangle's place in the whole grid's order
+
+    // Sign changes along x, y, z leaving the region's edges of word w of row j.
+    std::uint64_t changes(int j, int w, std::uint64_t change[3]) const {
+        const std::uint64_t here = d.changes(j, k, w, change);
+        const std::uint64_t mine = DualGrid::columns(w, d.region.edge_lo[0], d.region.edge_hi[0]);
+        for (int axis = 0; axis < 3; ++axis) change[axis] &= mine;
+        return here;
+    }
 
     void run() const {
         std::size_t count = 0;  // two triangles per polygon but for rare fans
-        for (int j = 0; j < d.g.ny; ++j)
+        const int j_lo = d.region.edge_lo[1], j_hi = d.region.edge_hi[1];
+        for (int j = j_lo; j < j_hi; ++j)
             for (int w = 0; w < d.g.words; ++w) {
                 std::uint64_t change[3];
-                d.changes(j, k, w, change);
+                changes(j, w, change);
                 for (int axis = 0; axis < 3; ++axis) count += std::size_t(contour::popcount(change[axis]));
             }
         tris.reserve(2 * count);
-        for (int j = 0; j < d.g.ny; ++j)
+        if (keys) keys->reserve(2 * count);
+        for (int j = j_lo; j < j_hi; ++j)
             for (int w = 0; w < d.g.words; ++w) {
                 std::uint64_t change[3];
-                const std::uint64_t here = d.changes(j, k, w, change);
+                const std::uint64_t here = changes(j, w, change);
                 for (int axis = 0; axis < 3; ++axis)
                     for (std::uint64_t bits = change[axis]; bits; bits &= bits - 1) {
                         const int i = 64 * w + ctz(bits);
                         if (axis != 0 && (i == 0 || i + 1 == d.g.nx)) continue;  // on the grid boundary
+                        const std::size_t first = tris.size();
                         emit(i, j, axis, here >> (i - 64 * w) & 1);
+                        if (keys)
+                            for (std::size_t t = first; t < tris.size(); ++t)
+                                keys->push_back(detail::triangle_key(d.region, i, j, k, axis, int(t - first)));
                     }
             }
     }
@@ -646,9 +675,12 @@ struct PlanePolygons {
 
 // Pass 2, one plane of samples at a time: a polygon across each sign-changing
 // edge leaving it (along x and y within it, along z to the next plane).
+// plane_keys (a piece's): each triangle's place in the whole grid's order, by plane.
 std::vector<std::vector<Tri>> polygons(const DualGrid& d, const std::vector<Slab>& slabs,
-                                       const std::vector<std::size_t>& vbase, const std::vector<Vec3>& vertices) {
+                                       const std::vector<std::size_t>& vbase, const std::vector<Vec3>& vertices,
+                                       std::vector<std::vector<std::uint64_t>>* plane_keys) {
     std::vector<std::vector<Tri>> plane_tris(d.g.nz);
+    if (plane_keys) plane_keys->assign(std::size_t(d.g.nz), {});
     const std::array<Around, 3> around = around_edges();
 #pragma omp parallel if (d.parallel)
     {
@@ -657,13 +689,17 @@ std::vector<std::vector<Tri>> polygons(const DualGrid& d, const std::vector<Slab
         const std::unique_ptr<std::uint32_t[]> below(new std::uint32_t[cells]);
         const std::unique_ptr<std::uint32_t[]> above(new std::uint32_t[cells]);
 #pragma omp for schedule(dynamic)
-        for (int k = 0; k < d.g.nz; ++k) {
+        for (int k = d.region.edge_lo[2]; k < d.region.edge_hi[2]; ++k) {
             if (k >= 1)
                 for (std::size_t r = 0; r < slabs[k - 1].cubes.size(); ++r)
                     below[slabs[k - 1].cubes[r].cell] = std::uint32_t(r);
             if (k < d.cz)
                 for (std::size_t r = 0; r < slabs[k].cubes.size(); ++r) above[slabs[k].cubes[r].cell] = std::uint32_t(r);
-            PlanePolygons{d, slabs, vbase, around, vertices, below.get(), above.get(), k, plane_tris[k]}.run();
+            PlanePolygons{d,     slabs,         vbase,
+                          around, vertices,     below.get(),
+                          above.get(), k,       plane_tris[k],
+                          plane_keys ? &(*plane_keys)[std::size_t(k)] : nullptr}
+                .run();
         }
     }
     return plane_tris;
@@ -678,12 +714,49 @@ Mesh extract_dual_isosurface(const Field& field, const Domain& domain, double is
     if (field.nx < 2 || field.ny < 2 || field.nz < 2) return mesh;  // no cubes
     if (std::size_t(field.nx) * std::size_t(field.ny) >= std::numeric_limits<std::uint32_t>::max())
         throw ResourceError(who + "grid planes too large for 32-bit cube keys");
-    const DualGrid d(field, domain, iso, interpolation);
+    const detail::DualRegion whole = detail::DualRegion::whole_grid({field.nx, field.ny, field.nz});
+    const DualGrid d(field, domain, iso, interpolation, whole);
     std::vector<Slab> slabs = classify_cubes(d, who);
     const std::vector<std::size_t> vbase = gather_vertices(d, slabs, mesh, who);
-    std::vector<std::vector<Tri>> plane_tris = polygons(d, slabs, vbase, mesh.vertices);
+    std::vector<std::vector<Tri>> plane_tris = polygons(d, slabs, vbase, mesh.vertices, nullptr);
     contour::concatenate_in_order(plane_tris, mesh.triangles, d.parallel);
     return mesh;
+}
+
+detail::MeshPiece detail::extract_dual_piece(const Field& field, const Domain& whole, const DualRegion& region,
+                                             double iso, Interpolation interpolation) {
+    const std::string who = "extract_dual_piece: ";
+    field.validate(who);
+    region.check({field.nx, field.ny, field.nz}, {whole.nx, whole.ny, whole.nz}, who);
+    MeshPiece piece;
+    piece.region = region;
+    if (field.nx < 2 || field.ny < 2 || field.nz < 2) return piece;
+    const DualGrid d(field, whole, iso, interpolation, region);
+    std::vector<Slab> slabs = classify_cubes(d, who);
+    const std::vector<std::size_t> vbase = gather_vertices(d, slabs, piece.mesh, who);
+    // Each vertex's key: its cube's place in the whole grid, and its slot in the cube.
+    piece.vertex_keys.resize(piece.mesh.vertices.size());
+    piece.vertex_owned.resize(piece.mesh.vertices.size());
+#pragma omp parallel for schedule(dynamic) if (d.parallel)
+    for (int k = 0; k < d.cz; ++k) {
+        const std::vector<CubeRecord>& cubes = slabs[std::size_t(k)].cubes;
+        for (std::size_t r = 0; r < cubes.size(); ++r) {
+            const std::size_t first = vbase[std::size_t(k)] + cubes[r].first;
+            const std::size_t last = r + 1 < cubes.size() ? vbase[std::size_t(k)] + cubes[r + 1].first : vbase[std::size_t(k) + 1];
+            const int i = int(cubes[r].cell % std::uint32_t(d.cx)), j = int(cubes[r].cell / std::uint32_t(d.cx));
+            const std::uint64_t cube = region.cube_key(i, j, k);
+            const bool owned = region.owns(i, j, k);
+            for (std::size_t v = first; v < last; ++v) {
+                piece.vertex_keys[v] = cube * kSlotsPerCube + (v - first);
+                piece.vertex_owned[v] = owned;
+            }
+        }
+    }
+    std::vector<std::vector<std::uint64_t>> plane_keys;
+    std::vector<std::vector<Tri>> plane_tris = polygons(d, slabs, vbase, piece.mesh.vertices, &plane_keys);
+    contour::concatenate_in_order(plane_tris, piece.mesh.triangles, d.parallel);
+    contour::concatenate_in_order(plane_keys, piece.triangle_keys, d.parallel);
+    return piece;
 }
 
 }  // namespace snvr

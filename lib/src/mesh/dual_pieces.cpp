@@ -1,0 +1,255 @@
+// The dual isosurface in pieces (dual_pieces.hpp): the regions, the field's parts, the weld.
+#include "mesh/dual_pieces.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <type_traits>
+#include <limits>
+#include <unordered_map>
+#include <utility>
+
+#include "snvr/error.hpp"
+
+namespace snvr::detail {
+namespace {
+
+constexpr int kBrick = Field::kBrick;
+
+int floor_brick(int v) { return v / kBrick * kBrick; }  // v >= 0
+int ceil_brick(int v) { return (v + kBrick - 1) / kBrick * kBrick; }
+
+}  // namespace
+
+DualRegion DualRegion::whole_grid(const std::array<int, 3>& n) {
+    DualRegion r;
+    r.whole = n;
+    for (int a = 0; a < 3; ++a) {
+        r.cube_hi[a] = std::max(0, n[a] - 1);
+        r.edge_hi[a] = n[a];
+        r.own_hi[a] = n[a];
+    }
+    return r;
+}
+
+DualRegion DualRegion::around(const std::array<int, 3>& n, const std::array<int, 3>& lo, const std::array<int, 3>& hi,
+                              int margin, const std::array<int, 3>& field_lo, const std::array<int, 3>& field_hi) {
+    DualRegion r;
+    r.whole = n;
+    r.offset = field_lo;
+    for (int a = 0; a < 3; ++a) {
+        const int at = field_lo[a];
+        // A polygon takes the cubes on both sides of its edge, so the cubes reach one further down.
+        r.cube_lo[a] = std::max(0, lo[a] - 1 - margin) - at;
+        r.cube_hi[a] = std::min(n[a] - 1, hi[a] + margin) - at;
+        r.edge_lo[a] = std::max(0, lo[a] - margin) - at;
+        r.edge_hi[a] = std::min(n[a], hi[a] + margin) - at;
+        r.own_lo[a] = lo[a] - at;
+        r.own_hi[a] = hi[a] - at;
+        r.open_lo[a] = field_lo[a] > 0;
+        r.open_hi[a] = field_hi[a] < n[a];
+    }
+    return r;
+}
+
+void DualRegion::check(const std::array<int, 3>& field_n, const std::array<int, 3>& whole_n,
+                       const std::string& who) const {
+    for (int a = 0; a < 3; ++a) {
+        const bool fits = whole_n[a] == whole[a] && offset[a] >= 0 && offset[a] + field_n[a] <= whole[a] &&
+                          cube_lo[a] >= 0 && edge_lo[a] >= 0 && own_lo[a] >= 0 && own_lo[a] <= own_hi[a] &&
+                          // the cubes' samples, and past a face inside the grid the tunnel test's neighbour
+                          cube_hi[a] + (open_hi[a] ? 2 : 1) <= field_n[a] && edge_hi[a] <= field_n[a] &&
+                          (!open_lo[a] || (cube_lo[a] >= 0 && offset[a] > 0));
+        if (!fits)
+            throw ParameterError(who + "the region (axis " + std::to_string(a) + ") does not fit a field of " +
+                                 std::to_string(field_n[a]) + " samples at " + std::to_string(offset[a]) + " of " +
+                                 std::to_string(whole_n[a]));
+    }
+}
+
+std::uint64_t triangle_key(const DualRegion& r, int i, int j, int k, int axis, int sub) {
+    const auto words = std::uint64_t((r.whole[0] + 63) / 64);
+    const auto gi = std::uint64_t(i + r.offset[0]), gj = std::uint64_t(j + r.offset[1]),
+               gk = std::uint64_t(k + r.offset[2]);
+    return ((((gk * std::uint64_t(r.whole[1]) + gj) * words + gi / 64) * 3 + std::uint64_t(axis)) * 64 + gi % 64) * 8 +
+           std::uint64_t(sub);
+}
+
+bool DualRegion::owns_triangle(std::uint64_t key) const {
+    const auto words = std::uint64_t((whole[0] + 63) / 64);
+    key /= 8;
+    const std::uint64_t bit = key % 64;
+    key /= 64 * 3;
+    const std::uint64_t w = key % words;
+    key /= words;
+    const auto j = int(key % std::uint64_t(whole[1])), k = int(key / std::uint64_t(whole[1]));
+    return owns(int(w * 64 + bit) - offset[0], j - offset[1], k - offset[2]);
+}
+
+void field_box(const std::array<int, 3>& n, const std::array<int, 3>& lo, const std::array<int, 3>& hi, int margin,
+               std::array<int, 3>& box_lo, std::array<int, 3>& box_hi) {
+    for (int a = 0; a < 3; ++a) {
+        // The cubes from lo - 1 - margin, their samples and their upper neighbours' (the tunnel test).
+        box_lo[a] = floor_brick(std::max(0, lo[a] - 1 - margin));
+        box_hi[a] = std::min(n[a], ceil_brick(hi[a] + margin + 2));
+    }
+}
+
+Field field_part(const Field& whole, const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+    const int nx = hi[0] - lo[0], ny = hi[1] - lo[1], nz = hi[2] - lo[2];
+    const int bx = (nx + kBrick - 1) / kBrick, by = (ny + kBrick - 1) / kBrick, bz = (nz + kBrick - 1) / kBrick;
+    const int b0 = lo[0] / kBrick, b1 = lo[1] / kBrick, b2 = lo[2] / kBrick;
+    std::vector<std::uint32_t> table(std::size_t(bx) * std::size_t(by) * std::size_t(bz));
+    std::unordered_map<std::uint32_t, std::uint32_t> slot;  // the whole's stored brick -> the part's
+    std::vector<std::uint32_t> order;
+    for (int k = 0; k < bz; ++k)
+        for (int j = 0; j < by; ++j)
+            for (int i = 0; i < bx; ++i) {
+                const std::uint32_t from = whole.brick_table()[std::size_t(b0 + i) +
+                                                               std::size_t(whole.bricks_x()) *
+                                                                   (std::size_t(b1 + j) + std::size_t(whole.bricks_y()) *
+                                                                                              std::size_t(b2 + k))];
+                const auto [it, added] = slot.emplace(from, std::uint32_t(order.size()));
+                if (added) order.push_back(from);
+                table[std::size_t(i) + std::size_t(bx) * (std::size_t(j) + std::size_t(by) * std::size_t(k))] = it->second;
+            }
+    const auto copy = [&](const auto& stored) {
+        std::remove_cv_t<std::remove_reference_t<decltype(stored)>> out(order.size() * Field::kBrickCells);
+        for (std::size_t s = 0; s < order.size(); ++s)
+            std::copy_n(stored.begin() + std::ptrdiff_t(std::size_t(order[s]) * Field::kBrickCells), Field::kBrickCells,
+                        out.begin() + std::ptrdiff_t(s * Field::kBrickCells));
+        return out;
+    };
+    return whole.precision == Precision::Double ? Field::from_bricks(nx, ny, nz, std::move(table), copy(whole.stored_f64()))
+                                                : Field::from_bricks(nx, ny, nz, std::move(table), copy(whole.stored_f32()));
+}
+
+namespace {
+
+// Items of the pieces spread over rows, in the whole order when each piece's items come
+// in its own order and the pieces in the order of their owned boxes along x: a counting
+// pass, then each item to its row's next slot (no sort of the whole). row(p, n) names
+// piece p's item n's row, or -1 for an item not placed; place(p, n, slot) moves it.
+template <class Row, class Place>
+void spread_over_rows(const std::vector<MeshPiece>& pieces, const std::vector<std::size_t>& by_x,
+                      std::vector<std::size_t>& row_start, const std::function<std::size_t(std::size_t)>& items,
+                      const Row& row, const Place& place) {
+    std::fill(row_start.begin(), row_start.end(), 0);
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+        for (std::size_t n = 0; n < items(p); ++n) {
+            const long long r = row(p, n);
+            if (r >= 0) ++row_start[std::size_t(r) + 1];
+        }
+    for (std::size_t r = 1; r < row_start.size(); ++r) row_start[r] += row_start[r - 1];
+    std::vector<std::size_t> next(row_start.begin(), row_start.end() - 1);
+    for (std::size_t p : by_x)
+        for (std::size_t n = 0; n < items(p); ++n) {
+            const long long r = row(p, n);
+            if (r >= 0) place(p, n, next[std::size_t(r)]++);
+        }
+}
+
+}  // namespace
+
+Mesh weld_pieces(std::vector<MeshPiece>& pieces) {
+    Mesh mesh;
+    if (pieces.empty()) return mesh;
+    const std::array<int, 3> n = pieces[0].region.whole;
+    for (const MeshPiece& p : pieces)
+        if (p.region.whole != n) throw ParameterError("weld_pieces: the pieces come from different grids");
+    // Along x within each row of the grid, the pieces' boxes in turn.
+    std::vector<std::size_t> by_x(pieces.size());
+    for (std::size_t p = 0; p < pieces.size(); ++p) by_x[p] = p;
+    std::stable_sort(by_x.begin(), by_x.end(), [&](std::size_t a, std::size_t b) {
+        return pieces[a].region.own_lo[0] + pieces[a].region.offset[0] < pieces[b].region.own_lo[0] + pieces[b].region.offset[0];
+    });
+    // The owned vertices, row of cubes by row: their keys' order.
+    const auto cx = std::uint64_t(std::max(1, n[0] - 1));
+    std::vector<std::size_t> row_start(std::size_t(std::max(1, n[1] - 1)) * std::size_t(std::max(1, n[2] - 1)) + 1);
+    std::vector<std::vector<std::uint32_t>> whole(pieces.size());
+    std::size_t count = 0;
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+        whole[p].assign(pieces[p].vertex_keys.size(), std::numeric_limits<std::uint32_t>::max());
+        for (std::uint8_t o : pieces[p].vertex_owned) count += o;
+    }
+    if (count >= std::numeric_limits<std::uint32_t>::max()) throw ResourceError("weld_pieces: more than 2^32 vertices");
+    mesh.vertices.resize(count);
+    std::vector<std::uint64_t> keys(count);
+    spread_over_rows(
+        pieces, by_x, row_start, [&](std::size_t p) { return pieces[p].vertex_keys.size(); },
+        [&](std::size_t p, std::size_t v) {
+            return pieces[p].vertex_owned[v] ? (long long)(pieces[p].vertex_keys[v] / kSlotsPerCube / cx) : -1LL;
+        },
+        [&](std::size_t p, std::size_t v, std::size_t slot) {
+            mesh.vertices[slot] = pieces[p].mesh.vertices[v];
+            keys[slot] = pieces[p].vertex_keys[v];
+            whole[p][v] = std::uint32_t(slot);
+        });
+    for (std::size_t v = 1; v < count; ++v)
+        if (keys[v] <= keys[v - 1])
+            throw Error("weld_pieces: two pieces own the vertex of key " + std::to_string(keys[v]) +
+                        ", or their boxes overlap");
+    // A vertex another piece owns (on a seam, or in the margin): found by its key.
+    const auto number = [&](std::size_t p, std::uint32_t v) {
+        std::uint32_t& at = whole[p][v];
+        if (at == std::numeric_limits<std::uint32_t>::max()) {
+            const std::uint64_t key = pieces[p].vertex_keys[v];
+            const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+            if (it == keys.end() || *it != key)
+                throw Error("weld_pieces: no piece owns the vertex of key " + std::to_string(key));
+            at = std::uint32_t(it - keys.begin());
+        }
+        return at;
+    };
+    // The owned triangles, row of samples by row, then within a row by key (a row's
+    // word of 64 samples may span two pieces).
+    const auto words = std::uint64_t((n[0] + 63) / 64);
+    row_start.assign(std::size_t(n[1]) * std::size_t(n[2]) + 1, 0);
+    std::size_t placed = 0;
+    for (const MeshPiece& p : pieces)
+        for (std::uint64_t key : p.triangle_keys) placed += p.region.owns_triangle(key);
+    mesh.triangles.resize(placed);
+    std::vector<std::uint64_t> tri_keys(placed);
+    spread_over_rows(
+        pieces, by_x, row_start, [&](std::size_t p) { return pieces[p].triangle_keys.size(); },
+        [&](std::size_t p, std::size_t t) {
+            const std::uint64_t key = pieces[p].triangle_keys[t];
+            return pieces[p].region.owns_triangle(key) ? (long long)(key / (8 * 64 * 3) / words) : -1LL;
+        },
+        [&](std::size_t p, std::size_t t, std::size_t slot) {
+            const auto& tri = pieces[p].mesh.triangles[t];
+            mesh.triangles[slot] = {number(p, tri[0]), number(p, tri[1]), number(p, tri[2])};
+            tri_keys[slot] = pieces[p].triangle_keys[t];
+        });
+    std::vector<std::pair<std::uint64_t, std::array<std::uint32_t, 3>>> row;
+    for (std::size_t r = 0; r + 1 < row_start.size(); ++r) {
+        const std::size_t first = row_start[r], last = row_start[r + 1];
+        if (std::is_sorted(tri_keys.begin() + std::ptrdiff_t(first), tri_keys.begin() + std::ptrdiff_t(last))) continue;
+        row.clear();
+        for (std::size_t t = first; t < last; ++t) row.emplace_back(tri_keys[t], mesh.triangles[t]);
+        std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        for (std::size_t t = first; t < last; ++t) mesh.triangles[t] = row[t - first].second;
+    }
+    for (MeshPiece& p : pieces) p = MeshPiece();
+    return mesh;
+}
+
+Mesh extract_in_pieces(const Field& field, const Domain& domain, int cells, int margin, double iso,
+                       Interpolation interpolation) {
+    if (cells < 1 || margin < 0) throw ParameterError("extract_in_pieces: cells must be positive, margin not negative");
+    const std::array<int, 3> n{field.nx, field.ny, field.nz};
+    std::vector<MeshPiece> pieces;
+    for (int k = 0; k < n[2]; k += cells)
+        for (int j = 0; j < n[1]; j += cells)
+            for (int i = 0; i < n[0]; i += cells) {
+                const std::array<int, 3> lo{i, j, k};
+                const std::array<int, 3> hi{std::min(n[0], i + cells), std::min(n[1], j + cells), std::min(n[2], k + cells)};
+                std::array<int, 3> box_lo, box_hi;
+                field_box(n, lo, hi, margin, box_lo, box_hi);
+                const DualRegion region = DualRegion::around(n, lo, hi, margin, box_lo, box_hi);
+                pieces.push_back(
+                    extract_dual_piece(field_part(field, box_lo, box_hi), domain, region, iso, interpolation));
+            }
+    return weld_pieces(pieces);
+}
+
+}  // namespace snvr::detail
