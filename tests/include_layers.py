@@ -14,7 +14,8 @@ RANKS = {
     "": 0,          # lib/src/*.hpp, and public headers of types alone (implemented nowhere or in lib/src)
     "grid": 1,
     "geometry": 2,  # points, their tree, fields, the sampler's shapes
-    "io": 3, "mesh": 3, "solver": 3,  # files; meshes; the method (none includes another)
+    "io": 3, "mesh": 3,  # files; meshes (neither includes the other)
+    "solver": 3.5,  # the method, whose tiles make their part of the surface (mesh below it)
     "check": 4, "render": 4, "openmp": 4, "opencl": 4,
     "devices": 5,
     "pipeline": 6,  # the job's policy, above everything it composes

@@ -91,7 +91,10 @@ TEST_CASE("a budget the solver does not fit whole: the largest tiles that fit, t
     const VertexDistance d = vertex_distance(whole.mesh, tiled.mesh);
     CHECK(d.max <= 0.01 * whole.run.domain.h);
     // Tiles given and too large for the budget: refused, naming the option.
-    ShellSettings given = bunny_settings(256, tiles_need - 4 * kMiB);
+    ShellSettings probe = bunny_settings(256, std::size_t(4) << 30);
+    probe.params.tile_cells = 128;
+    const std::size_t at_128 = make_shell(points, probe).run.memory.estimated_peak;
+    ShellSettings given = bunny_settings(256, at_128 - 16 * kMiB);
     given.params.tile_cells = 128;
     const std::string e = error_of(points, given);
     CAPTURE(e);

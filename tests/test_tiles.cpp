@@ -184,6 +184,47 @@ TEST_CASE("shapes across tiles: sheets through tile corners, a rod on a tile fac
     }
 }
 
+TEST_CASE("the tiles make the surface: the mesh of the field their cores make, bit for bit, without that field") {
+    // Shapes across tile corners and faces, tiles of 16 (seams everywhere) and of 24 (the
+    // seams' words of 64 samples split between tiles), in float and in double.
+    for (const char* shape : {"sheets", "mobius", "torus"})
+        for (int cells : {16, 24})
+            for (Precision precision : {Precision::Single, Precision::Double}) {
+                CAPTURE(shape);
+                CAPTURE(cells);
+                const PointSet points = shapes::by_name(shape, 0.01);
+                Parameters p;
+                p.resolution = 64;
+                p.device = "openmp";
+                p.precision = precision;
+                p.tile_cells = cells;
+                const Result field = reconstruct(points, p);
+                p.whole_field = false;
+                const Result surface = reconstruct(points, p);
+                CHECK_FALSE(field.surface_made);
+                REQUIRE(surface.surface_made);
+                CHECK(surface.phi.stored_bricks() == 0);
+                CHECK(surface.active_bricks == field.active_bricks);
+                const Mesh whole = extract_dual_isosurface(field.phi, field.domain);
+                REQUIRE(whole.triangles.size() > 1000);
+                CHECK(surface.surface.vertices == whole.vertices);
+                CHECK(surface.surface.triangles == whole.triangles);
+            }
+    // make_shell makes it so unless the field is kept: the same shell either way.
+    const PointSet bunny = read_points(std::string(SNVR_DATA_DIR) + "/bunny.ply");
+    ShellSettings s;
+    s.params.resolution = 128;
+    s.params.device = "openmp";
+    s.params.tile_cells = 32;
+    const Shell made = make_shell(bunny, s);
+    s.keep_field = true;
+    const Shell kept = make_shell(bunny, s);
+    CHECK(made.run.surface_made);
+    CHECK_FALSE(kept.run.surface_made);
+    CHECK(made.mesh.vertices == kept.mesh.vertices);
+    CHECK(made.mesh.triangles == kept.mesh.triangles);
+}
+
 TEST_CASE("a cluster of stray points split by a tile face: dropped alike, the same shell") {
     // The unit box in 64 cells, tiles of 16: faces at x = 0.25, 0.5, 0.75.
     PointSet points = shapes::sphere({0.45, 0.45, 0.45}, 0.2, 0.01);

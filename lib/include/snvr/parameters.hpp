@@ -116,6 +116,12 @@ struct Parameters {
     // solver memory at a time.
     int tile_cells = 0;
     std::optional<int> tile_halo_cells;
+    // A tiled run puts the whole grid's phase field together (Result::phi). false: the
+    // tiles make the surface instead (Result::surface, the same mesh as the whole field's,
+    // bit for bit; lib/src/solver/tile_surface.hpp), each from its own core, and the run
+    // holds no more of the field than the bricks near the tiles' faces, which the seams
+    // between them need. A run that is not tiled keeps its field either way.
+    bool whole_field = true;
     // A memory budget in bytes: what the run may add to the process (the points it files and
     // everything after; lib/src/solver/memory_budget.hpp). The run goes whole where its
     // estimate fits, else in tiles of the largest size that fits, else stops with an error

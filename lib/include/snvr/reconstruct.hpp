@@ -9,6 +9,7 @@
 #include "snvr/domain.hpp"
 #include "snvr/field.hpp"
 #include "snvr/geometry.hpp"
+#include "snvr/mesh.hpp"
 #include "snvr/parameters.hpp"
 #include "snvr/point_cloud.hpp"
 
@@ -32,6 +33,7 @@ struct StageSeconds {
     double distance = 0;   // unsigned distance in the band
     double init = 0;       // phase field, g, coarse coefficients
     double steps = 0;      // all time steps
+    double seams = 0;      // a tiled run making the surface: its seams and the weld (the tiles' parts: in their stages)
     double total = 0;
 };
 
@@ -87,7 +89,9 @@ struct MemoryFacts {
     std::size_t near_bricks = 0;     // bricks within the band's reach of a point (the band's at most)
     std::size_t whole_solver = 0;    // the whole grid's solver
     std::size_t tile_solver = 0;     // the largest tile's solver at the size run (0: whole)
-    std::size_t field = 0;           // the phase field kept for the mesh
+    std::size_t field = 0;           // the phase field kept for the mesh (tiles making the surface:
+                                     // the bricks next to their cores' faces)
+    std::size_t surfaces = 0;        // tiles making the surface: their parts, held until welded
     std::size_t mesh = 0;            // the mesh, its fairing and guard, and its check
     std::size_t grid = 0;            // the whole grid's tables (the mesher's sign bits)
     std::size_t runtime = 0;         // an OpenCL runtime's own (0 on OpenMP)
@@ -99,6 +103,9 @@ struct MemoryFacts {
 // What reconstruct() ran (the plan it fitted to the points) and what it found.
 struct Result : DomainPlan {
     Field phi;                    // phi^{Nt} in the band's bricks (+-1 beyond); the shell is where phi > 0
+                                  // (empty where the tiles made the surface instead)
+    bool surface_made = false;    // the tiles made the zero level set (Parameters::whole_field false)
+    Mesh surface;                 // that level set, as extract_dual_isosurface gives it from phi
     std::string backend;          // which backend ran
     std::size_t active_cells = 0; // cells with g > 0
     std::size_t active_bricks = 0, total_bricks = 0;

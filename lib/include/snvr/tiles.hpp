@@ -5,10 +5,13 @@
 // process runs which tile, and the points within reach of its own tiles (they never read
 // the input: reconstruct_tiles_of); each runs the tiles it owns (balanced by the points
 // near them) and sends the results to the root, which puts the cores together and goes on
-// to mesh; on the other processes the call returns once their tiles are sent, without a
+// to mesh (or, Parameters::whole_field false, each sends its part of the surface and the
+// bricks near its core's faces, and the root makes the seams and welds); on the other processes the call returns once their tiles are sent, without a
 // phase field or a mesh (Result::tiles.worker).
 #pragma once
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "snvr/field.hpp"
@@ -16,10 +19,22 @@
 
 namespace snvr {
 
+// A tile's own part of the surface (lib/src/solver/tile_surface.hpp): the dual mesh its
+// core alone decides, each vertex and triangle with its key in the whole grid.
+struct TileSurface {
+    std::vector<Vec3> vertices;
+    std::vector<std::uint64_t> vertex_keys;
+    std::vector<std::uint8_t> vertex_owned;  // 0: another piece's vertex, used here
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<std::uint64_t> triangle_keys;
+};
+
 // One tile's run, as the root needs it.
 struct TileResult {
     std::size_t tile = 0;
-    Field field;                  // the tile's phase field, on the tile's own grid
+    Field field;                  // the tile's phase field, on the tile's own grid (without the
+                                  // whole field: only the bricks near its core's faces)
+    TileSurface surface;          // without the whole field: its part of the surface
     std::vector<double> figures;  // its steps and facts, flattened (tiled_reconstruct.cpp)
 };
 

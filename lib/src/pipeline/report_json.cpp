@@ -82,6 +82,7 @@ std::string report_json(const RunReport& report) {
            {{"whole_solver", r.memory.whole_solver},
             {"tile_solver", r.memory.tile_solver},
             {"field", r.memory.field},
+            {"surfaces", r.memory.surfaces},
             {"mesh_and_check", r.memory.mesh},
             {"grid", r.memory.grid},
             {"runtime", r.memory.runtime},
@@ -97,6 +98,7 @@ std::string report_json(const RunReport& report) {
           {"init", r.seconds.init},
           {"steps", r.seconds.steps},
           {"mesh", run.seconds.mesh},
+          {"seams", r.seconds.seams},  // within mesh: a tiled run's seams and weld
           {"write", files.write_seconds},
           {"check", run.seconds.check},
           {"total", report.total_seconds}}},

@@ -90,12 +90,14 @@ std::string report_summary(const RunReport& report) {
                               t.core_cells > 0 ? " (the largest tile's)" : "", mib(report.peak_rss_bytes)));
     if (budget.budget)
         row("", format_text("%s %.1f MiB%s: estimated peak %.1f MiB, set by %s (held %.1f MiB, the solver %.1f MiB "
-                            "whole%s, the phase field %.1f, the mesh and its check %.1f, the grid's tables %.1f%s)",
+                            "whole%s, %s %.1f%s, the mesh and its check %.1f, the grid's tables %.1f%s)",
                             budget.budget_given ? "budget" : "room", mib(budget.budget),
                             budget.budget_given ? " (--max-memory)" : " (held and available)", mib(budget.estimated_peak),
                             budget.bound.c_str(), mib(budget.held), mib(budget.whole_solver),
                             budget.tile_solver ? format_text(", %.1f MiB the largest tile", mib(budget.tile_solver)).c_str() : "",
-                            mib(budget.field), mib(budget.mesh), mib(budget.grid),
+                            budget.surfaces ? "the field's bricks at the tiles' faces" : "the phase field", mib(budget.field),
+                            budget.surfaces ? format_text(", the tiles' surfaces %.1f", mib(budget.surfaces)).c_str() : "",
+                            mib(budget.mesh), mib(budget.grid),
                             budget.runtime ? format_text(", the OpenCL runtime %.0f", mib(budget.runtime)).c_str() : ""));
     const CycleTotals& c = report.cycles;
     row("V-cycles", format_text("%d in %zu steps, at most %d in a step%s", c.total, r.steps.size(), c.most_in_a_step,

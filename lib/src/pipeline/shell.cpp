@@ -11,6 +11,7 @@
 
 #include "geometry/vec3_math.hpp"
 #include "io/formats.hpp"
+#include "pipeline/shell_mesh.hpp"
 #include "process_limits.hpp"
 #include "solver/memory_budget.hpp"
 #include "snvr/error.hpp"
@@ -99,6 +100,9 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     ShellSettings settings = given;
     if (to_mm != 1) points.scale(to_mm);
     scale_lengths(settings.params, to_mm);
+    // A tiled run need not put the whole field together where it is not asked for: its
+    // tiles make the surface.
+    settings.params.whole_field = settings.keep_field;
     settings.pieces.min_volume *= to_mm * to_mm * to_mm;
 
     enter("outliers");
@@ -118,14 +122,19 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
 
     now = "reconstruction";
     shell.run = reconstruct(points, settings.params, progress, settings.tiles_on.get());
+    Mesh surface = std::move(shell.run.surface);  // a tiled run's level set, moved on into the mesh
     detail::release_free_memory();
     shell.seconds.reconstruct = stage.lap();
+    // The tiles' seams and weld are the mesh stage's work, done before it.
+    shell.seconds.reconstruct -= shell.run.seconds.seams;
+    shell.seconds.mesh = shell.run.seconds.seams;
     if (shell.run.tiles.worker) return shell;  // its tiles are the root's now
     const Result& run = shell.run;
     shell.warnings = run.warnings;
 
     enter("mesh");
-    shell.mesh = shell_mesh(run, points, &shell.guard, settings.fairing);
+    shell.mesh = run.surface_made ? detail::shell_mesh_of(std::move(surface), run, points, &shell.guard, settings.fairing)
+                                  : shell_mesh(run, points, &shell.guard, settings.fairing);
     const double depth = 1 - run.tube_inner / run.offset;
     if (shell.guard.shallow_points)
         shell.warnings.push_back(std::to_string(shell.guard.shallow_points) + " points stay shallower than " +
@@ -150,7 +159,7 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     }
     if (!settings.keep_field) shell.run.phi = Field();  // its memory goes to the check
     detail::release_free_memory();
-    shell.seconds.mesh = stage.lap();
+    shell.seconds.mesh += stage.lap();
 
     enter("check");
     shell.quality = settings.measure ? measure_quality(shell.mesh, points, run.offset, run.domain.h)

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "mesh/fair_and_keep_deep.hpp"
+#include "pipeline/shell_mesh.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shell.hpp"
@@ -16,7 +17,14 @@ Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* 
 }
 
 Mesh shell_mesh(const Result& result, const PointCloud& points, DepthGuardReport* guard, const MeshFairing& fairing) {
-    Mesh mesh = extract_dual_isosurface(result.phi, result.domain, 0.0, Interpolation::PhaseField);
+    // A tiled run may have made the level set by its tiles instead (Parameters::whole_field).
+    return detail::shell_mesh_of(
+        result.surface_made ? result.surface : extract_dual_isosurface(result.phi, result.domain, 0.0, Interpolation::PhaseField),
+        result, points, guard, fairing);
+}
+
+Mesh detail::shell_mesh_of(Mesh mesh, const Result& result, const PointCloud& points, DepthGuardReport* guard,
+                           const MeshFairing& fairing) {
     fairing.validate();
     // The tube's inner wall is the depth promised. Where the offset is below the points'
     // spacing the shell is a chain of beads around single points; lifting each bead's top

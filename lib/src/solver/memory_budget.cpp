@@ -27,15 +27,22 @@ namespace {
 // at 256, the 200 M-point city block at 1024 and 2048): the solver held 2.6-4.2 x 512 r a
 // near brick (most near bricks are in the band); the meshes had 45-87 triangles a near
 // brick; the mesh stage and the check peaked 49-87 bytes a triangle above where they
-// began, and where points cover every triangle (the city block at 2048: 38.5 M
-// triangles, 200 M points) their frames for the depth search, 72 bytes each, came on top:
-// 5.8 GB, about 150 bytes a triangle; the check's points a few bytes each. Each is taken
-// with a margin.
+// began (the field then held beside them), and where points cover every triangle (the
+// city block at 2048: 38.5 M triangles, 200 M points) their frames for the depth search,
+// 72 bytes each, came on top: 5.8 GB, about 150 bytes a triangle; the check's points a few
+// bytes each. Where the tiles make the surface no field is held then, and the mesh stage
+// and the check, measured from a clean start, peaked at 108-110 bytes a triangle (the
+// bunny and igea at 512, 3.3-3.4 M triangles): the check's, once the field is freed. Each
+// is taken with a margin.
 constexpr double kSolverCopies = 5;
 constexpr std::size_t kTrianglesPerBrick = 90;
-constexpr std::size_t kMeshBytesPerTriangle = 90;
+constexpr std::size_t kMeshBytesPerTriangle = 90;    // beside the field (extraction, fairing, guard)
+constexpr std::size_t kCheckBytesPerTriangle = 110;  // alone, the field freed (the check)
 constexpr std::size_t kFrameBytes = 72, kFramesPerPoint = 2;  // at most this many frames a point makes
 constexpr std::size_t kCheckBytesPerPoint = 8;
+// A tile's part of the surface (tile_surface.hpp), a triangle's share: its corners, keys
+// and the half vertex each triangle has (24 + 8 + 1 bytes), 33 bytes; with a margin.
+constexpr std::size_t kSurfaceBytesPerTriangle = 40;
 
 // A point at the outlier rules' peak: its coordinates (12) and input place (4) in the tree,
 // the tree's nodes (about 2) and the rules' lists (the clusters' 9; the 200 M-point city
@@ -127,12 +134,32 @@ struct Peak {
     std::size_t bytes = 0;
     std::string what;
 };
+// The mesh stage: the field beside the mesh (field_held), then the check alone (f.mesh,
+// counted at the check's bytes a triangle).
+std::size_t mesh_stage(const MemoryFacts& f, std::size_t field_held) {
+    const std::size_t triangles = f.near_bricks * kTrianglesPerBrick;
+    const std::size_t beside =
+        field_held + f.mesh - std::min(f.mesh, triangles * (kCheckBytesPerTriangle - kMeshBytesPerTriangle));
+    return std::max(beside, f.mesh);
+}
+
 Peak stage_peak(const MemoryFacts& f, bool tiled) {
-    // The OpenCL runtime, once loaded, stays to the end.
-    const std::size_t solve = (tiled ? f.field + f.tile_solver : f.whole_solver) + f.runtime;
-    const std::size_t mesh = f.field + f.mesh + f.runtime;
-    if (solve >= mesh) return {f.grid + solve, tiled ? "the largest tile's solver" : "the solver"};
+    // The OpenCL runtime, once loaded, stays to the end. Tiles making the surface hold
+    // their parts as they run, then the welded mesh beside them (no larger), and no field
+    // after.
+    const std::size_t solve = (tiled ? f.field + f.surfaces + f.tile_solver : f.whole_solver) + f.runtime;
+    const std::size_t weld = f.surfaces ? f.field + 2 * f.surfaces + f.runtime : 0;
+    const std::size_t mesh = mesh_stage(f, f.surfaces ? 0 : f.field) + f.runtime;
+    if (solve >= mesh && solve >= weld) return {f.grid + solve, tiled ? "the largest tile's solver" : "the solver"};
+    if (weld > mesh) return {f.grid + weld, "the tiles' surfaces as they are welded"};
     return {f.grid + mesh, "the mesh and its check"};
+}
+
+// The share of a tiled run's bricks next to its cores' faces (a brick layer each side),
+// which it keeps of the field when its tiles make the surface.
+double face_share(int cells) {
+    const double inner = std::max(0.0, double(cells - 2 * kBrick) / double(cells));
+    return 1 - inner * inner * inner;
 }
 
 }  // namespace
@@ -154,9 +181,10 @@ MemoryChoice fit_memory(const PointCloud& measured, const DomainPlan& plan, cons
     f.near_bricks = near.count();
 
     f.whole_solver = solver_bytes(f.near_bricks, real);
-    f.field = f.near_bricks * kBrickCells * real;
+    const std::size_t field = f.near_bricks * kBrickCells * real;
+    f.field = field;
     const std::size_t triangles = f.near_bricks * kTrianglesPerBrick;
-    f.mesh = triangles * kMeshBytesPerTriangle + std::min(triangles, kFramesPerPoint * measured.size()) * kFrameBytes +
+    f.mesh = triangles * kCheckBytesPerTriangle + std::min(triangles, kFramesPerPoint * measured.size()) * kFrameBytes +
              measured.size() * kCheckBytesPerPoint;
     f.grid = plan.estimated_bytes;
     f.runtime = params.device == "openmp" ? 0 : kDeviceRuntimeBytes;
@@ -180,6 +208,9 @@ MemoryChoice fit_memory(const PointCloud& measured, const DomainPlan& plan, cons
         choice.tile_cells = cells;
         f.tiled_by_budget = by_budget;
         f.tile_solver = cells ? tile_solver(cells) : 0;
+        const bool surfaces = cells > 0 && !params.whole_field;
+        f.field = surfaces ? std::size_t(double(field) * face_share(cells)) : field;
+        f.surfaces = surfaces ? triangles * kSurfaceBytesPerTriangle : 0;
         const Peak peak = stage_peak(f, cells > 0);
         f.estimated_peak = f.held + peak.bytes;
         f.bound = f.held > peak.bytes ? "the points" : peak.what;
@@ -203,10 +234,11 @@ MemoryChoice fit_memory(const PointCloud& measured, const DomainPlan& plan, cons
     }
     // Nothing fits: name what tiles cannot shrink.
     std::string why;
-    if (f.held + f.grid + f.field + f.mesh + f.runtime > f.budget)
-        why = "the points take " + gib(f.held) + " (" + std::to_string(measured.size()) +
-              " filed), the phase field for the mesh " + gib(f.field) + ", the mesh and its check about " +
-              gib(f.mesh) + ", the grid's tables " + gib(f.grid) +
+    const bool field_kept = params.whole_field;  // in tiles making the surface, the field shrinks with them
+    if (f.held + f.grid + mesh_stage(f, field_kept ? field : 0) + f.runtime > f.budget)
+        why = "the points take " + gib(f.held) + " (" + std::to_string(measured.size()) + " filed), " +
+              (field_kept ? "the phase field for the mesh " + gib(field) + ", " : std::string()) +
+              "the mesh and its check about " + gib(f.mesh) + ", the grid's tables " + gib(f.grid) +
               (f.runtime ? " and the OpenCL runtime " + gib(f.runtime) : std::string()) + ", which tiles do not shrink";
     else
         why = "the smallest tiles (32 cells) would still need about " + gib(f.estimated_peak);

@@ -8,9 +8,11 @@
 //   four fields and the coarse levels' three on the band's bricks; the distance's two
 //   copies come before them), and its grid's tables;
 // - the phase field kept for the mesh: 512 r a near brick (a tiled run holds it while its
-//   tiles run);
-// - the mesh, its fairing and guard, then its check: about 90 triangles a near brick,
-//   90 bytes each at the stage's peak, the check's frames (72 bytes) for as many of them
+//   tiles run); where the tiles make the surface (Parameters::whole_field false) only the
+//   bricks next to the cores' faces, and the tiles' parts of the surface (40 bytes a
+//   triangle) until they are welded;
+// - the mesh, its fairing and guard beside the field (90 bytes a triangle), then its check
+//   alone (110): about 90 triangles a near brick, the check's frames (72 bytes) for as many of them
 //   as the points come near (at most two a point), and a few bytes a point;
 // - the whole grid's tables: the mesher's sign bits and the brick tables
 //   (DomainPlan::estimated_bytes).

@@ -17,6 +17,7 @@
 #include "solver/solver_memory.hpp"
 #include "solver/tile_needs.hpp"
 #include "solver/tile_plan.hpp"
+#include "solver/tile_surface.hpp"
 
 namespace snvr {
 
@@ -33,14 +34,15 @@ DomainPlan tile_plan(const DomainPlan& whole, const Tile& tile) {
 struct TileRun {
     std::vector<StepStats> steps;
     SessionFacts facts;
+    std::size_t core_bricks = 0;  // stored bricks of its core's field
 };
 
 // A run's figures as a TileResult carries them to the root (and back).
-constexpr std::size_t kFacts = 4, kStepFigures = 7;
+constexpr std::size_t kFacts = 5, kStepFigures = 7;
 std::vector<double> figures_of(const TileRun& run) {
     const SessionFacts& f = run.facts;
     std::vector<double> out{double(f.active_cells), double(f.solver_bytes), f.seconds_distance,
-                            f.seconds_domain + f.seconds_init};
+                            f.seconds_domain + f.seconds_init, double(run.core_bricks)};
     for (const StepStats& st : run.steps)
         out.insert(out.end(), {double(st.cycles), st.converged ? 1.0 : 0.0, st.initial_residual, st.residual,
                                st.seconds_linear, st.seconds_nonlinear, st.bytes_moved});
@@ -53,6 +55,7 @@ TileRun run_of(const std::vector<double>& figures) {
     run.facts.solver_bytes = std::size_t(figures[1]);
     run.facts.seconds_distance = figures[2];
     run.facts.seconds_init = figures[3];
+    run.core_bricks = std::size_t(figures[4]);
     for (std::size_t at = kFacts; at + kStepFigures <= figures.size(); at += kStepFigures) {
         StepStats st;
         st.step = int(run.steps.size()) + 1;
@@ -66,6 +69,11 @@ TileRun run_of(const std::vector<double>& figures) {
         run.steps.push_back(st);
     }
     return run;
+}
+
+std::size_t bytes_of(const TileSurface& s) {
+    return s.vertices.size() * sizeof(Vec3) + s.vertex_keys.size() * sizeof(std::uint64_t) + s.vertex_owned.size() +
+           s.triangles.size() * sizeof(s.triangles[0]) + s.triangle_keys.size() * sizeof(std::uint64_t);
 }
 
 // "tile 12 (cells 128-256, 0-128, 64-192)": where a warning comes from.
@@ -113,14 +121,19 @@ void merge_steps(const std::vector<TileRun>& runs, int steps, Result& res) {
     }
 }
 
-// The plan as the other processes need it (the grid, the offset, the flow, the tube).
-std::vector<double> plan_figures(const DomainPlan& p) {
+// The plan as the other processes need it (the grid, the offset, the flow, the tube), and
+// the tiles' cores and whether the root puts the whole field together (the root's word: it
+// may have chosen the tiles for a budget).
+std::vector<double> plan_figures(const DomainPlan& p, int core_cells, bool whole_field) {
     const Domain& d = p.domain;
     return {d.origin[0], d.origin[1], d.origin[2], d.h, double(d.nx), double(d.ny), double(d.nz), double(d.levels),
-            double(d.unit_cells), p.offset, p.xi, p.eps, p.dt, double(p.planned_steps), p.tube_inner, p.tube_outer};
+            double(d.unit_cells), p.offset, p.xi, p.eps, p.dt, double(p.planned_steps), p.tube_inner, p.tube_outer,
+            double(core_cells), whole_field ? 1.0 : 0.0};
 }
-DomainPlan plan_of(const std::vector<double>& f) {
-    if (f.size() != 16) throw Error("tiles: the plan from the first process is not whole");
+DomainPlan plan_of(const std::vector<double>& f, Parameters& params) {
+    if (f.size() != 18) throw Error("tiles: the plan from the first process is not whole");
+    params.tile_cells = int(f[16]);
+    params.whole_field = f[17] != 0;
     DomainPlan p;
     Domain& d = p.domain;
     d.origin = {f[0], f[1], f[2]};
@@ -150,12 +163,13 @@ public:
     TiledRun(const PointCloud& measured, const DomainPlan& plan, const Parameters& params, BackendStart<Real>& start,
              TileScheduler* on, const ProgressCallback& progress, Result& res, const std::vector<int>* owners = nullptr)
         : measured_(measured), plan_(plan), params_(params), start_(start), on_(on), progress_(progress), res_(res),
-          field_(plan.domain) {
+          field_(plan.domain), whole_field_(params.whole_field) {
         TileFacts& facts = res.tiles;
         tiles_ = plan_tiles(plan.domain, facts.core_cells, facts.halo_cells);
         facts.tiles = tiles_.size();
         facts.processes = on ? on->processes() : 1;
         runs_.resize(tiles_.size());
+        if (!whole_field_) surfaces_.resize(tiles_.size());
         if (owners) {
             owner_ = *owners;
             needs_.resize(tiles_.size());
@@ -166,7 +180,7 @@ public:
         needs_ = needs_of(tree, plan.domain, tiles_, facts.core_cells, facts.halo_cells, reach);
         owner_ = owners_of(needs_, facts.processes);
         if (!on) return;
-        std::vector<double> figures = plan_figures(plan);
+        std::vector<double> figures = plan_figures(plan, facts.core_cells, whole_field_);
         on->share(figures, owner_);
         for (int p = 1; p < facts.processes; ++p) {
             const std::vector<float> xyz =
@@ -255,9 +269,18 @@ public:
         facts.cells_run = core_cells > 0 ? cells_run / core_cells : 0;
         merge_steps(runs_, plan_.planned_steps, res_);
         if (!root()) return;
-        res_.phi = field_.take();
-        res_.active_bricks = res_.phi.stored_bricks() - kConstantSlots;
-        res_.total_bricks = res_.phi.brick_count();
+        Field field = field_.take();
+        res_.total_bricks = field.brick_count();
+        if (whole_field_) {
+            res_.active_bricks = field.stored_bricks() - kConstantSlots;
+            res_.phi = std::move(field);
+            return;
+        }
+        for (const TileRun& run : runs_) res_.active_bricks += run.core_bricks;
+        Stopwatch clock;
+        res_.surface = weld_tile_surfaces(surfaces_, tiles_, field, plan_.domain, facts.core_cells);
+        res_.surface_made = true;
+        res_.seconds.seams = clock.lap();
     }
 
 private:
@@ -295,9 +318,10 @@ private:
         std::size_t taken = 0;
         const auto take = [&] {
             TileResult got = on_->receive();
-            res_.tiles.bytes_received += got.field.bytes() + got.figures.size() * sizeof(double);
+            res_.tiles.bytes_received += got.field.bytes() + got.figures.size() * sizeof(double) + bytes_of(got.surface);
             runs_[got.tile] = run_of(got.figures);
             field_.place(got.field, tiles_[got.tile]);
+            if (!whole_field_) surfaces_[got.tile] = std::move(got.surface);
             ++taken;
             progress(got.tile);
         };
@@ -305,8 +329,20 @@ private:
             if (owner_[t] != me()) continue;
             Field tile_field;
             runs_[t] = run_named(tiles_[t], least, tile_field);
-            if (root()) field_.place(tile_field, tiles_[t]);
-            else on_->send({t, std::move(tile_field), figures_of(runs_[t])});
+            runs_[t].core_bricks = stored_core_bricks(tile_field, tiles_[t]);
+            // Without the whole field: the tile's own part of the surface, and of its field
+            // only the bricks the seams need.
+            TileSurface surface;
+            if (!whole_field_) {
+                surface = tile_surface(tile_field, tiles_[t], plan_.domain);
+                tile_field = tile_faces(tile_field, tiles_[t], plan_.domain);
+            }
+            if (root()) {
+                field_.place(tile_field, tiles_[t]);
+                if (!whole_field_) surfaces_[t] = std::move(surface);
+            } else {
+                on_->send({t, std::move(tile_field), std::move(surface), figures_of(runs_[t])});
+            }
             progress(t);
             while (root() && on_ && taken < theirs && on_->waiting()) take();
         }
@@ -369,7 +405,9 @@ private:
     TileScheduler* on_;
     const ProgressCallback& progress_;
     Result& res_;
-    FieldAssembly<Real> field_;
+    FieldAssembly<Real> field_;  // the cores, or (without the whole field) their faces' bricks
+    const bool whole_field_;
+    std::vector<TileSurface> surfaces_;  // by tile, without the whole field
     std::vector<Tile> tiles_;
     std::vector<TileNeeds> needs_;
     std::vector<int> owner_;
@@ -401,21 +439,22 @@ void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result
     std::vector<double> figures;
     std::vector<int> owners;
     on.share(figures, owners);
-    const DomainPlan plan = plan_of(figures);
+    Parameters mine = params;  // as the root runs it
+    const DomainPlan plan = plan_of(figures, mine);
     Vec3 origin{0, 0, 0};
     std::vector<float> xyz;
     on.take_points(origin, xyz);
-    require_points_fit(xyz.size() / 3, params.max_memory.value_or(0));
+    require_points_fit(xyz.size() / 3, mine.max_memory.value_or(0));
     std::vector<Vec3f> points(xyz.size() / 3);
     for (std::size_t k = 0; k < points.size(); ++k) points[k] = {xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]};
     std::vector<float>().swap(xyz);
     const PointCloud measured(std::move(points), origin);
     static_cast<DomainPlan&>(res) = plan;
-    res.tiles.core_cells = params.tile_cells;
-    res.tiles.halo_cells = tile_halo(plan, params, res.tiles.halo_derived);
-    BackendStart<Real> start(params.device);
+    res.tiles.core_cells = mine.tile_cells;
+    res.tiles.halo_cells = tile_halo(plan, mine, res.tiles.halo_derived);
+    BackendStart<Real> start(mine.device);
     const ProgressCallback quiet;
-    TiledRun<Real> tiled(measured, plan, params, start, &on, quiet, res, &owners);
+    TiledRun<Real> tiled(measured, plan, mine, start, &on, quiet, res, &owners);
     res.seconds.distance = clock.lap();
     tiled.run();
     res.tiles.seconds = clock.lap();

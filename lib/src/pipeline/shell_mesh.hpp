@@ -1,0 +1,13 @@
+// shell_mesh's passes on a level set already extracted (a tiled run's tiles make it:
+// Result::surface), taken by value so that the run's copy moves in.
+#pragma once
+#include "snvr/mesh.hpp"
+#include "snvr/point_cloud.hpp"
+#include "snvr/reconstruct.hpp"
+
+namespace snvr::detail {
+
+Mesh shell_mesh_of(Mesh surface, const Result& result, const PointCloud& points, DepthGuardReport* guard,
+                   const MeshFairing& fairing);
+
+}  // namespace snvr::detail
