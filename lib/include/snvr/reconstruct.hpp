@@ -77,6 +77,8 @@ struct TileFacts {
     double seconds = 0;                  // wall clock of the tiles, all passes (stage seconds sum the tiles')
     double busiest_over_mean = 0;        // the work (the tiles' seconds) of the busiest process over the mean
     std::size_t bytes_received = 0;      // the tiles' results the first process took from the others
+    std::size_t face_bytes = 0;          // of which the bricks next to their cores' faces (the seams' need)
+    std::size_t faces_received = 0;      // those tiles' faces inside the grid
     std::size_t points_sent = 0;         // points the first process gave the others (each its tiles' own)
 };
 

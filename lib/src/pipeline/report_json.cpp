@@ -69,6 +69,8 @@ std::string report_json(const RunReport& report) {
           {"seconds", r.tiles.seconds},
           {"busiest_over_mean", r.tiles.busiest_over_mean},
           {"bytes_received", r.tiles.bytes_received},
+          {"face_bytes_received", r.tiles.face_bytes},
+          {"faces_received", r.tiles.faces_received},
           {"points_sent", r.tiles.points_sent}}},
         {"backend", r.backend},
         {"memory",

@@ -70,9 +70,16 @@ std::string report_summary(const RunReport& report) {
                                  t.tiles, t.core_cells, t.halo_cells, t.halo_derived ? "as far as the flow reaches" : "as given",
                                  t.run, t.cells_run,
                                  t.processes > 1 ? format_text(" on %d processes (the busiest %.2f x the mean; %s points "
-                                                               "given to the others, %.3g MiB of tiles sent back)",
+                                                               "given to the others, %.3g MiB of tiles sent back%s)",
                                                                t.processes, t.busiest_over_mean,
-                                                               grouped(t.points_sent).c_str(), mib(t.bytes_received))
+                                                               grouped(t.points_sent).c_str(), mib(t.bytes_received),
+                                                               t.faces_received
+                                                                   ? format_text(", of which their faces' bricks %.3g MiB, "
+                                                                                 "%.3g MiB a face",
+                                                                                 mib(t.face_bytes),
+                                                                                 mib(t.face_bytes) / double(t.faces_received))
+                                                                         .c_str()
+                                                                   : "")
                                                        .c_str()
                                                  : "",
                                  t.seconds,

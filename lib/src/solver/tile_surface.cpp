@@ -128,6 +128,13 @@ Field tile_faces(const Field& tile_field, const Tile& tile, const Domain& whole)
                   : Field::from_bricks(tile_field.nx, tile_field.ny, tile_field.nz, std::move(table), std::move(f64));
 }
 
+int inner_faces(const Tile& tile, const Domain& whole) {
+    const std::array<int, 3> n = samples_of(whole);
+    int faces = 0;
+    for (std::size_t a = 0; a < 3; ++a) faces += (tile.core_lo[a] > 0) + (tile.core_hi[a] < n[a]);
+    return faces;
+}
+
 std::size_t stored_core_bricks(const Field& tile_field, const Tile& tile) {
     std::size_t stored = 0;
     const int bx = tile_field.bricks_x(), by = tile_field.bricks_y();

@@ -28,6 +28,9 @@ TileSurface tile_surface(const Field& tile_field, const Tile& tile, const Domain
 // rest of the tile constant): what the seams need of it.
 Field tile_faces(const Field& tile_field, const Tile& tile, const Domain& whole);
 
+// The faces of the tile's core inside the grid (0 to 6).
+int inner_faces(const Tile& tile, const Domain& whole);
+
 // The stored (not constant) bricks of the tile's core, in its field (on the tile's grid).
 std::size_t stored_core_bricks(const Field& tile_field, const Tile& tile);
 

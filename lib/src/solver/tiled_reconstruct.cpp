@@ -319,6 +319,10 @@ private:
         const auto take = [&] {
             TileResult got = on_->receive();
             res_.tiles.bytes_received += got.field.bytes() + got.figures.size() * sizeof(double) + bytes_of(got.surface);
+            if (!whole_field_) {
+                res_.tiles.face_bytes += got.field.bytes();
+                res_.tiles.faces_received += inner_faces(tiles_[got.tile], plan_.domain);
+            }
             runs_[got.tile] = run_of(got.figures);
             field_.place(got.field, tiles_[got.tile]);
             if (!whole_field_) surfaces_[got.tile] = std::move(got.surface);
