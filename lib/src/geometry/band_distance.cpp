@@ -21,9 +21,17 @@ std::vector<std::uint8_t> bricks_near_points(const detail::PointTree& tree, cons
     const int n[3] = {d.nx, d.ny, d.nz};
     const double span = kBrick * d.h;
     const double rr = radius * radius;
+    // The leaves that can mark a brick of this grid: within the radius of its box (a
+    // tile's grid is a small part of the cloud's; every leaf, each tile over, cost a tiled
+    // run of 98.5 M points 7x the whole run's distance).
     std::vector<const detail::PointTree::Node*> leaves;
-    tree.for_each_leaf([](const detail::PointTree::Node&) { return true; },
-                       [&](const detail::PointTree::Node& leaf) { leaves.push_back(&leaf); });
+    const auto near_grid = [&](const detail::PointTree::Node& node) {
+        const Vec3 lo = tree.lo(node), hi = tree.hi(node);
+        for (int a = 0; a < 3; ++a)
+            if (hi[a] + radius < d.origin[a] - span || lo[a] - radius > d.origin[a] + (n[a] + kBrick) * d.h) return false;
+        return true;
+    };
+    tree.for_each_leaf(near_grid, [&](const detail::PointTree::Node& leaf) { leaves.push_back(&leaf); });
     // The box of brick b's cell centres along axis a.
     const auto centres = [&](int a, int b, double& c0, double& c1) {
         c0 = d.origin[a] + (b * kBrick + 0.5) * d.h;
