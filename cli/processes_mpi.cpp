@@ -34,7 +34,7 @@ int as_count(std::size_t n, const char* what) {
     return int(n);
 }
 
-enum Tag { kHeader = 1, kTable, kStored, kFigures, kPoints, kSurface };
+enum Tag { kHeader = 1, kTable, kStored, kFigures, kPoints, kSurface, kWallShare, kWalls };
 constexpr int kHeaderSize = 10;
 
 // A worker's results go out as it goes on (MPI_Isend), each kept until sent() has waited
@@ -169,6 +169,60 @@ public:
             check(MPI_Recv(xyz.data() + at, int(std::min(kPart, xyz.size() - at)), MPI_FLOAT, 0, kPoints, MPI_COMM_WORLD,
                            MPI_STATUS_IGNORE),
                   "receiving the points");
+    }
+
+    void give_walls(int process, const snvr::WallShare& share) override {
+        const std::int64_t sizes[3] = {std::int64_t(share.vertices.size()), std::int64_t(share.triangles.size()),
+                                       std::int64_t(share.measured.size())};
+        const double figures[2] = {share.epsilon, share.reach};
+        const auto put = [&](const void* data, std::size_t n, MPI_Datatype type) {
+            check(MPI_Send(data, as_count(n, "a share of the walls"), type, process, kWallShare, MPI_COMM_WORLD),
+                  "sending a share of the walls");
+        };
+        put(sizes, 3, MPI_INT64_T);
+        put(figures, 2, MPI_DOUBLE);
+        put(share.vertices.data(), 3 * share.vertices.size(), MPI_DOUBLE);
+        put(share.triangles.data(), 3 * share.triangles.size(), MPI_UINT32_T);
+        put(share.measured.data(), share.measured.size(), MPI_UINT32_T);
+    }
+
+    std::vector<double> take_walls(int process) override {
+        std::int64_t count = 0;
+        check(MPI_Recv(&count, 1, MPI_INT64_T, process, kWalls, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receiving walls");
+        std::vector<double> walls(static_cast<std::size_t>(count));
+        check(MPI_Recv(walls.data(), as_count(walls.size(), "walls"), MPI_DOUBLE, process, kWalls, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE),
+              "receiving walls");
+        return walls;
+    }
+
+    snvr::WallShare walls_share() override {
+        snvr::WallShare share;
+        std::int64_t sizes[3];
+        double figures[2];
+        const auto get = [&](void* data, std::size_t n, MPI_Datatype type) {
+            check(MPI_Recv(data, as_count(n, "a share of the walls"), type, 0, kWallShare, MPI_COMM_WORLD,
+                           MPI_STATUS_IGNORE),
+                  "receiving a share of the walls");
+        };
+        get(sizes, 3, MPI_INT64_T);
+        get(figures, 2, MPI_DOUBLE);
+        share.epsilon = figures[0];
+        share.reach = figures[1];
+        share.vertices.resize(static_cast<std::size_t>(sizes[0]));
+        share.triangles.resize(static_cast<std::size_t>(sizes[1]));
+        share.measured.resize(static_cast<std::size_t>(sizes[2]));
+        get(share.vertices.data(), 3 * share.vertices.size(), MPI_DOUBLE);
+        get(share.triangles.data(), 3 * share.triangles.size(), MPI_UINT32_T);
+        get(share.measured.data(), share.measured.size(), MPI_UINT32_T);
+        return share;
+    }
+
+    void send_walls(const std::vector<double>& walls) override {
+        const std::int64_t count = std::int64_t(walls.size());
+        check(MPI_Send(&count, 1, MPI_INT64_T, 0, kWalls, MPI_COMM_WORLD), "sending walls");
+        check(MPI_Send(walls.data(), as_count(walls.size(), "walls"), MPI_DOUBLE, 0, kWalls, MPI_COMM_WORLD),
+              "sending walls");
     }
 
 private:

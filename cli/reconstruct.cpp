@@ -21,6 +21,8 @@
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
 #include "snvr/mesh.hpp"
+#include "snvr/quality.hpp"
+#include "snvr/tiles.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/render.hpp"
 #include "snvr/report.hpp"
@@ -124,7 +126,10 @@ int run_reconstruct(const std::vector<std::string>& args) {
     parsed->shell.tiles_on = process_tiles();
     // The others read nothing: the first gives each its plan, its tiles and their points.
     if (process_rank() != 0) {
-        snvr::reconstruct_tiles_of(parsed->shell.params, *parsed->shell.tiles_on);
+        snvr::TileScheduler& on = *parsed->shell.tiles_on;
+        snvr::reconstruct_tiles_of(parsed->shell.params, on);
+        // Then its share of the check: the walls of its tiles' vertices.
+        on.send_walls(snvr::walls_of_share(on.walls_share()));
         return 0;
     }
     const ReconstructOptions& o = *parsed;

@@ -13,15 +13,38 @@ mpi=(mpirun --oversubscribe --allow-run-as-root)
 run=(reconstruct "$data/bunny.ply" --resolution 96 --tile-cells 24 --device openmp --quiet)
 fail() { echo "FAIL: $*"; exit 1; }
 
-"$cli" "${run[@]}" -o "$tmp/one.stl" || fail "one process"
+# Every figure of the check the same (the walls are shared among the processes).
+same_check() {
+    python3 - "$1" "$2" <<'PY' || fail "the check's figures differ between 1 and 2 processes"
+import json, sys
+a, b = (json.load(open(f))["check"] for f in sys.argv[1:])
+diff = {k: (a[k], b[k]) for k in a if k != "seconds" and a[k] != b[k]}
+if diff:
+    print(diff)
+    sys.exit(1)
+PY
+}
+
+"$cli" "${run[@]/--quiet/--report}" "$tmp/one.json" -o "$tmp/one.stl" 2>/dev/null || fail "one process"
 "${mpi[@]}" -np 2 "$cli" "${run[@]/--quiet/--report}" "$tmp/two.json" -o "$tmp/two.stl" 2>"$tmp/two.log" ||
     fail "two processes"
 cmp "$tmp/one.stl" "$tmp/two.stl" || fail "two processes wrote other bytes than one"
+same_check "$tmp/one.json" "$tmp/two.json"
+# A solid blob: most walls far thicker than a process's share reaches (the first measures them).
+awk 'BEGIN { srand(3); for (i = 0; i < 4000; ++i) printf "%.6f %.6f %.6f\n", rand(), 0.5 * rand(), 0.7 * rand() }' \
+    >"$tmp/blob.xyz"
+blob=(reconstruct "$tmp/blob.xyz" --resolution 64 --tile-cells 16 --device openmp --report)
+"$cli" "${blob[@]}" "$tmp/b1.json" -o "$tmp/b1.stl" 2>/dev/null || fail "the blob on one process"
+"${mpi[@]}" -np 2 "$cli" "${blob[@]}" "$tmp/b2.json" -o "$tmp/b2.stl" 2>/dev/null || fail "the blob on two"
+cmp "$tmp/b1.stl" "$tmp/b2.stl" || fail "the blob: other bytes on two processes"
+same_check "$tmp/b1.json" "$tmp/b2.json"
+rm "$tmp"/b1.* "$tmp"/b2.* "$tmp/blob.xyz" "$tmp/one.json"
 grep -q '"processes": 2' "$tmp/two.json" || fail "the report does not say 2 processes"
+rm "$tmp/two.json"
 grep -q "tile: .* s left; process 0: [0-9]* of [0-9]*, process 1: [0-9]* of [0-9]*" "$tmp/two.log" ||
     fail "the progress does not show each process's tiles: $(tail -3 "$tmp/two.log")"
 rm "$tmp/two.log"
-echo "2 processes: the same bytes as 1"
+echo "2 processes: the same bytes and check as 1 (the bunny, a solid blob)"
 
 out=$("${mpi[@]}" -np 2 "$cli" reconstruct "$data/bunny.ply" -o "$tmp/x.stl" --quiet 2>&1)
 [ $? -ne 0 ] || fail "no --tile-cells under mpirun was accepted"

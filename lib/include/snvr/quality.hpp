@@ -10,6 +10,7 @@
 #include "snvr/geometry.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/point_cloud.hpp"
+#include "snvr/tiles.hpp"
 
 namespace snvr {
 
@@ -103,6 +104,12 @@ MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double off
 // has_surface is false, those figures NaN or 0.
 MeshQuality measure_shell(const Mesh& mesh, const PointCloud& points, double offset, double voxel);
 MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offset, double voxel);  // makes a PointCloud
+
+// Another process's share of the walls (tiles.hpp): each measured vertex's wall as the
+// whole shell measures it, NaN where the first hit lies beyond the share's reach (or none
+// lies within it), infinity where the normal vanishes. Throws InputError for indices the
+// share lacks.
+std::vector<double> walls_of_share(const WallShare& share);
 
 // Smallest wall thickness of the mesh in world units: from each vertex along its
 // inward normal to the first surface met (infinity if no ray meets anything).

@@ -79,6 +79,7 @@ struct TileFacts {
     std::size_t bytes_received = 0;      // the tiles' results the first process took from the others
     std::size_t face_bytes = 0;          // of which the bricks next to their cores' faces (the seams' need)
     std::size_t faces_received = 0;      // those tiles' faces inside the grid
+    std::vector<int> owners;             // the process that ran each tile (-1: none, no points near)
     std::size_t points_sent = 0;         // points the first process gave the others (each its tiles' own)
 };
 

@@ -29,6 +29,20 @@ struct TileSurface {
     std::vector<std::uint64_t> triangle_keys;
 };
 
+// A share of the shell's check that another process takes (lib/src/check/wall_share.cpp):
+// the triangles near its tiles (in the shell's order) and the vertices, among them, whose
+// walls it measures (those in its tiles' cores). A wall is the distance along a vertex's
+// inward normal to the first triangle met; one met within `reach` is certainly among
+// these triangles, so it is the whole shell's; farther ones come back as NaN and the root
+// measures them.
+struct WallShare {
+    std::vector<Vec3> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<std::uint32_t> measured;  // of `vertices`
+    double epsilon = 0;                   // the least distance a hit counts at (the shell's)
+    double reach = 0;
+};
+
 // One tile's run, as the root needs it.
 struct TileResult {
     std::size_t tile = 0;
@@ -59,6 +73,13 @@ public:
     virtual void give_points(int process, const Vec3& origin, const std::vector<float>& xyz) = 0;
     // At another process: its points from the root.
     virtual void take_points(Vec3& origin, std::vector<float>& xyz) = 0;
+    // The shell's check shared, once the tiles are done: at the root, each other process's
+    // share (given to every one of them, empty when there is none) and later its walls;
+    // at another process, its share and its walls back (WallShare::measured's order).
+    virtual void give_walls(int process, const WallShare& share) = 0;
+    virtual std::vector<double> take_walls(int process) = 0;
+    virtual WallShare walls_share() = 0;
+    virtual void send_walls(const std::vector<double>& walls) = 0;
 };
 
 }  // namespace snvr

@@ -23,6 +23,7 @@
 #include "check/mesh_adjacency.hpp"
 #include "threads_here.hpp"
 #include "check/point_depths.hpp"
+#include "check/walls.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "geometry/point_tree.hpp"
 #include "geometry/vec3_math.hpp"
@@ -34,6 +35,10 @@ namespace {
 
 using detail::PointTree;
 using detail::threads_here;
+using detail::unit_normals;
+using detail::wall_epsilon;
+using detail::wall_thickness;
+using detail::kWallChunk;
 
 using Tri = std::array<std::uint32_t, 3>;
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -55,62 +60,6 @@ void check_indices(const Mesh& mesh, const char* who) {
                 throw InputError(std::string(who) + ": triangle " + std::to_string(t) + " uses vertex " +
                                  std::to_string(v) + " of " + std::to_string(mesh.vertices.size()));
 }
-
-// vertex_normals(m, faces) without the array of faces, and in parallel: each
-// thread sums, in triangle order as vertex_normals does, into its own range of
-// vertices, so that every normal comes out the same to the last bit.
-std::vector<Vec3> unit_normals(const Mesh& m) {
-    const auto& T = m.triangles;
-    const std::size_t nv = m.vertices.size();
-    std::vector<Vec3> n(nv, Vec3{0, 0, 0});
-    const bool parallel = std::ptrdiff_t(T.size()) > detail::kParallelItems;
-    const int parts = parallel ? std::max(1, threads_here()) : 1;
-#pragma omp parallel for schedule(static, 1) if (parts > 1)
-    for (int k = 0; k < parts; ++k) {
-        const std::size_t lo = nv * std::size_t(k) / std::size_t(parts), hi = nv * std::size_t(k + 1) / std::size_t(parts);
-        for (const Tri& t : T) {
-            if ((t[0] < lo || t[0] >= hi) && (t[1] < lo || t[1] >= hi) && (t[2] < lo || t[2] >= hi)) continue;
-            const Vec3 f = face_vector(m, t);
-            for (std::uint32_t v : t)
-                if (v >= lo && v < hi)
-                    for (int d = 0; d < 3; ++d) n[v][d] += f[d];
-        }
-    }
-#pragma omp parallel for schedule(static) if (parallel)
-    for (std::ptrdiff_t v = 0; v < std::ptrdiff_t(nv); ++v) {
-        const double len = norm(n[v]);
-        if (len > 0)
-            for (double& x : n[v]) x /= len;
-    }
-    return n;
-}
-
-// A ray's t_min for the walls: far below any wall, far above the rounding of a
-// hit at the ray's own start.
-double wall_epsilon(const Mesh& m) {
-    Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
-    for (const Vec3& p : m.vertices)
-        for (int d = 0; d < 3; ++d) {
-            lo[d] = std::min(lo[d], p[d]);
-            hi[d] = std::max(hi[d], p[d]);
-        }
-    return m.vertices.empty() ? 0 : 1e-9 * norm({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-}
-
-// wall[v], v in [first, last): the distance from vertex v along its inward
-// normal to the first triangle met, ignoring the vertex's own triangles;
-// infinity when nothing is met.
-void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<Vec3>& normals, double eps,
-                    std::size_t first, std::size_t last, std::vector<double>& wall) {
-    for (std::size_t v = first; v < last; ++v) {
-        const Vec3& n = normals[v];
-        if (dot(n, n) == 0) continue;
-        wall[v] = grid.first_hit(m.vertices[v], {-n[0], -n[1], -n[2]}, eps, std::uint32_t(v)).t;
-    }
-}
-
-// Vertices per piece of the walls, handed out one piece at a time.
-constexpr std::size_t kWallChunk = 4096;
 
 // The nearest-rank 1st percentile of the values (NaN for none); reorders them.
 double percentile_01(std::vector<double>& values) {
@@ -417,8 +366,10 @@ void finish_figures(const Mesh& mesh, bool surface, const std::vector<Vec3>& nor
     if (exact) measure_exact(mesh, exact, q);
 }
 
+// elsewhere: walls another process measures (or null).
 MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, double offset, double voxel,
-                    bool surface, const std::function<double(const Vec3&)>& exact) {
+                    bool surface, const std::function<double(const Vec3&)>& exact,
+                    const detail::WallsElsewhere* elsewhere = nullptr) {
     const auto started = std::chrono::steady_clock::now();
     MeshQuality q = start_figures(who, mesh, points, offset, voxel, surface);
     // Tasks on the team's threads, each part on one thread (their loops run
@@ -483,7 +434,8 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
             for (std::size_t first = 0; first < nv; first += kWallChunk)
 #pragma omp task firstprivate(first)
                 guarded(failed[2], [&] {
-                    wall_thickness(mesh, *grid, normals, eps, first, std::min(nv, first + kWallChunk), wall);
+                    wall_thickness(mesh, *grid, normals, eps, first, std::min(nv, first + kWallChunk), wall,
+                                   elsewhere ? elsewhere->vertex.data() : nullptr);
                 });
             // Chunks of neighbouring groups (they share bounds and working space), a few per
             // thread; the second pass once the first has found the shallowest measured depth.
@@ -503,6 +455,16 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
     }
     for (const std::exception_ptr& e : failed)
         if (e) std::rethrow_exception(e);
+    if (elsewhere) {
+        // Their walls back; those whose first hit lay beyond their share's reach, here.
+        elsewhere->fill(wall);
+        const double eps = wall_epsilon(mesh);
+        for (std::size_t v = 0; v < nv; ++v)
+            if (std::isnan(wall[v])) {
+                wall[v] = kInf;
+                wall_thickness(mesh, *grid, normals, eps, v, v + 1, wall);
+            }
+    }
     finish_figures(mesh, surface, normals, edges, depths, points_inside, wall, exact, q);
     q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return q;
@@ -524,6 +486,14 @@ MeshQuality measure_shell(const Mesh& mesh, const PointCloud& points, double off
 }
 MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offset, double voxel) {
     return measure_shell(mesh, PointCloud(points), offset, voxel);
+}
+
+MeshQuality detail::measure_sharing_walls(const Mesh& mesh, const PointCloud& points, double offset, double voxel,
+                                         bool surface, const WallsElsewhere& elsewhere) {
+    if (elsewhere.vertex.size() != mesh.vertices.size())
+        throw ParameterError("measure_sharing_walls: one flag a vertex");
+    return measure(surface ? "measure_quality" : "measure_shell", mesh, detail::tree_of(points), offset, voxel, surface,
+                   {}, &elsewhere);
 }
 
 double thinnest_wall(const Mesh& mesh) {

@@ -11,6 +11,7 @@
 
 #include "geometry/vec3_math.hpp"
 #include "io/formats.hpp"
+#include "pipeline/shared_check.hpp"
 #include "pipeline/shell_mesh.hpp"
 #include "process_limits.hpp"
 #include "solver/memory_budget.hpp"
@@ -162,8 +163,13 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     shell.seconds.mesh += stage.lap();
 
     enter("check");
-    shell.quality = settings.measure ? measure_quality(shell.mesh, points, run.offset, run.domain.h)
-                                     : measure_shell(shell.mesh, points, run.offset, run.domain.h);
+    // Over several processes, each measures the walls of its own tiles.
+    TileScheduler* on = settings.tiles_on.get();
+    if (on && on->processes() > 1 && run.tiles.core_cells > 0)
+        shell.quality = detail::check_sharing_walls(shell.mesh, points, run, settings.measure, *on);
+    else
+        shell.quality = settings.measure ? measure_quality(shell.mesh, points, run.offset, run.domain.h)
+                                         : measure_shell(shell.mesh, points, run.offset, run.domain.h);
     // The outlier rules' last count is this one when it was taken on these points (not
     // moved since) at this link (0.5-0.7 s for 1.5-25 M points, twice over).
     const DroppedOutliers& o = shell.outliers;

@@ -268,6 +268,7 @@ public:
         facts.busiest_over_mean = all > 0 ? *std::max_element(work.begin(), work.end()) / (all / double(work.size())) : 0;
         facts.cells_run = core_cells > 0 ? cells_run / core_cells : 0;
         merge_steps(runs_, plan_.planned_steps, res_);
+        facts.owners = owner_;
         if (!root()) return;
         Field field = field_.take();
         res_.total_bricks = field.brick_count();

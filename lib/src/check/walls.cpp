@@ -1,0 +1,109 @@
+// The walls of a shell (walls.hpp), and a process's share of them (WallShare).
+#include "check/walls.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "geometry/vec3_math.hpp"
+#include "parallel_sizes.hpp"
+#include "snvr/error.hpp"
+#include "snvr/quality.hpp"
+#include "threads_here.hpp"
+
+namespace snvr {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+using Tri = std::array<std::uint32_t, 3>;
+}  // namespace
+
+namespace detail {
+
+// vertex_normals(m, faces) without the array of faces, and in parallel: each
+// thread sums, in triangle order as vertex_normals does, into its own range of
+// vertices, so that every normal comes out the same to the last bit.
+std::vector<Vec3> unit_normals(const Mesh& m) {
+    const auto& T = m.triangles;
+    const std::size_t nv = m.vertices.size();
+    std::vector<Vec3> n(nv, Vec3{0, 0, 0});
+    const bool parallel = std::ptrdiff_t(T.size()) > detail::kParallelItems;
+    const int parts = parallel ? std::max(1, threads_here()) : 1;
+#pragma omp parallel for schedule(static, 1) if (parts > 1)
+    for (int k = 0; k < parts; ++k) {
+        const std::size_t lo = nv * std::size_t(k) / std::size_t(parts), hi = nv * std::size_t(k + 1) / std::size_t(parts);
+        for (const Tri& t : T) {
+            if ((t[0] < lo || t[0] >= hi) && (t[1] < lo || t[1] >= hi) && (t[2] < lo || t[2] >= hi)) continue;
+            const Vec3 f = face_vector(m, t);
+            for (std::uint32_t v : t)
+                if (v >= lo && v < hi)
+                    for (int d = 0; d < 3; ++d) n[v][d] += f[d];
+        }
+    }
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t v = 0; v < std::ptrdiff_t(nv); ++v) {
+        const double len = norm(n[v]);
+        if (len > 0)
+            for (double& x : n[v]) x /= len;
+    }
+    return n;
+}
+
+// A ray's t_min for the walls: far below any wall, far above the rounding of a
+// hit at the ray's own start.
+double wall_epsilon(const Mesh& m) {
+    Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+    for (const Vec3& p : m.vertices)
+        for (int d = 0; d < 3; ++d) {
+            lo[d] = std::min(lo[d], p[d]);
+            hi[d] = std::max(hi[d], p[d]);
+        }
+    return m.vertices.empty() ? 0 : 1e-9 * norm({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+}
+
+// wall[v], v in [first, last): the distance from vertex v along its inward
+// normal to the first triangle met, ignoring the vertex's own triangles;
+// infinity when nothing is met.
+void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<Vec3>& normals, double eps,
+                    std::size_t first, std::size_t last, std::vector<double>& wall, const std::uint8_t* skip) {
+    for (std::size_t v = first; v < last; ++v) {
+        if (skip && skip[v]) continue;
+        const Vec3& n = normals[v];
+        if (dot(n, n) == 0) continue;
+        wall[v] = grid.first_hit(m.vertices[v], {-n[0], -n[1], -n[2]}, eps, std::uint32_t(v)).t;
+    }
+}
+
+
+
+}  // namespace detail
+
+std::vector<double> walls_of_share(const WallShare& share) {
+    Mesh m;
+    m.vertices = share.vertices;
+    m.triangles = share.triangles;
+    for (const Tri& t : m.triangles)
+        for (std::uint32_t v : t)
+            if (v >= m.vertices.size()) throw InputError("walls_of_share: a triangle uses a vertex the share lacks");
+    for (std::uint32_t v : share.measured)
+        if (v >= m.vertices.size()) throw InputError("walls_of_share: a measured vertex the share lacks");
+    std::vector<double> out(share.measured.size(), kInf);
+    if (m.triangles.empty()) return out;
+    const TriangleGrid grid(m);
+    const std::vector<Vec3> normals = detail::unit_normals(m);
+    // Each measured vertex as the whole shell measures it; a hit beyond the reach (or none)
+    // may lie among triangles this share lacks: NaN, for the root to measure.
+#pragma omp parallel for schedule(dynamic, 256) if (std::ptrdiff_t(out.size()) > detail::kParallelItems)
+    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(out.size()); ++k) {
+        const std::uint32_t v = share.measured[std::size_t(k)];
+        const Vec3& n = normals[v];
+        if (dot(n, n) == 0) continue;
+        const double t = grid.first_hit(m.vertices[v], {-n[0], -n[1], -n[2]}, share.epsilon, v).t;
+        out[std::size_t(k)] = t <= share.reach ? t : std::numeric_limits<double>::quiet_NaN();
+    }
+    return out;
+}
+
+}  // namespace snvr

@@ -1,0 +1,47 @@
+// The walls of a shell: from each vertex along its inward normal, the distance to the
+// first triangle met (measure_quality's walls, thinnest_wall, and a process's share of
+// them: WallShare in tiles.hpp).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "mesh/triangle_grid.hpp"
+#include "snvr/geometry.hpp"
+#include "snvr/point_cloud.hpp"
+#include "snvr/quality.hpp"
+
+namespace snvr::detail {
+
+// Vertices per piece of the walls, handed out one piece at a time.
+constexpr std::size_t kWallChunk = 4096;
+
+// Each vertex's unit normal: the sum of its triangles' area vectors, in triangle order
+// (the same to the last bit on any number of threads), normalised (0 where it vanishes).
+std::vector<Vec3> unit_normals(const Mesh& m);
+
+// A ray's t_min for the walls: far below any wall, far above the rounding of a hit at the
+// ray's own start.
+double wall_epsilon(const Mesh& m);
+
+// wall[v], v in [first, last): the distance from vertex v along its inward normal to the
+// first triangle met, ignoring the vertex's own triangles; infinity when nothing is met
+// (and where the normal vanishes).
+// skip: vertices to leave as they are (measured elsewhere), or null.
+void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<Vec3>& normals, double eps,
+                    std::size_t first, std::size_t last, std::vector<double>& wall, const std::uint8_t* skip = nullptr);
+
+// Walls another process measures (make_shell over MPI): which vertices, and a call that
+// writes their values once back (NaN: to be measured here after all).
+struct WallsElsewhere {
+    std::vector<std::uint8_t> vertex;
+    std::function<void(std::vector<double>& wall)> fill;
+};
+
+// measure_quality (surface) or measure_shell with the walls of `elsewhere.vertex` taken
+// from `elsewhere.fill`: the same figures.
+MeshQuality measure_sharing_walls(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
+                                  const WallsElsewhere& elsewhere);
+
+}  // namespace snvr::detail

@@ -1,0 +1,105 @@
+// The check's walls shared among a tiled run's processes (shared_check.hpp).
+#include "pipeline/shared_check.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "check/walls.hpp"
+#include "snvr/error.hpp"
+#include "solver/tile_plan.hpp"
+
+namespace snvr::detail {
+namespace {
+
+// The cell holding coordinate x along an axis of `n` cells (clamped to the grid).
+int cell_of(double x, double origin, double h, int n) {
+    return std::clamp(int(std::floor((x - origin) / h)), 0, n - 1);
+}
+
+}  // namespace
+
+MeshQuality check_sharing_walls(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
+                                TileScheduler& on) {
+    const Domain& d = run.domain;
+    const int core = run.tiles.core_cells;
+    const std::array<int, 3> n{d.nx, d.ny, d.nz};
+    const std::array<int, 3> across{(d.nx + core - 1) / core, (d.ny + core - 1) / core, (d.nz + core - 1) / core};
+    const std::vector<int>& owners = run.tiles.owners;
+    const auto owner_at = [&](const std::array<int, 3>& cell) {  // the tiles are x fastest (plan_tiles)
+        const std::size_t t = std::size_t(cell[0] / core) +
+                              std::size_t(across[0]) * (std::size_t(cell[1] / core) + std::size_t(across[1]) * std::size_t(cell[2] / core));
+        return t < owners.size() ? owners[t] : 0;
+    };
+    // A wall thicker than this is measured by the first process: the shells' are about twice the offset.
+    const double reach = 4 * run.offset + 2 * d.h;
+    const int processes = on.processes();
+    WallsElsewhere elsewhere;
+    elsewhere.vertex.assign(mesh.vertices.size(), 0);
+    std::vector<int> by(mesh.vertices.size(), 0);  // the process that measures each vertex
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+        std::array<int, 3> c;
+        for (int a = 0; a < 3; ++a) c[std::size_t(a)] = cell_of(mesh.vertices[v][std::size_t(a)], d.origin[std::size_t(a)], d.h, n[std::size_t(a)]);
+        const int p = owner_at(c);
+        by[v] = p > 0 && p < processes ? p : 0;
+        elsewhere.vertex[v] = by[v] != 0;
+    }
+    // Each other process's share: the triangles (in the shell's order, so that its normals
+    // sum as the whole's) whose box, widened by the reach, meets one of its tiles.
+    std::vector<std::vector<std::uint32_t>> measured(static_cast<std::size_t>(processes));
+    const double eps = wall_epsilon(mesh);
+    std::vector<std::uint32_t> local(mesh.vertices.size());
+    for (int p = 1; p < processes; ++p) {
+        WallShare share;
+        share.epsilon = eps;
+        share.reach = reach;
+        std::fill(local.begin(), local.end(), std::numeric_limits<std::uint32_t>::max());
+        for (const auto& t : mesh.triangles) {
+            std::array<int, 3> lo, hi;
+            for (std::size_t a = 0; a < 3; ++a) {
+                const double mn = std::min({mesh.vertices[t[0]][a], mesh.vertices[t[1]][a], mesh.vertices[t[2]][a]});
+                const double mx = std::max({mesh.vertices[t[0]][a], mesh.vertices[t[1]][a], mesh.vertices[t[2]][a]});
+                lo[a] = cell_of(mn - reach, d.origin[a], d.h, n[a]) / core;
+                hi[a] = cell_of(mx + reach, d.origin[a], d.h, n[a]) / core;
+            }
+            bool near = false;
+            for (int k = lo[2]; k <= hi[2] && !near; ++k)
+                for (int j = lo[1]; j <= hi[1] && !near; ++j)
+                    for (int i = lo[0]; i <= hi[0] && !near; ++i) near = owner_at({i * core, j * core, k * core}) == p;
+            if (!near) continue;
+            std::array<std::uint32_t, 3> mine;
+            for (int c = 0; c < 3; ++c) {
+                std::uint32_t& at = local[t[std::size_t(c)]];
+                if (at == std::numeric_limits<std::uint32_t>::max()) {
+                    at = std::uint32_t(share.vertices.size());
+                    share.vertices.push_back(mesh.vertices[t[std::size_t(c)]]);
+                    if (by[t[std::size_t(c)]] == p) {
+                        share.measured.push_back(at);
+                        measured[std::size_t(p)].push_back(t[std::size_t(c)]);
+                    }
+                }
+                mine[std::size_t(c)] = at;
+            }
+            share.triangles.push_back(mine);
+        }
+        on.give_walls(p, share);
+    }
+    // Vertices of another's tiles in no triangle: no wall anywhere (infinity, as alone).
+    elsewhere.fill = [&](std::vector<double>& wall) {
+        for (std::size_t v = 0; v < wall.size(); ++v)
+            if (elsewhere.vertex[v]) wall[v] = std::numeric_limits<double>::infinity();
+        for (int p = 1; p < processes; ++p) {
+            const std::vector<double> got = on.take_walls(p);
+            const std::vector<std::uint32_t>& ids = measured[std::size_t(p)];
+            if (got.size() != ids.size()) throw Error("the walls from process " + std::to_string(p) + " are not whole");
+            for (std::size_t k = 0; k < ids.size(); ++k) wall[ids[k]] = got[k];
+        }
+    };
+    return measure_sharing_walls(mesh, points, run.offset, d.h, surface, elsewhere);
+}
+
+}  // namespace snvr::detail
