@@ -30,23 +30,26 @@ MeshQuality check_sharing_walls(const Mesh& mesh, const PointCloud& points, cons
     const std::array<int, 3> n{d.nx, d.ny, d.nz};
     const std::array<int, 3> across{(d.nx + core - 1) / core, (d.ny + core - 1) / core, (d.nz + core - 1) / core};
     const std::vector<int>& owners = run.tiles.owners;
+    const int processes = on.processes();
+    // Who measures the walls in each tile: the process that ran it; the first process's own
+    // tiles (and those no one ran) go to the others in turn, as it has the rest of the check
+    // to do meanwhile (the grid, the edges and topology, the points' depths).
     const auto owner_at = [&](const std::array<int, 3>& cell) {  // the tiles are x fastest (plan_tiles)
         const std::size_t t = std::size_t(cell[0] / core) +
                               std::size_t(across[0]) * (std::size_t(cell[1] / core) + std::size_t(across[1]) * std::size_t(cell[2] / core));
-        return t < owners.size() ? owners[t] : 0;
+        const int p = t < owners.size() ? owners[t] : 0;
+        return p > 0 && p < processes ? p : 1 + int(t % std::size_t(processes - 1));
     };
     // A wall thicker than this is measured by the first process: the shells' are about twice the offset.
     const double reach = 4 * run.offset + 2 * d.h;
-    const int processes = on.processes();
     WallsElsewhere elsewhere;
     elsewhere.vertex.assign(mesh.vertices.size(), 0);
-    std::vector<int> by(mesh.vertices.size(), 0);  // the process that measures each vertex
+    std::vector<int> by(mesh.vertices.size(), 0);  // the process that measures each vertex's wall
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
         std::array<int, 3> c;
         for (int a = 0; a < 3; ++a) c[std::size_t(a)] = cell_of(mesh.vertices[v][std::size_t(a)], d.origin[std::size_t(a)], d.h, n[std::size_t(a)]);
-        const int p = owner_at(c);
-        by[v] = p > 0 && p < processes ? p : 0;
-        elsewhere.vertex[v] = by[v] != 0;
+        by[v] = owner_at(c);
+        elsewhere.vertex[v] = 1;
     }
     // Each other process's share: the triangles (in the shell's order, so that its normals
     // sum as the whole's) whose box, widened by the reach, meets one of its tiles.
