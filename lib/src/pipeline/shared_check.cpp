@@ -45,12 +45,26 @@ MeshQuality check_sharing_walls(const Mesh& mesh, const PointCloud& points, cons
     WallsElsewhere elsewhere;
     elsewhere.vertex.assign(mesh.vertices.size(), 0);
     std::vector<int> by(mesh.vertices.size(), 0);  // the process that measures each vertex's wall
+    // The tiles within the reach of each vertex, lowest and highest along each axis: a
+    // triangle's box widened by the reach meets the tiles from its corners' lowest to their
+    // highest (the cells are monotone in the coordinates).
+    std::vector<std::array<int, 6>> reach_tiles(mesh.vertices.size());
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
         std::array<int, 3> c;
-        for (int a = 0; a < 3; ++a) c[std::size_t(a)] = cell_of(mesh.vertices[v][std::size_t(a)], d.origin[std::size_t(a)], d.h, n[std::size_t(a)]);
+        for (std::size_t a = 0; a < 3; ++a) {
+            const double x = mesh.vertices[v][a];
+            c[a] = cell_of(x, d.origin[a], d.h, n[a]);
+            reach_tiles[v][a] = cell_of(x - reach, d.origin[a], d.h, n[a]) / core;
+            reach_tiles[v][3 + a] = cell_of(x + reach, d.origin[a], d.h, n[a]) / core;
+        }
         by[v] = owner_at(c);
         elsewhere.vertex[v] = 1;
     }
+    std::vector<std::size_t> tiles_of(static_cast<std::size_t>(processes), 0);  // whose walls each measures
+    const std::size_t tiles = std::size_t(across[0]) * std::size_t(across[1]) * std::size_t(across[2]);
+    for (int k = 0; k < across[2]; ++k)
+        for (int j = 0; j < across[1]; ++j)
+            for (int i = 0; i < across[0]; ++i) ++tiles_of[std::size_t(owner_at({i * core, j * core, k * core}))];
     // Each other process's share: the triangles (in the shell's order, so that its normals
     // sum as the whole's) whose box, widened by the reach, meets one of its tiles.
     std::vector<std::vector<std::uint32_t>> measured(static_cast<std::size_t>(processes));
@@ -61,15 +75,14 @@ MeshQuality check_sharing_walls(const Mesh& mesh, const PointCloud& points, cons
         share.epsilon = eps;
         share.reach = reach;
         std::fill(local.begin(), local.end(), std::numeric_limits<std::uint32_t>::max());
+        const bool every_tile = tiles_of[std::size_t(p)] == tiles;  // two processes: the other has them all
         for (const auto& t : mesh.triangles) {
             std::array<int, 3> lo, hi;
             for (std::size_t a = 0; a < 3; ++a) {
-                const double mn = std::min({mesh.vertices[t[0]][a], mesh.vertices[t[1]][a], mesh.vertices[t[2]][a]});
-                const double mx = std::max({mesh.vertices[t[0]][a], mesh.vertices[t[1]][a], mesh.vertices[t[2]][a]});
-                lo[a] = cell_of(mn - reach, d.origin[a], d.h, n[a]) / core;
-                hi[a] = cell_of(mx + reach, d.origin[a], d.h, n[a]) / core;
+                lo[a] = std::min({reach_tiles[t[0]][a], reach_tiles[t[1]][a], reach_tiles[t[2]][a]});
+                hi[a] = std::max({reach_tiles[t[0]][3 + a], reach_tiles[t[1]][3 + a], reach_tiles[t[2]][3 + a]});
             }
-            bool near = false;
+            bool near = every_tile;
             for (int k = lo[2]; k <= hi[2] && !near; ++k)
                 for (int j = lo[1]; j <= hi[1] && !near; ++j)
                     for (int i = lo[0]; i <= hi[0] && !near; ++i) near = owner_at({i * core, j * core, k * core}) == p;
