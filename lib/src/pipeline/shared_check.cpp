@@ -32,13 +32,15 @@ MeshQuality check_sharing_walls(const Mesh& mesh, const PointCloud& points, cons
     const std::vector<int>& owners = run.tiles.owners;
     const int processes = on.processes();
     // Who measures the walls in each tile: the process that ran it; the first process's own
-    // tiles (and those no one ran) go to the others in turn, as it has the rest of the check
-    // to do meanwhile (the grid, the edges and topology, the points' depths).
+    // tiles (and those no one ran) are dealt to every process in turn, as it has the rest of
+    // the check to do meanwhile (the grid, the edges and topology, the points' depths): on
+    // two processes, dealt to the other alone, the first then waited for it (the bunny at
+    // 512: its check 1.9 s; keeping all its own, 2.1 s; dealt to both, 1.75 s).
     const auto owner_at = [&](const std::array<int, 3>& cell) {  // the tiles are x fastest (plan_tiles)
         const std::size_t t = std::size_t(cell[0] / core) +
                               std::size_t(across[0]) * (std::size_t(cell[1] / core) + std::size_t(across[1]) * std::size_t(cell[2] / core));
         const int p = t < owners.size() ? owners[t] : 0;
-        return p > 0 && p < processes ? p : 1 + int(t % std::size_t(processes - 1));
+        return p > 0 && p < processes ? p : int(t % std::size_t(processes));
     };
     // A wall thicker than this is measured by the first process: the shells' are about twice the offset.
     const double reach = 4 * run.offset + 2 * d.h;
@@ -58,7 +60,7 @@ MeshQuality check_sharing_walls(const Mesh& mesh, const PointCloud& points, cons
             reach_tiles[v][3 + a] = cell_of(x + reach, d.origin[a], d.h, n[a]) / core;
         }
         by[v] = owner_at(c);
-        elsewhere.vertex[v] = 1;
+        elsewhere.vertex[v] = by[v] != 0;
     }
     std::vector<std::size_t> tiles_of(static_cast<std::size_t>(processes), 0);  // whose walls each measures
     const std::size_t tiles = std::size_t(across[0]) * std::size_t(across[1]) * std::size_t(across[2]);

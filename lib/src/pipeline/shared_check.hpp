@@ -1,7 +1,7 @@
 // make_shell's check over the processes of a tiled run (tiles.hpp): the walls, the most
-// of the check's work, measured by the other processes (each for the vertices in its
-// tiles' cores, and the first's tiles in turn) from the triangles near them, while the
-// first does the rest of the check.
+// of the check's work, measured by each process for the vertices in its tiles' cores (the
+// first's own tiles dealt to all in turn) from the triangles near them, while the first
+// does the rest of the check.
 #pragma once
 #include "snvr/mesh.hpp"
 #include "snvr/point_cloud.hpp"
