@@ -46,65 +46,67 @@ MeshQuality check_sharing_walls(const Mesh& mesh, const PointCloud& points, cons
     const double reach = 4 * run.offset + 2 * d.h;
     WallsElsewhere elsewhere;
     elsewhere.vertex.assign(mesh.vertices.size(), 0);
-    std::vector<int> by(mesh.vertices.size(), 0);  // the process that measures each vertex's wall
-    // The tiles within the reach of each vertex, lowest and highest along each axis: a
-    // triangle's box widened by the reach meets the tiles from its corners' lowest to their
-    // highest (the cells are monotone in the coordinates).
-    std::vector<std::array<int, 6>> reach_tiles(mesh.vertices.size());
-    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-        std::array<int, 3> c;
-        for (std::size_t a = 0; a < 3; ++a) {
-            const double x = mesh.vertices[v][a];
-            c[a] = cell_of(x, d.origin[a], d.h, n[a]);
-            reach_tiles[v][a] = cell_of(x - reach, d.origin[a], d.h, n[a]) / core;
-            reach_tiles[v][3 + a] = cell_of(x + reach, d.origin[a], d.h, n[a]) / core;
-        }
-        by[v] = owner_at(c);
-        elsewhere.vertex[v] = by[v] != 0;
-    }
-    std::vector<std::size_t> tiles_of(static_cast<std::size_t>(processes), 0);  // whose walls each measures
-    const std::size_t tiles = std::size_t(across[0]) * std::size_t(across[1]) * std::size_t(across[2]);
-    for (int k = 0; k < across[2]; ++k)
-        for (int j = 0; j < across[1]; ++j)
-            for (int i = 0; i < across[0]; ++i) ++tiles_of[std::size_t(owner_at({i * core, j * core, k * core}))];
-    // Each other process's share: the triangles (in the shell's order, so that its normals
-    // sum as the whole's) whose box, widened by the reach, meets one of its tiles.
-    std::vector<std::vector<std::uint32_t>> measured(static_cast<std::size_t>(processes));
-    const double eps = wall_epsilon(mesh);
-    std::vector<std::uint32_t> local(mesh.vertices.size());
-    for (int p = 1; p < processes; ++p) {
-        WallShare share;
-        share.epsilon = eps;
-        share.reach = reach;
-        std::fill(local.begin(), local.end(), std::numeric_limits<std::uint32_t>::max());
-        const bool every_tile = tiles_of[std::size_t(p)] == tiles;  // two processes: the other has them all
-        for (const auto& t : mesh.triangles) {
-            std::array<int, 3> lo, hi;
+    std::vector<std::vector<std::uint32_t>> measured(static_cast<std::size_t>(processes));  // by each other process
+    {  // what builds the shares, freed before the first measures its own part
+        std::vector<int> by(mesh.vertices.size(), 0);  // the process that measures each vertex's wall
+        // The tiles within the reach of each vertex, lowest and highest along each axis: a
+        // triangle's box widened by the reach meets the tiles from its corners' lowest to their
+        // highest (the cells are monotone in the coordinates).
+        std::vector<std::array<std::uint16_t, 6>> reach_tiles(mesh.vertices.size());
+        for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+            std::array<int, 3> c;
             for (std::size_t a = 0; a < 3; ++a) {
-                lo[a] = std::min({reach_tiles[t[0]][a], reach_tiles[t[1]][a], reach_tiles[t[2]][a]});
-                hi[a] = std::max({reach_tiles[t[0]][3 + a], reach_tiles[t[1]][3 + a], reach_tiles[t[2]][3 + a]});
+                const double x = mesh.vertices[v][a];
+                c[a] = cell_of(x, d.origin[a], d.h, n[a]);
+                reach_tiles[v][a] = std::uint16_t(cell_of(x - reach, d.origin[a], d.h, n[a]) / core);
+                reach_tiles[v][3 + a] = std::uint16_t(cell_of(x + reach, d.origin[a], d.h, n[a]) / core);
             }
-            bool near = every_tile;
-            for (int k = lo[2]; k <= hi[2] && !near; ++k)
-                for (int j = lo[1]; j <= hi[1] && !near; ++j)
-                    for (int i = lo[0]; i <= hi[0] && !near; ++i) near = owner_at({i * core, j * core, k * core}) == p;
-            if (!near) continue;
-            std::array<std::uint32_t, 3> mine;
-            for (int c = 0; c < 3; ++c) {
-                std::uint32_t& at = local[t[std::size_t(c)]];
-                if (at == std::numeric_limits<std::uint32_t>::max()) {
-                    at = std::uint32_t(share.vertices.size());
-                    share.vertices.push_back(mesh.vertices[t[std::size_t(c)]]);
-                    if (by[t[std::size_t(c)]] == p) {
-                        share.measured.push_back(at);
-                        measured[std::size_t(p)].push_back(t[std::size_t(c)]);
-                    }
-                }
-                mine[std::size_t(c)] = at;
-            }
-            share.triangles.push_back(mine);
+            by[v] = owner_at(c);
+            elsewhere.vertex[v] = by[v] != 0;
         }
-        on.give_walls(p, share);
+        std::vector<std::size_t> tiles_of(static_cast<std::size_t>(processes), 0);  // whose walls each measures
+        const std::size_t tiles = std::size_t(across[0]) * std::size_t(across[1]) * std::size_t(across[2]);
+        for (int k = 0; k < across[2]; ++k)
+            for (int j = 0; j < across[1]; ++j)
+                for (int i = 0; i < across[0]; ++i) ++tiles_of[std::size_t(owner_at({i * core, j * core, k * core}))];
+        // Each other process's share: the triangles (in the shell's order, so that its normals
+        // sum as the whole's) whose box, widened by the reach, meets one of its tiles.
+        const double eps = wall_epsilon(mesh);
+        std::vector<std::uint32_t> local(mesh.vertices.size());
+        for (int p = 1; p < processes; ++p) {
+            WallShare share;
+            share.epsilon = eps;
+            share.reach = reach;
+            std::fill(local.begin(), local.end(), std::numeric_limits<std::uint32_t>::max());
+            const bool every_tile = tiles_of[std::size_t(p)] == tiles;  // two processes: the other has them all
+            for (const auto& t : mesh.triangles) {
+                std::array<int, 3> lo, hi;
+                for (std::size_t a = 0; a < 3; ++a) {
+                    lo[a] = std::min({reach_tiles[t[0]][a], reach_tiles[t[1]][a], reach_tiles[t[2]][a]});
+                    hi[a] = std::max({reach_tiles[t[0]][3 + a], reach_tiles[t[1]][3 + a], reach_tiles[t[2]][3 + a]});
+                }
+                bool near = every_tile;
+                for (int k = lo[2]; k <= hi[2] && !near; ++k)
+                    for (int j = lo[1]; j <= hi[1] && !near; ++j)
+                        for (int i = lo[0]; i <= hi[0] && !near; ++i) near = owner_at({i * core, j * core, k * core}) == p;
+                if (!near) continue;
+                std::array<std::uint32_t, 3> mine;
+                for (int c = 0; c < 3; ++c) {
+                    std::uint32_t& at = local[t[std::size_t(c)]];
+                    if (at == std::numeric_limits<std::uint32_t>::max()) {
+                        at = std::uint32_t(share.vertices.size());
+                        share.vertices.push_back(mesh.vertices[t[std::size_t(c)]]);
+                        if (by[t[std::size_t(c)]] == p) {
+                            share.measured.push_back(at);
+                            measured[std::size_t(p)].push_back(t[std::size_t(c)]);
+                        }
+                    }
+                    mine[std::size_t(c)] = at;
+                }
+                share.triangles.push_back(mine);
+            }
+            on.give_walls(p, share);
+        }
     }
     // Vertices of another's tiles in no triangle: no wall anywhere (infinity, as alone).
     elsewhere.fill = [&](std::vector<double>& wall) {
