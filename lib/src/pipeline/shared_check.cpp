@@ -36,9 +36,8 @@ MeshQuality check_sharing_walls(const Mesh& mesh, const PointCloud& points, cons
     // the check to do meanwhile (the grid, the edges and topology, the points' depths): on
     // two processes, dealt to the other alone, the first then waited for it (the bunny at
     // 512: its check 1.9 s; keeping all its own, 2.1 s; dealt to both, 1.75 s).
-    const auto owner_at = [&](const std::array<int, 3>& cell) {  // the tiles are x fastest (plan_tiles)
-        const std::size_t t = std::size_t(cell[0] / core) +
-                              std::size_t(across[0]) * (std::size_t(cell[1] / core) + std::size_t(across[1]) * std::size_t(cell[2] / core));
+    const auto owner_at = [&](const std::array<int, 3>& cell) {
+        const std::size_t t = tile_holding(d, core, cell);
         const int p = t < owners.size() ? owners[t] : 0;
         return p > 0 && p < processes ? p : int(t % std::size_t(processes));
     };

@@ -57,6 +57,13 @@ struct Tile {
 // halo of `halo_cells` (a multiple of the brick) beyond it where the grid goes on.
 std::vector<Tile> plan_tiles(const Domain& whole, int core_cells, int halo_cells);
 
+// The index in plan_tiles(whole, core_cells, ...) of the tile whose core holds `cell`.
+inline std::size_t tile_holding(const Domain& whole, int core_cells, const std::array<int, 3>& cell) {
+    const auto across = [&](int n) { return std::size_t((n + core_cells - 1) / core_cells); };
+    return std::size_t(cell[0] / core_cells) +
+           across(whole.nx) * (std::size_t(cell[1] / core_cells) + across(whole.ny) * std::size_t(cell[2] / core_cells));
+}
+
 // Calls f(t) for each tile of `tiles` (plan_tiles(whole, core_cells, halo_cells)) whose
 // box, halo included, meets the cells [lo, hi) (lo may be below 0, hi beyond the grid).
 template <class F>

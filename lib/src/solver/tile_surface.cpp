@@ -27,6 +27,10 @@ PieceBox piece_box(const Domain& whole, const std::array<int, 3>& lo, const std:
     return b;
 }
 
+// Whether the tile's core has a face inside the grid at its low (high) end along axis a.
+bool inner_low(const Tile& tile, std::size_t a) { return tile.core_lo[a] > 0; }
+bool inner_high(const Tile& tile, const std::array<int, 3>& n, std::size_t a) { return tile.core_hi[a] < n[a]; }
+
 bool empty_box(const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
     return lo[0] >= hi[0] || lo[1] >= hi[1] || lo[2] >= hi[2];
 }
@@ -60,8 +64,8 @@ void tile_interior(const Tile& tile, const Domain& whole, std::array<int, 3>& lo
     const std::array<int, 3> n = samples_of(whole);
     for (int a = 0; a < 3; ++a) {
         const std::size_t s = std::size_t(a);
-        lo[s] = tile.core_lo[s] + (tile.core_lo[s] > 0 ? 1 : 0);
-        hi[s] = tile.core_hi[s] - (tile.core_hi[s] < n[s] ? 2 : 0);
+        lo[s] = tile.core_lo[s] + (inner_low(tile, s) ? 1 : 0);
+        hi[s] = tile.core_hi[s] - (inner_high(tile, n, s) ? 2 : 0);
     }
 }
 
@@ -111,8 +115,8 @@ Field tile_faces(const Field& tile_field, const Tile& tile, const Domain& whole)
                 bool core = true, face = false;
                 for (std::size_t a = 0; a < 3; ++a) {
                     core = core && at[a] >= tile.core_lo[a] && at[a] < tile.core_hi[a];
-                    face = face || (at[a] == tile.core_lo[a] && tile.core_lo[a] > 0) ||
-                           (at[a] + kBrick >= tile.core_hi[a] && tile.core_hi[a] < n[a]);
+                    face = face || (at[a] == tile.core_lo[a] && inner_low(tile, a)) ||
+                           (at[a] + kBrick >= tile.core_hi[a] && inner_high(tile, n, a));
                 }
                 const std::size_t b = std::size_t(i) + std::size_t(bx) * (std::size_t(j) + std::size_t(by) * std::size_t(k));
                 const std::uint32_t slot = tile_field.brick_table()[b];
@@ -131,7 +135,7 @@ Field tile_faces(const Field& tile_field, const Tile& tile, const Domain& whole)
 int inner_faces(const Tile& tile, const Domain& whole) {
     const std::array<int, 3> n = samples_of(whole);
     int faces = 0;
-    for (std::size_t a = 0; a < 3; ++a) faces += (tile.core_lo[a] > 0) + (tile.core_hi[a] < n[a]);
+    for (std::size_t a = 0; a < 3; ++a) faces += int(inner_low(tile, a)) + int(inner_high(tile, n, a));
     return faces;
 }
 
