@@ -34,7 +34,7 @@ int as_count(std::size_t n, const char* what) {
     return int(n);
 }
 
-enum Tag { kHeader = 1, kTable, kStored, kFigures, kPoints, kSurface, kWallShare, kWalls };
+enum Tag { kHeader = 1, kTable, kStored, kFigures, kPoints, kSurface, kCheckShare, kChecked };
 constexpr int kHeaderSize = 10;
 
 // A worker's results go out as it goes on (MPI_Isend), each kept until sent() has waited
@@ -171,44 +171,60 @@ public:
                   "receiving the points");
     }
 
-    void give_walls(int process, const snvr::WallShare& share) override {
+    void give_check_points(int process, const snvr::Vec3& origin, const std::vector<float>& xyz) override {
+        give_points(process, origin, xyz);
+    }
+
+    void give_check(int process, const snvr::CheckShare& share) override {
         const std::int64_t sizes[3] = {std::int64_t(share.vertices.size()), std::int64_t(share.triangles.size()),
                                        std::int64_t(share.measured.size())};
-        const double figures[2] = {share.epsilon, share.reach};
+        const double figures[3] = {share.epsilon, share.reach, share.voxel};
         const auto put = [&](const void* data, std::size_t n, MPI_Datatype type) {
-            check(MPI_Send(data, as_count(n, "a share of the walls"), type, process, kWallShare, MPI_COMM_WORLD),
-                  "sending a share of the walls");
+            check(MPI_Send(data, as_count(n, "a share of the check"), type, process, kCheckShare, MPI_COMM_WORLD),
+                  "sending a share of the check");
         };
         put(sizes, 3, MPI_INT64_T);
-        put(figures, 2, MPI_DOUBLE);
+        put(figures, 3, MPI_DOUBLE);
         put(share.vertices.data(), 3 * share.vertices.size(), MPI_DOUBLE);
         put(share.triangles.data(), 3 * share.triangles.size(), MPI_UINT32_T);
         put(share.measured.data(), share.measured.size(), MPI_UINT32_T);
     }
 
-    std::vector<double> take_walls(int process) override {
-        std::int64_t count = 0;
-        check(MPI_Recv(&count, 1, MPI_INT64_T, process, kWalls, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receiving walls");
-        std::vector<double> walls(static_cast<std::size_t>(count));
-        check(MPI_Recv(walls.data(), as_count(walls.size(), "walls"), MPI_DOUBLE, process, kWalls, MPI_COMM_WORLD,
-                       MPI_STATUS_IGNORE),
-              "receiving walls");
-        return walls;
-    }
-
-    snvr::WallShare walls_share() override {
-        snvr::WallShare share;
-        std::int64_t sizes[3];
-        double figures[2];
+    snvr::CheckShareFigures take_check(int process) override {
+        snvr::CheckShareFigures got;
+        std::int64_t sizes[3] = {0, 0, 0};
+        double least = 0;
         const auto get = [&](void* data, std::size_t n, MPI_Datatype type) {
-            check(MPI_Recv(data, as_count(n, "a share of the walls"), type, 0, kWallShare, MPI_COMM_WORLD,
+            check(MPI_Recv(data, as_count(n, "the check's figures"), type, process, kChecked, MPI_COMM_WORLD,
                            MPI_STATUS_IGNORE),
-                  "receiving a share of the walls");
+                  "receiving the check's figures");
         };
         get(sizes, 3, MPI_INT64_T);
-        get(figures, 2, MPI_DOUBLE);
+        get(&least, 1, MPI_DOUBLE);
+        got.points_inside = std::uint64_t(sizes[1]);
+        got.depth_min = least;
+        got.walls.resize(static_cast<std::size_t>(sizes[0]));
+        got.unresolved.resize(static_cast<std::size_t>(sizes[2]));
+        get(got.walls.data(), got.walls.size(), MPI_DOUBLE);
+        get(got.unresolved.data(), got.unresolved.size(), MPI_UINT32_T);
+        return got;
+    }
+
+    snvr::CheckShare check_share() override {
+        snvr::CheckShare share;
+        take_points(share.origin, share.points);
+        std::int64_t sizes[3];
+        double figures[3];
+        const auto get = [&](void* data, std::size_t n, MPI_Datatype type) {
+            check(MPI_Recv(data, as_count(n, "a share of the check"), type, 0, kCheckShare, MPI_COMM_WORLD,
+                           MPI_STATUS_IGNORE),
+                  "receiving a share of the check");
+        };
+        get(sizes, 3, MPI_INT64_T);
+        get(figures, 3, MPI_DOUBLE);
         share.epsilon = figures[0];
         share.reach = figures[1];
+        share.voxel = figures[2];
         share.vertices.resize(static_cast<std::size_t>(sizes[0]));
         share.triangles.resize(static_cast<std::size_t>(sizes[1]));
         share.measured.resize(static_cast<std::size_t>(sizes[2]));
@@ -218,11 +234,17 @@ public:
         return share;
     }
 
-    void send_walls(const std::vector<double>& walls) override {
-        const std::int64_t count = std::int64_t(walls.size());
-        check(MPI_Send(&count, 1, MPI_INT64_T, 0, kWalls, MPI_COMM_WORLD), "sending walls");
-        check(MPI_Send(walls.data(), as_count(walls.size(), "walls"), MPI_DOUBLE, 0, kWalls, MPI_COMM_WORLD),
-              "sending walls");
+    void send_check(const snvr::CheckShareFigures& figures) override {
+        const std::int64_t sizes[3] = {std::int64_t(figures.walls.size()), std::int64_t(figures.points_inside),
+                                       std::int64_t(figures.unresolved.size())};
+        const auto put = [&](const void* data, std::size_t n, MPI_Datatype type) {
+            check(MPI_Send(data, as_count(n, "the check's figures"), type, 0, kChecked, MPI_COMM_WORLD),
+                  "sending the check's figures");
+        };
+        put(sizes, 3, MPI_INT64_T);
+        put(&figures.depth_min, 1, MPI_DOUBLE);
+        put(figures.walls.data(), figures.walls.size(), MPI_DOUBLE);
+        put(figures.unresolved.data(), figures.unresolved.size(), MPI_UINT32_T);
     }
 
 private:

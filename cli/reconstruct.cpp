@@ -128,8 +128,8 @@ int run_reconstruct(const std::vector<std::string>& args) {
     if (process_rank() != 0) {
         snvr::TileScheduler& on = *parsed->shell.tiles_on;
         snvr::reconstruct_tiles_of(parsed->shell.params, on);
-        // Then its share of the check: the walls of its tiles' vertices.
-        on.send_walls(snvr::walls_of_share(on.walls_share()));
+        // Then its share of the check: the walls and points of its tiles.
+        on.send_check(snvr::measure_check_share(on.check_share()));
         return 0;
     }
     const ReconstructOptions& o = *parsed;

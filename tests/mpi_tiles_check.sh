@@ -13,7 +13,7 @@ mpi=(mpirun --oversubscribe --allow-run-as-root)
 run=(reconstruct "$data/bunny.ply" --resolution 96 --tile-cells 24 --device openmp --quiet)
 fail() { echo "FAIL: $*"; exit 1; }
 
-# Every figure of the check the same (the walls are shared among the processes).
+# Every figure of the check the same (the walls and points' depths are shared among the processes).
 same_check() {
     python3 - "$1" "$2" <<'PY' || fail "the check's figures differ between 1 and 2 processes"
 import json, sys
@@ -38,13 +38,28 @@ blob=(reconstruct "$tmp/blob.xyz" --resolution 64 --tile-cells 16 --device openm
 "${mpi[@]}" -np 2 "$cli" "${blob[@]}" "$tmp/b2.json" -o "$tmp/b2.stl" 2>/dev/null || fail "the blob on two"
 cmp "$tmp/b1.stl" "$tmp/b2.stl" || fail "the blob: other bytes on two processes"
 same_check "$tmp/b1.json" "$tmp/b2.json"
-rm "$tmp"/b1.* "$tmp"/b2.* "$tmp/blob.xyz" "$tmp/one.json"
+# A dense sphere (318,054 points, over the 2^18 the check samples for its percentile): the
+# points' depths are measured by the process whose tiles hold them, but the sampled ones.
+"$cli" sample noisy-sphere --spacing 0.0022 -o "$tmp/dense.ply" >/dev/null || fail "the sampler"
+dense=(reconstruct "$tmp/dense.ply" --resolution 64 --tile-cells 16 --device openmp --report)
+"$cli" "${dense[@]}" "$tmp/d1.json" -o "$tmp/d1.stl" 2>/dev/null || fail "the dense sphere on one process"
+"${mpi[@]}" -np 2 "$cli" "${dense[@]}" "$tmp/d2.json" -o "$tmp/d2.stl" 2>/dev/null || fail "the dense sphere on two"
+cmp "$tmp/d1.stl" "$tmp/d2.stl" || fail "the dense sphere: other bytes on two processes"
+same_check "$tmp/d1.json" "$tmp/d2.json"
+python3 - "$tmp/d2.json" <<'PY' || fail "the other process measured none of the check"
+import json, sys
+t = json.load(open(sys.argv[1]))["tiles"]
+print(f"the other process: {t['check_walls_elsewhere']} walls, {t['check_points_elsewhere']} points' depths "
+      f"({t['check_points_back']} back to the first)")
+sys.exit(0 if t["check_walls_elsewhere"] > 0 and t["check_points_elsewhere"] > 100000 else 1)
+PY
+rm "$tmp"/b1.* "$tmp"/b2.* "$tmp/blob.xyz" "$tmp/one.json" "$tmp"/d1.* "$tmp"/d2.* "$tmp/dense.ply"
 grep -q '"processes": 2' "$tmp/two.json" || fail "the report does not say 2 processes"
 rm "$tmp/two.json"
 grep -q "tile: .* s left; process 0: [0-9]* of [0-9]*, process 1: [0-9]* of [0-9]*" "$tmp/two.log" ||
     fail "the progress does not show each process's tiles: $(tail -3 "$tmp/two.log")"
 rm "$tmp/two.log"
-echo "2 processes: the same bytes and check as 1 (the bunny, a solid blob)"
+echo "2 processes: the same bytes and check as 1 (the bunny, a solid blob, a dense sphere)"
 
 out=$("${mpi[@]}" -np 2 "$cli" reconstruct "$data/bunny.ply" -o "$tmp/x.stl" --quiet 2>&1)
 [ $? -ne 0 ] || fail "no --tile-cells under mpirun was accepted"

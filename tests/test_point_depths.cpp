@@ -44,17 +44,26 @@ Brute brute_force(const Mesh& mesh, const PointCloud& cloud) {
     return b;
 }
 
-}  // namespace
-
-TEST_CASE("point depths: groups, runs and bounds give brute force's figures, dense and sparse") {
-    // A thin shell around a sphere, from the library itself.
+// A thin shell around a sphere, from the library itself: its mesh, voxel and offset.
+struct ThinShell {
+    Mesh mesh;
+    double h = 0, l = 0;
+};
+ThinShell thin_shell() {
     const PointSet seeds = shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.02);
     Parameters p;
     p.resolution = 40;
     p.device = "openmp";
     const Result r = reconstruct(seeds, p);
-    const Mesh mesh = shell_mesh(r, seeds);
-    const double h = r.domain.h, l = r.offset;
+    return {shell_mesh(r, seeds), r.domain.h, r.offset};
+}
+
+}  // namespace
+
+TEST_CASE("point depths: groups, runs and bounds give brute force's figures, dense and sparse") {
+    const ThinShell shell = thin_shell();
+    const Mesh& mesh = shell.mesh;
+    const double h = shell.h, l = shell.l;
     REQUIRE(mesh.triangles.size() > 1000);
     // Points: a dense cap (runs of groups share their searches), the sphere sparsely
     // (groups of a point or two), spread across the wall and some beyond it, and some
@@ -98,4 +107,79 @@ TEST_CASE("point depths: groups, runs and bounds give brute force's figures, den
     const detail::PointDepths::Figures f = every.figures();
     CHECK(f.inside == b.inside);
     CHECK(f.depth_min == b.depth_min);
+}
+
+TEST_CASE("point depths: points split between shares of the mesh (another process's check) give the whole's") {
+    const ThinShell shell = thin_shell();
+    const Mesh& mesh = shell.mesh;
+    const double h = shell.h, l = shell.l;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(0, 1);
+    PointSet points;
+    for (int n = 0; n < 4000; ++n) {  // across the wall and beyond it, all round
+        const double theta = std::acos(2 * unit(rng) - 1), phi = 2 * M_PI * unit(rng);
+        const double radius = 0.3 + 1.5 * l * (2 * unit(rng) - 1);
+        points.push_back({0.5 + radius * std::sin(theta) * std::cos(phi),
+                          0.5 + radius * std::sin(theta) * std::sin(phi), 0.5 + radius * std::cos(theta)});
+    }
+    for (int n = 0; n < 2; ++n) points.push_back({0.5, 0.5, 0.5});  // far from every triangle
+    const PointCloud cloud(points);
+    const Brute b = brute_force(mesh, cloud);
+    double longest = 0;
+    for (const auto& t : mesh.triangles)
+        for (int c = 0; c < 3; ++c)
+            for (int a = 0; a < 3; ++a)
+                longest = std::max(longest, std::fabs(mesh.vertices[t[c]][a] - mesh.vertices[t[(c + 1) % 3]][a]));
+    // Two shares, the points split at x = 0.5; each with the triangles within reach of its
+    // side (as the root makes them). A narrow reach leaves more for the whole mesh to decide.
+    for (double reach : {4 * l + 2 * h, 0.5 * l}) {
+        CAPTURE(reach);
+        std::size_t inside = 0, unresolved = 0;
+        double least = std::numeric_limits<double>::infinity();
+        const TriangleGrid grid(mesh);
+        for (int side = 0; side < 2; ++side) {
+            const auto mine = [&](double x) { return side == 0 ? x < 0.5 : x >= 0.5; };
+            const double widened = reach + longest + 3 * h;
+            const auto near = [&](const Vec3& v) { return side == 0 ? v[0] < 0.5 + widened : v[0] >= 0.5 - widened; };
+            CheckShare share;
+            share.reach = reach;
+            share.voxel = h;
+            std::vector<std::uint32_t> local(mesh.vertices.size(), std::uint32_t(-1));
+            for (const auto& t : mesh.triangles) {
+                if (!near(mesh.vertices[t[0]]) && !near(mesh.vertices[t[1]]) && !near(mesh.vertices[t[2]])) continue;
+                std::array<std::uint32_t, 3> tri;
+                for (int c = 0; c < 3; ++c) {
+                    if (local[t[c]] == std::uint32_t(-1)) {
+                        local[t[c]] = std::uint32_t(share.vertices.size());
+                        share.vertices.push_back(mesh.vertices[t[c]]);
+                    }
+                    tri[c] = local[t[c]];
+                }
+                share.triangles.push_back(tri);
+            }
+            std::vector<Vec3> given;
+            for (std::size_t k = 0; k < cloud.size(); ++k)
+                if (mine(cloud[k][0])) {
+                    given.push_back(cloud[k]);
+                    for (int a = 0; a < 3; ++a) share.points.push_back(float(cloud[k][a]));
+                }
+            const CheckShareFigures f = measure_check_share(share);
+            CHECK(f.walls.empty());
+            inside += f.points_inside;
+            least = std::min(least, f.depth_min);
+            unresolved += f.unresolved.size();
+            // The rest as the whole mesh decides them (the root's part).
+            for (std::uint32_t k : f.unresolved) {
+                REQUIRE(k < given.size());
+                const bool in = count_points_inside(mesh, {given[k]}) == 1;
+                if (!in) continue;
+                ++inside;
+                least = std::min(least, std::sqrt(grid.closest(given[k]).dist_sq));
+            }
+        }
+        CHECK(inside == b.inside);
+        CHECK(least == b.depth_min);
+        CHECK(unresolved >= 2);  // the centre's points lie beyond any reach
+        if (reach < l) CHECK(unresolved > 100);
+    }
 }

@@ -105,11 +105,12 @@ MeshQuality measure_quality(const Mesh& mesh, const PointSet& points, double off
 MeshQuality measure_shell(const Mesh& mesh, const PointCloud& points, double offset, double voxel);
 MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offset, double voxel);  // makes a PointCloud
 
-// Another process's share of the walls (tiles.hpp): each measured vertex's wall as the
+// Another process's share of the check (tiles.hpp): each measured vertex's wall as the
 // whole shell measures it, NaN where the first hit lies beyond the share's reach (or none
-// lies within it), infinity where the normal vanishes. Throws InputError for indices the
-// share lacks.
-std::vector<double> walls_of_share(const WallShare& share);
+// lies within it), infinity where the normal vanishes; and its points' count inside and
+// least depth, as the whole shell decides them, but for those it names as unresolved.
+// Throws InputError for indices the share lacks.
+CheckShareFigures measure_check_share(CheckShare share);
 
 // Smallest wall thickness of the mesh in world units: from each vertex along its
 // inward normal to the first surface met (infinity if no ray meets anything).

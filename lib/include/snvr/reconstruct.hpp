@@ -81,6 +81,9 @@ struct TileFacts {
     std::size_t faces_received = 0;      // those tiles' faces inside the grid
     std::vector<int> owners;             // the process that ran each tile (-1: none, no points near)
     std::size_t points_sent = 0;         // points the first process gave the others (each its tiles' own)
+    // The check shared (make_shell): what the others measured, the bytes of their shares,
+    // and the points they left to the first (their side a ray would tell, or beyond reach).
+    std::size_t check_walls = 0, check_points = 0, check_bytes = 0, check_points_back = 0;
 };
 
 // How the run fitted its memory (Parameters::max_memory, or what the machine had free),

@@ -29,18 +29,31 @@ struct TileSurface {
     std::vector<std::uint64_t> triangle_keys;
 };
 
-// A share of the shell's check that another process takes (lib/src/check/wall_share.cpp):
-// the triangles near its tiles (in the shell's order) and the vertices, among them, whose
-// walls it measures (those in its tiles' cores). A wall is the distance along a vertex's
-// inward normal to the first triangle met; one met within `reach` is certainly among
-// these triangles, so it is the whole shell's; farther ones come back as NaN and the root
-// measures them.
-struct WallShare {
+// A share of the shell's check that another process takes (lib/src/check/check_share.cpp):
+// the triangles near its tiles (in the shell's order), the vertices among them whose walls
+// it measures (those in its tiles' cores), and the points whose depths it measures (those
+// of its tiles, but the ones the root samples for the percentile). The share holds every
+// triangle within `reach` of those vertices and points: a wall met within it, or a point's
+// nearest triangle within it, is the whole shell's; the rest come back for the root.
+struct CheckShare {
     std::vector<Vec3> vertices;
     std::vector<std::array<std::uint32_t, 3>> triangles;
     std::vector<std::uint32_t> measured;  // of `vertices`
     double epsilon = 0;                   // the least distance a hit counts at (the shell's)
     double reach = 0;
+    Vec3 origin{0, 0, 0};       // the points: float coordinates about it, x y z in turn
+    std::vector<float> points;
+    double voxel = 0;           // the run's (the points are measured in groups of its size)
+};
+
+// What a share measured: each measured vertex's wall (CheckShare::measured's order; NaN
+// beyond the reach), and its points' figures, but for the points it could not decide
+// (indices into CheckShare::points).
+struct CheckShareFigures {
+    std::vector<double> walls;
+    std::uint64_t points_inside = 0;
+    double depth_min = 0;  // the least depth of a point inside (infinity: none)
+    std::vector<std::uint32_t> unresolved;
 };
 
 // One tile's run, as the root needs it.
@@ -74,12 +87,14 @@ public:
     // At another process: its points from the root.
     virtual void take_points(Vec3& origin, std::vector<float>& xyz) = 0;
     // The shell's check shared, once the tiles are done: at the root, each other process's
-    // share (given to every one of them, empty when there is none) and later its walls;
-    // at another process, its share and its walls back (WallShare::measured's order).
-    virtual void give_walls(int process, const WallShare& share) = 0;
-    virtual std::vector<double> take_walls(int process) = 0;
-    virtual WallShare walls_share() = 0;
-    virtual void send_walls(const std::vector<double>& walls) = 0;
+    // share (given to every one of them, empty when there is none: first its points, then
+    // the rest, share.points unused, so that the root never holds both) and later what it
+    // measured; at another process, its share, whole, and what it measured back.
+    virtual void give_check_points(int process, const Vec3& origin, const std::vector<float>& xyz) = 0;
+    virtual void give_check(int process, const CheckShare& share) = 0;
+    virtual CheckShareFigures take_check(int process) = 0;
+    virtual CheckShare check_share() = 0;
+    virtual void send_check(const CheckShareFigures& figures) = 0;
 };
 
 }  // namespace snvr

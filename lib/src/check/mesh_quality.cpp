@@ -348,7 +348,7 @@ MeshQuality start_figures(const char* who, const Mesh& mesh, const PointTree& po
 
 // The figures from what the tasks found.
 void finish_figures(const Mesh& mesh, bool surface, const std::vector<Vec3>& normals, EdgeBuckets& edges,
-                    const std::optional<detail::PointDepths>& depths, std::size_t points_inside,
+                    detail::PointDepths::Figures& figures, std::size_t points_inside,
                     std::vector<double>& wall, const std::function<double(const Vec3&)>& exact,
                     MeshQuality& q) {
     const MeshReport& report = q.report;
@@ -360,16 +360,15 @@ void finish_figures(const Mesh& mesh, bool surface, const std::vector<Vec3>& nor
     q.oriented = report.oriented();
     if (surface) measure_normal_noise(normals, edges, q);
     EdgeBuckets().swap(edges);
-    detail::PointDepths::Figures figures = depths ? depths->figures() : detail::PointDepths::Figures{};
     measure_points(figures, surface ? std::optional<std::size_t>(points_inside) : std::nullopt, q);
     measure_walls(wall, q);
     if (exact) measure_exact(mesh, exact, q);
 }
 
-// elsewhere: walls another process measures (or null).
+// elsewhere: walls and points another process measures (or null).
 MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, double offset, double voxel,
                     bool surface, const std::function<double(const Vec3&)>& exact,
-                    const detail::WallsElsewhere* elsewhere = nullptr) {
+                    const detail::CheckElsewhere* elsewhere = nullptr) {
     const auto started = std::chrono::steady_clock::now();
     MeshQuality q = start_figures(who, mesh, points, offset, voxel, surface);
     // Tasks on the team's threads, each part on one thread (their loops run
@@ -427,7 +426,9 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
                 for (std::size_t k = 0; k < all.size(); ++k) all[k] = points.point(k);
                 points_inside = count_points_inside(mesh, all);
             }
-            depths.emplace(mesh, *grid, points, voxel, surface, surface);
+            const bool groups_elsewhere = elsewhere && !elsewhere->groups.empty();
+            depths.emplace(mesh, *grid, points, voxel, surface, surface,
+                           groups_elsewhere ? &elsewhere->groups : nullptr);
         });
         if (!failed[1]) {
             const double eps = wall_epsilon(mesh);
@@ -455,17 +456,35 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
     }
     for (const std::exception_ptr& e : failed)
         if (e) std::rethrow_exception(e);
+    detail::PointDepths::Figures figures = depths ? depths->figures() : detail::PointDepths::Figures{};
     if (elsewhere) {
         // Their walls back; those whose first hit lay beyond their share's reach, here.
-        elsewhere->fill(wall);
+        detail::PointDepths::Figures theirs;
+        elsewhere->fill(wall, theirs);
         const double eps = wall_epsilon(mesh);
         for (std::size_t v = 0; v < nv; ++v)
             if (std::isnan(wall[v])) {
                 wall[v] = kInf;
                 wall_thickness(mesh, *grid, normals, eps, v, v + 1, wall);
             }
+        // Their points' figures; those they could not decide, here.
+        figures.inside += theirs.inside;
+        figures.depth_min = std::min(figures.depth_min, theirs.depth_min);
+        std::size_t inside = 0;
+        double least = kInf;
+        const std::vector<std::uint32_t>& rest = theirs.unresolved;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : inside) reduction(min : least) \
+    if (std::ptrdiff_t(rest.size()) > detail::kParallelItems)
+        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(rest.size()); ++i) {
+            const detail::PointDepths::Depth at = depths->depth_of(points.point(rest[std::size_t(i)]));
+            if (!at.inside) continue;
+            ++inside;
+            least = std::min(least, at.distance);
+        }
+        figures.inside += inside;
+        figures.depth_min = std::min(figures.depth_min, least);
     }
-    finish_figures(mesh, surface, normals, edges, depths, points_inside, wall, exact, q);
+    finish_figures(mesh, surface, normals, edges, figures, points_inside, wall, exact, q);
     q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return q;
 }
@@ -488,10 +507,9 @@ MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offse
     return measure_shell(mesh, PointCloud(points), offset, voxel);
 }
 
-MeshQuality detail::measure_sharing_walls(const Mesh& mesh, const PointCloud& points, double offset, double voxel,
-                                         bool surface, const WallsElsewhere& elsewhere) {
-    if (elsewhere.vertex.size() != mesh.vertices.size())
-        throw ParameterError("measure_sharing_walls: one flag a vertex");
+MeshQuality detail::measure_sharing(const Mesh& mesh, const PointCloud& points, double offset, double voxel,
+                                    bool surface, const CheckElsewhere& elsewhere) {
+    if (elsewhere.vertex.size() != mesh.vertices.size()) throw ParameterError("measure_sharing: one flag a vertex");
     return measure(surface ? "measure_quality" : "measure_shell", mesh, detail::tree_of(points), offset, voxel, surface,
                    {}, &elsewhere);
 }

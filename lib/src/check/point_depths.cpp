@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <thread>
 
 #include "geometry/vec3_math.hpp"
@@ -386,6 +387,8 @@ struct Scratch {
     TangentBounds tangents;   // the kept's, about the group's centre
     std::vector<std::uint32_t> packets;
     double shallowest = kInf;  // the least depth this pass has measured inside
+    bool run_unsure = false;   // a part's run reached beyond its triangles
+    bool unsure = false;       // the group being visited cannot be decided here
 };
 
 // Inside or not by the parity of crossings along a ray in a direction that no
@@ -407,10 +410,7 @@ int ray_side(const TriangleGrid& grid, const Vec3& p, const Vec3& lo, const Vec3
 
 PointDepths::~PointDepths() = default;
 
-PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
-                         bool every_point, bool by_rays)
-    : mesh_(mesh), grid_(grid), points_(points), every_point_(every_point), by_rays_(by_rays),
-      jump_(kJumpVoxels * voxel), run_most_(kRunVoxels * voxel) {
+std::vector<PointDepths::Span> PointDepths::group_spans(const PointTree& points, double voxel, bool every_point) {
     // Leaves taken in Morton order, as many as fit in a group: neighbours in that order
     // lie side by side.
     const double most = kGroupVoxels * voxel;
@@ -418,11 +418,12 @@ PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const Point
     // groups were copied and their fresh pages faulted in several times over.
     std::size_t leaves = 0;
     points.for_each_leaf([](const PointTree::Node&) { return true; }, [&](const PointTree::Node&) { ++leaves; });
-    groups_.reserve(leaves);
-    Group open{};
+    std::vector<Span> spans;
+    spans.reserve(leaves);
+    Span open{};
     points.for_each_leaf([](const PointTree::Node&) { return true; }, [&](const PointTree::Node& leaf) {
         const Vec3 lo = points.lo(leaf), hi = points.hi(leaf);
-        Group grown = open;
+        Span grown = open;
         for (int a = 0; a < 3; ++a) {
             grown.lo[a] = std::min(open.lo[a], lo[a]);
             grown.hi[a] = std::max(open.hi[a], hi[a]);
@@ -434,19 +435,40 @@ PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const Point
             open = grown;
             return;
         }
-        if (open.end > open.begin) groups_.push_back(open);
-        open = Group{};
+        if (open.end > open.begin) spans.push_back(open);
+        open = Span{};
         open.begin = leaf.begin;
         open.end = leaf.end;
         open.lo = lo;
         open.hi = hi;
     });
-    if (open.end > open.begin) groups_.push_back(open);
+    if (open.end > open.begin) spans.push_back(open);
     // The groups the percentile is taken over: all of them for up to kExactPoints points,
     // else every stride-th (evenly over the Morton order: over the whole surface).
     const std::size_t n = points.size();
     const std::size_t stride = every_point || n <= kExactPoints ? 1 : (n + kSamplePoints - 1) / kSamplePoints;
-    for (std::size_t g = 0; g < groups_.size(); g += stride) groups_[g].sampled = true;
+    for (std::size_t g = 0; g < spans.size(); g += stride) spans[g].sampled = true;
+    return spans;
+}
+
+PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
+                         bool every_point, bool by_rays, const std::vector<std::uint8_t>* skip, const Part* part)
+    : mesh_(mesh), grid_(grid), points_(points), every_point_(every_point), by_rays_(by_rays),
+      complete_within_(part ? part->complete_within : kInf), jump_(kJumpVoxels * voxel),
+      run_most_(kRunVoxels * voxel) {
+    const std::vector<Span> spans = group_spans(points, voxel, every_point);
+    if (skip && skip->size() != spans.size()) throw std::logic_error("PointDepths: one flag a group");
+    groups_.resize(spans.size());
+    for (std::size_t g = 0; g < spans.size(); ++g) {
+        Group& group = groups_[g];
+        group.begin = spans[g].begin;
+        group.end = spans[g].end;
+        group.lo = spans[g].lo;
+        group.hi = spans[g].hi;
+        // A part measures no depths for the percentile (the whole cloud's groups are its).
+        group.sampled = spans[g].sampled && !part;
+        group.skipped = skip && (*skip)[g];
+    }
 
     // Frames are made when a run first needs them (a sparse scan needs few): their
     // memory is untouched until then.
@@ -463,8 +485,10 @@ PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const Point
 }
 
 void PointDepths::bound(std::size_t first, std::size_t last) {
-    std::vector<std::uint32_t> ids(last - first);
-    for (std::size_t g = first; g < last; ++g) ids[g - first] = std::uint32_t(g);
+    std::vector<std::uint32_t> ids;
+    ids.reserve(last - first);
+    for (std::size_t g = first; g < last; ++g)
+        if (!groups_[g].skipped) ids.push_back(std::uint32_t(g));
     pass(ids, kInf);
 }
 
@@ -472,7 +496,8 @@ void PointDepths::settle(std::size_t first, std::size_t last, double shallowest)
     std::vector<std::uint32_t> ids;
     for (std::size_t g = first; g < last; ++g) {
         const Group& group = groups_[g];
-        if (!group.measured && group.side < 0 && group.low < shallowest) ids.push_back(std::uint32_t(g));
+        if (!group.skipped && !group.unresolved && !group.measured && group.side < 0 && group.low < shallowest)
+            ids.push_back(std::uint32_t(g));
     }
     pass(ids, shallowest);
 }
@@ -505,9 +530,14 @@ void PointDepths::pass(const std::vector<std::uint32_t>& ids, double settle_belo
             before = gather(&s, centre, half, way <= jump_ ? before + way : kInf,
                             points >= kFewPoints && half <= run_most_);
             before_at = centre;
+            // A part's search that went farther than its triangles reach may have missed one.
+            s.run_unsure = !(s.run_distance <= complete_within_ && s.run_reach <= complete_within_);
         }
-        visit(groups_[ids[i]], false, settle_below, &s);
-        s.shallowest = std::min(s.shallowest, groups_[ids[i]].shallowest);
+        Group& group = groups_[ids[i]];
+        s.unsure = s.run_unsure;
+        visit(group, false, settle_below, &s);
+        group.unresolved = s.unsure;
+        if (!group.unresolved) s.shallowest = std::min(s.shallowest, group.shallowest);
     }
 }
 
@@ -570,13 +600,20 @@ const TriangleFrame& PointDepths::frame(std::uint32_t t) const {
 
 double PointDepths::shallowest() const {
     double least = kInf;
-    for (const Group& g : groups_) least = std::min(least, g.shallowest);
+    for (const Group& g : groups_)
+        if (!g.skipped && !g.unresolved) least = std::min(least, g.shallowest);
     return least;
 }
 
 PointDepths::Figures PointDepths::figures() const {
     Figures f;
     for (const Group& g : groups_) {
+        if (g.skipped) continue;
+        if (g.unresolved) {
+            for (std::uint32_t k = g.begin; k < g.end; ++k) f.unresolved.push_back(k);
+            continue;
+        }
+        f.unresolved.insert(f.unresolved.end(), g.undecided.begin(), g.undecided.end());
         f.inside += g.inside;
         f.depth_min = std::min(f.depth_min, g.shallowest);
         f.depths.insert(f.depths.end(), g.depths.begin(), g.depths.end());
@@ -622,7 +659,13 @@ int PointDepths::side(const Vec3& p, std::uint32_t triangle) const {
         const auto& t = mesh_.triangles[triangle];
         side = face_side(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
     }
-    return side != 0 ? side : ray_side(grid_, p, lo_, hi_);
+    if (side != 0 || complete_within_ < kInf) return side;  // a part's rays would leave its triangles
+    return ray_side(grid_, p, lo_, hi_);
+}
+
+PointDepths::Depth PointDepths::depth_of(const Vec3& p) const {
+    const TriangleGrid::Closest near = grid_.closest(p);
+    return {std::sqrt(near.dist_sq), side(p, near.triangle) < 0};
 }
 
 // One group's visit: what it takes from the run's candidates, and its steps.
@@ -675,6 +718,7 @@ public:
                 const double own = (bound + norm(sub(p, centre_))) * (1 + 1e-9);
                 TriangleGrid::Closest near = pd_.grid_.closest(p, own * own + 1e-300);
                 if (near.triangle == TriangleGrid::none) near = pd_.grid_.closest(p);
+                if (!(near.dist_sq <= pd_.complete_within_ * pd_.complete_within_)) s_.unsure = true;
                 last_ = Last{p, near.dist_sq, near.triangle, 0, true};
             }
             measured(k, last_.d2, last_.triangle);
@@ -760,6 +804,7 @@ public:
         std::uint32_t t;
         pd_.nearest(pd_.points_.point(ref), centre_, within(ref), &s_, slack_, margin_, d2, t);
         const int ref_side = pd_.side(pd_.points_.point(ref), t);
+        if (ref_side == 0) return false;  // a part's: a ray would tell, the points one by one
         // Nothing crosses the group when no surface comes within r of its centre (the points
         // lie in that ball, and a segment between two of them with it), or when every point
         // lies farther than 2 r from the surface (two on opposite sides would have it between
@@ -791,6 +836,7 @@ private:
     };
 
     void start() {
+        group_.undecided.clear();
         group_.inside = 0;
         group_.shallowest = kInf;
         group_.depths.clear();
@@ -800,6 +846,10 @@ private:
         const Vec3 p = pd_.points_.point(k);
         const double d = std::sqrt(d2);
         const int at = last_.is(p) && last_.side != 0 ? last_.side : pd_.side(p, triangle);
+        if (at == 0) {  // a part's: a ray would tell
+            group_.undecided.push_back(k);
+            return;
+        }
         last_.side = at;
         const bool inside = at < 0;
         if (inside) {

@@ -31,11 +31,29 @@ struct TriangleFrame;  // point_depths.cpp
 // groups of about that many points in all.
 class PointDepths {
 public:
+    // A part of the points, measured against a part of the mesh (another process's share
+    // of a tiled run's check, shared_check.cpp): no depths for the percentile, and a group
+    // is left `unresolved` where the part's triangles cannot decide it (a search beyond
+    // complete_within, which the part holds every triangle within, or a side that a ray's
+    // crossings would decide).
+    struct Part {
+        double complete_within = std::numeric_limits<double>::infinity();
+    };
     // every_point: measure every point (and by a ray's crossings when by_rays) rather than
-    // only what the figures need.
+    // only what the figures need. skip: groups (in this class's order, group_spans())
+    // measured elsewhere, or null. part: the points and mesh are a part, or null.
     PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel, bool every_point,
-                bool by_rays);
+                bool by_rays, const std::vector<std::uint8_t>* skip = nullptr, const Part* part = nullptr);
     ~PointDepths();
+
+    // The groups as the class makes them: points [begin, end) of the tree, their box, and
+    // whether its depths go to the percentile.
+    struct Span {
+        std::uint32_t begin = 0, end = 0;
+        Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+        bool sampled = false;
+    };
+    static std::vector<Span> group_spans(const PointTree& points, double voxel, bool every_point);
 
     std::size_t groups() const { return groups_.size(); }
     // The first pass over groups [first, last) (disjoint ranges from several threads).
@@ -49,8 +67,16 @@ public:
         std::size_t inside = 0;                                // points inside
         double depth_min = std::numeric_limits<double>::infinity();  // the least depth of a point inside
         std::vector<double> depths;  // signed depths (negative outside) of the points sampled for the percentile
+        std::vector<std::uint32_t> unresolved;  // of a part: the points (tree order) it could not decide
     };
     Figures figures() const;
+    // Point p's distance to the surface and whether it lies inside (for the points a part
+    // left unresolved: the whole mesh's).
+    struct Depth {
+        double distance = 0;
+        bool inside = false;
+    };
+    Depth depth_of(const Vec3& p) const;
 
 private:
     // Points [begin, end) of the tree, within the box [lo, hi], and what is known of them.
@@ -59,6 +85,9 @@ private:
         Vec3 lo{0, 0, 0}, hi{0, 0, 0};
         bool sampled = false;   // its depths go to the percentile
         bool measured = false;  // point by point
+        bool skipped = false;   // measured elsewhere
+        bool unresolved = false;  // a part's triangles could not decide it
+        std::vector<std::uint32_t> undecided;  // nor these points' sides
         int side = 0;           // +1 all outside, -1 all inside, 0 not known as a whole
         double low = -std::numeric_limits<double>::infinity();  // no point nearer the surface
         double shallowest = std::numeric_limits<double>::infinity();  // least depth measured inside
@@ -83,13 +112,15 @@ private:
     void nearest(const Vec3& p, const Vec3& centre, double within, const void* scratch, double slack, float margin,
                  double& d2, std::uint32_t& triangle) const;
     // -1 inside, +1 outside: by the nearest triangle's side where p's foot lies clear
-    // inside its face, else (or always, by_rays) by a ray's crossings.
+    // inside its face, else (or always, by_rays) by a ray's crossings; 0 where a part
+    // would need the ray.
     int side(const Vec3& p, std::uint32_t triangle) const;
 
     const Mesh& mesh_;
     const TriangleGrid& grid_;
     const PointTree& points_;
     bool every_point_, by_rays_;
+    double complete_within_;  // a part's: searches beyond this leave a group unresolved
     double jump_;      // beyond this from the last run, a fresh search
     double run_most_;  // the half diagonal of a run's box, at most
     std::vector<Group> groups_;

@@ -1,4 +1,4 @@
-// The walls of a shell (walls.hpp), and a process's share of them (WallShare).
+// The walls of a shell (walls.hpp).
 #include "check/walls.hpp"
 
 #include <algorithm>
@@ -79,31 +79,5 @@ void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<V
 
 
 }  // namespace detail
-
-std::vector<double> walls_of_share(const WallShare& share) {
-    Mesh m;
-    m.vertices = share.vertices;
-    m.triangles = share.triangles;
-    for (const Tri& t : m.triangles)
-        for (std::uint32_t v : t)
-            if (v >= m.vertices.size()) throw InputError("walls_of_share: a triangle uses a vertex the share lacks");
-    for (std::uint32_t v : share.measured)
-        if (v >= m.vertices.size()) throw InputError("walls_of_share: a measured vertex the share lacks");
-    std::vector<double> out(share.measured.size(), kInf);
-    if (m.triangles.empty()) return out;
-    const TriangleGrid grid(m);
-    const std::vector<Vec3> normals = detail::unit_normals(m);
-    // Each measured vertex as the whole shell measures it; a hit beyond the reach (or none)
-    // may lie among triangles this share lacks: NaN, for the root to measure.
-#pragma omp parallel for schedule(dynamic, 256) if (std::ptrdiff_t(out.size()) > detail::kParallelItems)
-    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(out.size()); ++k) {
-        const std::uint32_t v = share.measured[std::size_t(k)];
-        const Vec3& n = normals[v];
-        if (dot(n, n) == 0) continue;
-        const double t = grid.first_hit(m.vertices[v], {-n[0], -n[1], -n[2]}, share.epsilon, v).t;
-        out[std::size_t(k)] = t <= share.reach ? t : std::numeric_limits<double>::quiet_NaN();
-    }
-    return out;
-}
 
 }  // namespace snvr

@@ -1,12 +1,13 @@
 // The walls of a shell: from each vertex along its inward normal, the distance to the
 // first triangle met (measure_quality's walls, thinnest_wall, and a process's share of
-// them: WallShare in tiles.hpp).
+// them: CheckShare in tiles.hpp); and what other processes measure of a check.
 #pragma once
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
 
+#include "check/point_depths.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "snvr/geometry.hpp"
 #include "snvr/point_cloud.hpp"
@@ -32,16 +33,20 @@ double wall_epsilon(const Mesh& m);
 void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<Vec3>& normals, double eps,
                     std::size_t first, std::size_t last, std::vector<double>& wall, const std::uint8_t* skip = nullptr);
 
-// Walls another process measures (make_shell over MPI): which vertices, and a call that
-// writes their values once back (NaN: to be measured here after all).
-struct WallsElsewhere {
+// What other processes measure of the check (make_shell over MPI): the walls of the
+// flagged vertices, and the depths of the points in the flagged groups (PointDepths'
+// groups; empty: none). `fill` writes their walls back (NaN: to be measured here after
+// all) and adds up their points' figures (with the points, by the cloud's order, they
+// could not decide: measured here).
+struct CheckElsewhere {
     std::vector<std::uint8_t> vertex;
-    std::function<void(std::vector<double>& wall)> fill;
+    std::vector<std::uint8_t> groups;
+    std::function<void(std::vector<double>& wall, PointDepths::Figures& points)> fill;
 };
 
-// measure_quality (surface) or measure_shell with the walls of `elsewhere.vertex` taken
-// from `elsewhere.fill`: the same figures.
-MeshQuality measure_sharing_walls(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
-                                  const WallsElsewhere& elsewhere);
+// measure_quality (surface) or measure_shell with the walls and depths `elsewhere` names
+// taken from `elsewhere.fill`: the same figures.
+MeshQuality measure_sharing(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
+                            const CheckElsewhere& elsewhere);
 
 }  // namespace snvr::detail

@@ -70,7 +70,7 @@ std::string report_summary(const RunReport& report) {
                                  t.tiles, t.core_cells, t.halo_cells, t.halo_derived ? "as far as the flow reaches" : "as given",
                                  t.run, t.cells_run,
                                  t.processes > 1 ? format_text(" on %d processes (the busiest %.2f x the mean; %s points "
-                                                               "given to the others, %.3g MiB of tiles sent back%s)",
+                                                               "given to the others, %.3g MiB of tiles sent back%s%s)",
                                                                t.processes, t.busiest_over_mean,
                                                                grouped(t.points_sent).c_str(), mib(t.bytes_received),
                                                                t.faces_received
@@ -78,6 +78,16 @@ std::string report_summary(const RunReport& report) {
                                                                                  "%.3g MiB a face",
                                                                                  mib(t.face_bytes),
                                                                                  mib(t.face_bytes) / double(t.faces_received))
+                                                                         .c_str()
+                                                                   : "",
+                                                               t.check_bytes
+                                                                   ? format_text("; the check's walls of %s vertices and depths "
+                                                                                 "of %s points measured by the others (%.3g MiB "
+                                                                                 "sent them, %s points back)",
+                                                                                 grouped(t.check_walls).c_str(),
+                                                                                 grouped(t.check_points).c_str(),
+                                                                                 mib(t.check_bytes),
+                                                                                 grouped(t.check_points_back).c_str())
                                                                          .c_str()
                                                                    : "")
                                                        .c_str()

@@ -1,124 +1,274 @@
-// The check's walls shared among a tiled run's processes (shared_check.hpp).
+// The check shared among a tiled run's processes (shared_check.hpp).
 #include "pipeline/shared_check.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "check/point_depths.hpp"
 #include "check/walls.hpp"
+#include "geometry/point_tree.hpp"
+#include "geometry/vec3_math.hpp"
 #include "snvr/error.hpp"
 #include "solver/tile_plan.hpp"
 
 namespace snvr::detail {
 namespace {
 
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
 // The cell holding coordinate x along an axis of `n` cells (clamped to the grid).
 int cell_of(double x, double origin, double h, int n) {
     return std::clamp(int(std::floor((x - origin) / h)), 0, n - 1);
 }
 
+// The check's work in walls (one vertex's wall: about 0.65 us on one thread). The first
+// process's own part, done while the others measure: the grid and the edges and topology
+// 0.6 a vertex (the bunny at 512 on two processes: with 0.9 it finished 0.4 s before the
+// other, with 0.6 within 0.1 s). The points' depths go by groups of neighbours, about
+// 8 us a group whatever its points (the 50 M-point city block at 1024, 30 points a group,
+// and the 200 M-point one, 91 a group). A point given to another process costs the first
+// 25 ns (gathered and sent) and the other 130 ns more than measuring it here (filed again:
+// 93-111 ns a point on the 200 M-point block), so that a dense scan's depths mostly stay
+// (its points cost about as much to send as to measure) and a sparse one's go.
+constexpr double kFirstWorkAVertex = 0.6;
+constexpr double kWorkAGroup = 12;
+constexpr double kGiveAPoint = 0.04;
+constexpr double kSendAPoint = 0.2;
+
+// What a tile holds of the check's work: its vertices' walls, and its points' groups.
+struct TileWork {
+    double walls = 0;
+    std::size_t groups = 0, points = 0;
+    double depths(bool sent) const { return kWorkAGroup * double(groups) + (sent ? kSendAPoint * double(points) : 0); }
+};
+
+// Who measures the walls and the depths in each tile: the walls of the tiles another
+// process ran, that process (it has their triangles' neighbourhood at hand); the rest, the
+// most work first, whoever would be done first with it (the depths costing more where
+// their points must be sent), the first process's own part of the check counted as its
+// work. (The first's tiles' walls dealt in turn instead, the others waited for it: the
+// bunny at 512 on two processes, its check 1.75 s; a tile's depths always with its runner,
+// the dense city block's took longer than the first measuring them all.)
+struct Measurers {
+    std::vector<int> walls, depths;
+};
+Measurers check_measurers(const std::vector<int>& owners, const std::vector<TileWork>& in, double first_work,
+                          int processes) {
+    Measurers by{std::vector<int>(in.size(), 0), std::vector<int>(in.size(), 0)};
+    std::vector<double> work(std::size_t(processes), 0);
+    work[0] = first_work;
+    struct Item {
+        std::size_t tile;
+        bool depths;
+        double cost;  // here
+    };
+    std::vector<Item> dealt;
+    for (std::size_t t = 0; t < in.size(); ++t) {
+        const int p = t < owners.size() ? owners[t] : 0;
+        if (p > 0 && p < processes) {
+            by.walls[t] = p;
+            work[std::size_t(p)] += in[t].walls;
+        } else if (in[t].walls > 0) {
+            dealt.push_back({t, false, in[t].walls});
+        }
+        if (in[t].groups > 0) dealt.push_back({t, true, in[t].depths(false)});
+    }
+    std::stable_sort(dealt.begin(), dealt.end(), [](const Item& a, const Item& b) { return a.cost > b.cost; });
+    for (const Item& item : dealt) {
+        std::size_t best = 0;
+        double done = kInf;
+        for (std::size_t p = 0; p < work.size(); ++p) {
+            const double cost = item.depths ? in[item.tile].depths(p != 0) : item.cost;
+            if (work[p] + cost < done) done = work[p] + cost, best = p;
+        }
+        work[best] = done;
+        if (item.depths && best != 0) work[0] += kGiveAPoint * double(in[item.tile].points);
+        (item.depths ? by.depths : by.walls)[item.tile] = int(best);
+    }
+    return by;
+}
+
 }  // namespace
 
-MeshQuality check_sharing_walls(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
-                                TileScheduler& on) {
+MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
+                          TileScheduler& on, TileFacts& facts) {
     const Domain& d = run.domain;
     const int core = run.tiles.core_cells;
     const std::array<int, 3> n{d.nx, d.ny, d.nz};
     const std::array<int, 3> across{(d.nx + core - 1) / core, (d.ny + core - 1) / core, (d.nz + core - 1) / core};
-    const std::vector<int>& owners = run.tiles.owners;
+    const std::size_t tiles = std::size_t(across[0]) * std::size_t(across[1]) * std::size_t(across[2]);
     const int processes = on.processes();
-    // Who measures the walls in each tile: the process that ran it; the first process's own
-    // tiles (and those no one ran) are dealt to every process in turn, as it has the rest of
-    // the check to do meanwhile (the grid, the edges and topology, the points' depths): on
-    // two processes, dealt to the other alone, the first then waited for it (the bunny at
-    // 512: its check 1.9 s; keeping all its own, 2.1 s; dealt to both, 1.75 s).
-    const auto owner_at = [&](const std::array<int, 3>& cell) {
-        const std::size_t t = tile_holding(d, core, cell);
-        const int p = t < owners.size() ? owners[t] : 0;
-        return p > 0 && p < processes ? p : int(t % std::size_t(processes));
+    if (processes > 64) throw ParameterError("the check is shared among at most 64 processes");
+    const auto tile_at = [&](const Vec3& x) {
+        std::array<int, 3> c;
+        for (std::size_t a = 0; a < 3; ++a) c[a] = cell_of(x[a], d.origin[a], d.h, n[a]);
+        return std::uint32_t(tile_holding(d, core, c));
     };
-    // A wall thicker than this is measured by the first process: the shells' are about twice the offset.
+    const std::size_t nv = mesh.vertices.size();
+    std::vector<std::uint32_t> tile_of(nv);
+    std::vector<TileWork> work_in(tiles);
+    for (std::size_t v = 0; v < nv; ++v) {
+        tile_of[v] = tile_at(mesh.vertices[v]);
+        work_in[tile_of[v]].walls += 1;
+    }
+    // The points' depths go by their groups (PointDepths'), each to its centre's tile; the
+    // groups sampled for the percentile stay here, so that it is taken over the same points
+    // as alone, and so do those wider than a voxel (a sparse scan's lone leaves: their
+    // points may lie beyond where a share holds every triangle near). The surface's
+    // figures (every point by rays) stay here too.
+    const PointTree& tree = tree_of(points);
+    std::vector<PointDepths::Span> spans;  // freed once dealt
+    if (!surface) spans = PointDepths::group_spans(tree, d.h, false);
+    constexpr std::uint32_t kHere = std::numeric_limits<std::uint32_t>::max();  // measured here
+    std::vector<std::uint32_t> group_tile(spans.size());  // freed once dealt
+    double first_work = kFirstWorkAVertex * double(nv);
+    for (std::size_t g = 0; g < spans.size(); ++g) {
+        const PointDepths::Span& s = spans[g];
+        if (s.sampled || 0.5 * norm(sub(s.hi, s.lo)) > d.h) {
+            first_work += kWorkAGroup;
+            group_tile[g] = kHere;
+            continue;
+        }
+        Vec3 centre;
+        for (std::size_t a = 0; a < 3; ++a) centre[a] = 0.5 * (s.lo[a] + s.hi[a]);
+        group_tile[g] = tile_at(centre);
+        ++work_in[group_tile[g]].groups;
+        work_in[group_tile[g]].points += s.end - s.begin;
+    }
+    const Measurers measurer = check_measurers(run.tiles.owners, work_in, first_work, processes);
+    // A wall thicker than this, or a point's nearest triangle farther, the first process
+    // measures: the shells' walls are about twice the offset, a point inside lies within it.
     const double reach = 4 * run.offset + 2 * d.h;
-    WallsElsewhere elsewhere;
-    elsewhere.vertex.assign(mesh.vertices.size(), 0);
-    std::vector<std::vector<std::uint32_t>> measured(static_cast<std::size_t>(processes));  // by each other process
+    CheckElsewhere elsewhere;
+    elsewhere.vertex.assign(nv, 0);
+    for (std::size_t v = 0; v < nv; ++v) elsewhere.vertex[v] = measurer.walls[tile_of[v]] != 0;
+    if (!spans.empty()) {
+        elsewhere.groups.assign(spans.size(), 0);
+        for (std::size_t g = 0; g < spans.size(); ++g)
+            elsewhere.groups[g] = group_tile[g] != kHere && measurer.depths[group_tile[g]] != 0;
+    }
+    // What each other process measures: its vertices, and its groups' points (by the
+    // cloud's order: runs [begin, end), and how many points came before each run).
+    std::vector<std::vector<std::uint32_t>> measured(static_cast<std::size_t>(processes));
+    std::vector<std::vector<std::array<std::uint32_t, 2>>> their_runs(static_cast<std::size_t>(processes));
+    std::vector<std::vector<std::size_t>> runs_after(static_cast<std::size_t>(processes));
+    for (std::size_t g = 0; g < spans.size(); ++g)
+        if (elsewhere.groups[g]) {
+            const std::size_t p = std::size_t(measurer.depths[group_tile[g]]);
+            if (runs_after[p].empty()) runs_after[p].push_back(0);
+            their_runs[p].push_back({spans[g].begin, spans[g].end});
+            runs_after[p].push_back(runs_after[p].back() + (spans[g].end - spans[g].begin));
+        }
+    std::vector<PointDepths::Span>().swap(spans);
+    std::vector<std::uint32_t>().swap(group_tile);
     {  // what builds the shares, freed before the first measures its own part
-        std::vector<int> by(mesh.vertices.size(), 0);  // the process that measures each vertex's wall
-        // The tiles within the reach of each vertex, lowest and highest along each axis: a
-        // triangle's box widened by the reach meets the tiles from its corners' lowest to their
-        // highest (the cells are monotone in the coordinates).
-        std::vector<std::array<std::uint16_t, 6>> reach_tiles(mesh.vertices.size());
-        for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-            std::array<int, 3> c;
+        // The processes whose tiles lie near each vertex: within the reach, widened by the
+        // longest edge (a triangle within the reach of a tile then has a corner near it) and
+        // by 3 voxels (a point's group and its run reach that far beyond its tile).
+        double longest_edge = 0;
+        for (const auto& t : mesh.triangles)
+            for (int c = 0; c < 3; ++c) {
+                const Vec3& a = mesh.vertices[t[std::size_t(c)]];
+                const Vec3& b = mesh.vertices[t[std::size_t((c + 1) % 3)]];
+                for (std::size_t k = 0; k < 3; ++k) longest_edge = std::max(longest_edge, std::fabs(a[k] - b[k]));
+            }
+        const double widened = reach + longest_edge + 3 * d.h;
+        std::vector<std::uint64_t> tile_bits(tiles);  // bit p: process p measures something there
+        for (std::size_t t = 0; t < tiles; ++t)
+            tile_bits[t] = std::uint64_t(1) << measurer.walls[t] | std::uint64_t(1) << measurer.depths[t];
+        std::vector<std::uint64_t> near(nv, 0);  // bit p: a tile of process p near
+        for (std::size_t v = 0; v < nv; ++v) {
+            std::array<int, 3> lo, hi;
             for (std::size_t a = 0; a < 3; ++a) {
                 const double x = mesh.vertices[v][a];
-                c[a] = cell_of(x, d.origin[a], d.h, n[a]);
-                reach_tiles[v][a] = std::uint16_t(cell_of(x - reach, d.origin[a], d.h, n[a]) / core);
-                reach_tiles[v][3 + a] = std::uint16_t(cell_of(x + reach, d.origin[a], d.h, n[a]) / core);
+                lo[a] = cell_of(x - widened, d.origin[a], d.h, n[a]) / core;
+                hi[a] = cell_of(x + widened, d.origin[a], d.h, n[a]) / core;
             }
-            by[v] = owner_at(c);
-            elsewhere.vertex[v] = by[v] != 0;
+            std::uint64_t bits = 0;
+            for (int k = lo[2]; k <= hi[2]; ++k)
+                for (int j = lo[1]; j <= hi[1]; ++j)
+                    for (int i = lo[0]; i <= hi[0]; ++i)
+                        bits |= tile_bits[tile_holding(d, core, {i * core, j * core, k * core})];
+            near[v] = bits;
         }
-        std::vector<std::size_t> tiles_of(static_cast<std::size_t>(processes), 0);  // whose walls each measures
-        const std::size_t tiles = std::size_t(across[0]) * std::size_t(across[1]) * std::size_t(across[2]);
-        for (int k = 0; k < across[2]; ++k)
-            for (int j = 0; j < across[1]; ++j)
-                for (int i = 0; i < across[0]; ++i) ++tiles_of[std::size_t(owner_at({i * core, j * core, k * core}))];
-        // Each other process's share: the triangles (in the shell's order, so that its normals
-        // sum as the whole's) whose box, widened by the reach, meets one of its tiles.
         const double eps = wall_epsilon(mesh);
-        std::vector<std::uint32_t> local(mesh.vertices.size());
+        std::vector<std::uint32_t> local(nv);
         for (int p = 1; p < processes; ++p) {
-            WallShare share;
+            {  // its points first, freed before the rest is made
+                std::vector<float> xyz(3 * (runs_after[std::size_t(p)].empty() ? 0 : runs_after[std::size_t(p)].back()));
+                float* at = xyz.data();
+                for (const auto& run : their_runs[std::size_t(p)])
+                    for (std::uint32_t k = run[0]; k < run[1]; ++k, at += 3) std::memcpy(at, tree.xyz[k].data(), 3 * sizeof(float));
+                facts.check_points += xyz.size() / 3;
+                facts.check_bytes += xyz.size() * sizeof(float);
+                on.give_check_points(p, tree.origin, xyz);
+            }
+            CheckShare share;
             share.epsilon = eps;
             share.reach = reach;
+            share.voxel = d.h;
             std::fill(local.begin(), local.end(), std::numeric_limits<std::uint32_t>::max());
-            const bool every_tile = tiles_of[std::size_t(p)] == tiles;  // two processes: the other has them all
+            const std::uint64_t bit = std::uint64_t(1) << p;
+            const auto in_share = [&](const std::array<std::uint32_t, 3>& t) {
+                return ((near[t[0]] | near[t[1]] | near[t[2]]) & bit) != 0;
+            };
+            // The triangles in the shell's order, so that its normals sum as the whole's.
+            share.triangles.reserve(std::size_t(std::count_if(mesh.triangles.begin(), mesh.triangles.end(), in_share)));
+            share.vertices.reserve(share.triangles.capacity() / 2 + 64);
             for (const auto& t : mesh.triangles) {
-                std::array<int, 3> lo, hi;
-                for (std::size_t a = 0; a < 3; ++a) {
-                    lo[a] = std::min({reach_tiles[t[0]][a], reach_tiles[t[1]][a], reach_tiles[t[2]][a]});
-                    hi[a] = std::max({reach_tiles[t[0]][3 + a], reach_tiles[t[1]][3 + a], reach_tiles[t[2]][3 + a]});
-                }
-                bool near = every_tile;
-                for (int k = lo[2]; k <= hi[2] && !near; ++k)
-                    for (int j = lo[1]; j <= hi[1] && !near; ++j)
-                        for (int i = lo[0]; i <= hi[0] && !near; ++i) near = owner_at({i * core, j * core, k * core}) == p;
-                if (!near) continue;
+                if (!in_share(t)) continue;
                 std::array<std::uint32_t, 3> mine;
                 for (int c = 0; c < 3; ++c) {
-                    std::uint32_t& at = local[t[std::size_t(c)]];
+                    const std::uint32_t v = t[std::size_t(c)];
+                    std::uint32_t& at = local[v];
                     if (at == std::numeric_limits<std::uint32_t>::max()) {
                         at = std::uint32_t(share.vertices.size());
-                        share.vertices.push_back(mesh.vertices[t[std::size_t(c)]]);
-                        if (by[t[std::size_t(c)]] == p) {
+                        share.vertices.push_back(mesh.vertices[v]);
+                        if (measurer.walls[tile_of[v]] == p) {
                             share.measured.push_back(at);
-                            measured[std::size_t(p)].push_back(t[std::size_t(c)]);
+                            measured[std::size_t(p)].push_back(v);
                         }
                     }
                     mine[std::size_t(c)] = at;
                 }
                 share.triangles.push_back(mine);
             }
-            on.give_walls(p, share);
+            facts.check_walls += share.measured.size();
+            facts.check_bytes += share.vertices.size() * sizeof(Vec3) + share.triangles.size() * sizeof(share.triangles[0]) +
+                                 share.measured.size() * sizeof(std::uint32_t);
+            on.give_check(p, share);
         }
     }
     // Vertices of another's tiles in no triangle: no wall anywhere (infinity, as alone).
-    elsewhere.fill = [&](std::vector<double>& wall) {
+    elsewhere.fill = [&](std::vector<double>& wall, PointDepths::Figures& depths) {
         for (std::size_t v = 0; v < wall.size(); ++v)
             if (elsewhere.vertex[v]) wall[v] = std::numeric_limits<double>::infinity();
         for (int p = 1; p < processes; ++p) {
-            const std::vector<double> got = on.take_walls(p);
+            const CheckShareFigures got = on.take_check(p);
             const std::vector<std::uint32_t>& ids = measured[std::size_t(p)];
-            if (got.size() != ids.size()) throw Error("the walls from process " + std::to_string(p) + " are not whole");
-            for (std::size_t k = 0; k < ids.size(); ++k) wall[ids[k]] = got[k];
+            const std::vector<std::array<std::uint32_t, 2>>& runs = their_runs[std::size_t(p)];
+            const std::vector<std::size_t>& after = runs_after[std::size_t(p)];
+            const std::string from = "process " + std::to_string(p);
+            if (got.walls.size() != ids.size()) throw Error("the walls from " + from + " are not whole");
+            for (std::size_t k = 0; k < ids.size(); ++k) wall[ids[k]] = got.walls[k];
+            depths.inside += got.points_inside;
+            depths.depth_min = std::min(depths.depth_min, got.depth_min);
+            facts.check_points_back += got.unresolved.size();
+            for (std::uint32_t i : got.unresolved) {  // the i-th point given it, in the cloud's order
+                if (after.empty() || i >= after.back()) throw Error("the points from " + from + " name one it was not given");
+                const std::size_t r = std::size_t(std::upper_bound(after.begin(), after.end(), i) - after.begin()) - 1;
+                depths.unresolved.push_back(runs[r][0] + std::uint32_t(i - after[r]));
+            }
         }
     };
-    return measure_sharing_walls(mesh, points, run.offset, d.h, surface, elsewhere);
+    return measure_sharing(mesh, points, run.offset, d.h, surface, elsewhere);
 }
 
 }  // namespace snvr::detail

@@ -1,7 +1,7 @@
-// make_shell's check over the processes of a tiled run (tiles.hpp): the walls, the most
-// of the check's work, measured by each process for the vertices in its tiles' cores (the
-// first's own tiles dealt to all in turn) from the triangles near them, while the first
-// does the rest of the check.
+// make_shell's check over the processes of a tiled run (tiles.hpp): the walls and the
+// points' depths, the most of the check's work, measured by each process for the vertices
+// and points in its tiles' cores (the first's own tiles dealt to whoever has the least
+// work) from the triangles near them, while the first does the rest of the check.
 #pragma once
 #include "snvr/mesh.hpp"
 #include "snvr/point_cloud.hpp"
@@ -11,9 +11,11 @@
 
 namespace snvr::detail {
 
-// measure_quality (surface) or measure_shell of `mesh`, the same figures, its walls shared
-// with the other processes of `on` (each is given its share, empty where it has none).
-MeshQuality check_sharing_walls(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
-                                TileScheduler& on);
+// measure_quality (surface) or measure_shell of `mesh`, the same figures, its walls (and
+// without the surface's figures, its points' depths) shared with the other processes of
+// `on` (each is given its share, empty where it has none); what the others measured goes
+// to `facts` (TileFacts::check_walls and on).
+MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
+                          TileScheduler& on, TileFacts& facts);
 
 }  // namespace snvr::detail

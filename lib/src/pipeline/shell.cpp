@@ -163,10 +163,10 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     shell.seconds.mesh += stage.lap();
 
     enter("check");
-    // Over several processes, each measures the walls of its own tiles.
+    // Over several processes, each measures the walls and points of its own tiles.
     TileScheduler* on = settings.tiles_on.get();
     if (on && on->processes() > 1 && run.tiles.core_cells > 0)
-        shell.quality = detail::check_sharing_walls(shell.mesh, points, run, settings.measure, *on);
+        shell.quality = detail::check_sharing(shell.mesh, points, run, settings.measure, *on, shell.run.tiles);
     else
         shell.quality = settings.measure ? measure_quality(shell.mesh, points, run.offset, run.domain.h)
                                          : measure_shell(shell.mesh, points, run.offset, run.domain.h);

@@ -1,0 +1,81 @@
+// measure_check_share (quality.hpp): another process's share of a tiled run's check,
+// measured on the triangles the root gave it, as the whole shell would measure it where
+// those triangles decide.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "check/point_depths.hpp"
+#include "check/walls.hpp"
+#include "geometry/point_tree.hpp"
+#include "geometry/vec3_math.hpp"
+#include "mesh/triangle_grid.hpp"
+#include "parallel_sizes.hpp"
+#include "snvr/error.hpp"
+#include "snvr/point_cloud.hpp"
+#include "snvr/quality.hpp"
+
+namespace snvr {
+
+namespace {
+
+// The share's points' figures; those whose search or side would leave its triangles
+// (a ray's crossings, a nearest triangle beyond the reach) are named instead.
+void measure_points(CheckShare& share, const Mesh& m, const TriangleGrid& grid, CheckShareFigures& out) {
+    if (share.points.empty()) return;
+    std::vector<Vec3f> xyz(share.points.size() / 3);
+    for (std::size_t k = 0; k < xyz.size(); ++k)
+        xyz[k] = {share.points[3 * k], share.points[3 * k + 1], share.points[3 * k + 2]};
+    std::vector<float>().swap(share.points);  // the cloud's copy is enough
+    const PointCloud cloud(std::move(xyz), share.origin);
+    const detail::PointTree& tree = detail::tree_of(cloud);
+    detail::PointDepths::Part part;
+    part.complete_within = share.reach;
+    detail::PointDepths depths(m, grid, tree, share.voxel, false, false, nullptr, &part);
+    depths.bound(0, depths.groups());
+    depths.settle(0, depths.groups(), depths.shallowest());
+    const detail::PointDepths::Figures f = depths.figures();
+    out.points_inside = f.inside;
+    out.depth_min = f.depth_min;
+    out.unresolved.reserve(f.unresolved.size());
+    for (std::uint32_t k : f.unresolved) out.unresolved.push_back(std::uint32_t(cloud.input_index(k)));
+}
+
+}  // namespace
+
+CheckShareFigures measure_check_share(CheckShare share) {
+    Mesh m;
+    m.vertices = share.vertices;
+    m.triangles = share.triangles;
+    for (const auto& t : m.triangles)
+        for (std::uint32_t v : t)
+            if (v >= m.vertices.size()) throw InputError("measure_check_share: a triangle uses a vertex the share lacks");
+    for (std::uint32_t v : share.measured)
+        if (v >= m.vertices.size()) throw InputError("measure_check_share: a measured vertex the share lacks");
+    if (share.points.size() % 3 != 0) throw InputError("measure_check_share: the points are not x y z in turn");
+    CheckShareFigures out;
+    out.walls.assign(share.measured.size(), std::numeric_limits<double>::infinity());
+    out.depth_min = std::numeric_limits<double>::infinity();
+    if (m.triangles.empty()) {  // nothing near: no wall met, and the points' nearest lie beyond
+        for (std::size_t k = 0; k < share.points.size() / 3; ++k) out.unresolved.push_back(std::uint32_t(k));
+        return out;
+    }
+    const TriangleGrid grid(m);
+    const std::vector<Vec3> normals = detail::unit_normals(m);
+    // Each measured vertex as the whole shell measures it; a hit beyond the reach (or none)
+    // may lie among triangles this share lacks: NaN, for the root to measure.
+#pragma omp parallel for schedule(dynamic, 256) if (std::ptrdiff_t(out.walls.size()) > detail::kParallelItems)
+    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(out.walls.size()); ++k) {
+        const std::uint32_t v = share.measured[std::size_t(k)];
+        const Vec3& n = normals[v];
+        if (dot(n, n) == 0) continue;
+        const double t = grid.first_hit(m.vertices[v], {-n[0], -n[1], -n[2]}, share.epsilon, v).t;
+        out.walls[std::size_t(k)] = t <= share.reach ? t : std::numeric_limits<double>::quiet_NaN();
+    }
+    measure_points(share, m, grid, out);
+    return out;
+}
+
+}  // namespace snvr
