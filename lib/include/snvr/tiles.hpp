@@ -6,8 +6,11 @@
 // the input: reconstruct_tiles_of); each runs the tiles it owns (balanced by the points
 // near them) and sends the results to the root, which puts the cores together and goes on
 // to mesh (or, Parameters::whole_field false, each sends its part of the surface and the
-// bricks near its core's faces, and the root makes the seams and welds); on the other processes the call returns once their tiles are sent, without a
-// phase field or a mesh (Result::tiles.worker).
+// bricks near its core's faces, and the root makes the seams and welds); on the other
+// processes the call returns once their tiles are sent, without a phase field or a mesh
+// (Result::tiles.worker). make_shell's check is then shared too: each other process
+// measures the walls and points' depths the root gives it (CheckShare,
+// measure_check_share).
 #pragma once
 #include <array>
 #include <cstddef>

@@ -95,6 +95,88 @@ Measurers check_measurers(const std::vector<int>& owners, const std::vector<Tile
     return by;
 }
 
+// The points of the groups given to one process: runs [begin, end) of the cloud's order,
+// and how many came before each run (to find the i-th again).
+struct PointsGiven {
+    std::vector<std::array<std::uint32_t, 2>> runs;
+    std::vector<std::size_t> before{0};
+    void add(std::uint32_t begin, std::uint32_t end) {
+        runs.push_back({begin, end});
+        before.push_back(before.back() + (end - begin));
+    }
+    std::size_t count() const { return before.back(); }
+    // The i-th point given, by the cloud's order (i < count()).
+    std::uint32_t at(std::size_t i) const {
+        const std::size_t r = std::size_t(std::upper_bound(before.begin(), before.end(), i) - before.begin()) - 1;
+        return runs[r][0] + std::uint32_t(i - before[r]);
+    }
+    // Their coordinates about the tree's origin, x y z in turn.
+    std::vector<float> coordinates(const PointTree& tree) const {
+        std::vector<float> xyz(3 * count());
+        float* to = xyz.data();
+        for (const auto& run : runs)
+            for (std::uint32_t k = run[0]; k < run[1]; ++k, to += 3) std::memcpy(to, tree.xyz[k].data(), 3 * sizeof(float));
+        return xyz;
+    }
+};
+
+// Bit p for each vertex: a tile where process p measures something (tile_bits) lies
+// within `widened` of it along every axis.
+std::vector<std::uint64_t> processes_near(const Mesh& mesh, const Domain& d, int core, double widened,
+                                          const std::vector<std::uint64_t>& tile_bits) {
+    const std::array<int, 3> n{d.nx, d.ny, d.nz};
+    std::vector<std::uint64_t> near(mesh.vertices.size(), 0);
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+        std::array<int, 3> lo, hi;
+        for (std::size_t a = 0; a < 3; ++a) {
+            const double x = mesh.vertices[v][a];
+            lo[a] = cell_of(x - widened, d.origin[a], d.h, n[a]) / core;
+            hi[a] = cell_of(x + widened, d.origin[a], d.h, n[a]) / core;
+        }
+        for (int k = lo[2]; k <= hi[2]; ++k)
+            for (int j = lo[1]; j <= hi[1]; ++j)
+                for (int i = lo[0]; i <= hi[0]; ++i) near[v] |= tile_bits[tile_holding(d, core, {i * core, j * core, k * core})];
+    }
+    return near;
+}
+
+// Process p's triangles (those with a corner whose `near` has bit p, in the shell's order,
+// so that its normals sum as the whole's) and their vertices, among them those whose wall
+// it measures (`walls_here`), also put, by the shell's numbers, in `measured`.
+// local: scratch, a slot a vertex.
+template <class WallsHere>
+CheckShare mesh_share(const Mesh& mesh, const std::vector<std::uint64_t>& near, int p, const WallsHere& walls_here,
+                      std::vector<std::uint32_t>& local, std::vector<std::uint32_t>& measured) {
+    constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+    CheckShare share;
+    std::fill(local.begin(), local.end(), kNone);
+    const std::uint64_t bit = std::uint64_t(1) << p;
+    const auto in_share = [&](const std::array<std::uint32_t, 3>& t) {
+        return ((near[t[0]] | near[t[1]] | near[t[2]]) & bit) != 0;
+    };
+    share.triangles.reserve(std::size_t(std::count_if(mesh.triangles.begin(), mesh.triangles.end(), in_share)));
+    share.vertices.reserve(share.triangles.capacity() / 2 + 64);
+    for (const auto& t : mesh.triangles) {
+        if (!in_share(t)) continue;
+        std::array<std::uint32_t, 3> mine;
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t v = t[std::size_t(c)];
+            std::uint32_t& at = local[v];
+            if (at == kNone) {
+                at = std::uint32_t(share.vertices.size());
+                share.vertices.push_back(mesh.vertices[v]);
+                if (walls_here(v)) {
+                    share.measured.push_back(at);
+                    measured.push_back(v);
+                }
+            }
+            mine[std::size_t(c)] = at;
+        }
+        share.triangles.push_back(mine);
+    }
+    return share;
+}
+
 }  // namespace
 
 MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
@@ -154,24 +236,18 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
         for (std::size_t g = 0; g < spans.size(); ++g)
             elsewhere.groups[g] = group_tile[g] != kHere && measurer.depths[group_tile[g]] != 0;
     }
-    // What each other process measures: its vertices, and its groups' points (by the
-    // cloud's order: runs [begin, end), and how many points came before each run).
+    // What each other process measures: its vertices (by the shell's numbers) and its
+    // groups' points.
     std::vector<std::vector<std::uint32_t>> measured(static_cast<std::size_t>(processes));
-    std::vector<std::vector<std::array<std::uint32_t, 2>>> their_runs(static_cast<std::size_t>(processes));
-    std::vector<std::vector<std::size_t>> runs_after(static_cast<std::size_t>(processes));
+    std::vector<PointsGiven> given(static_cast<std::size_t>(processes));
     for (std::size_t g = 0; g < spans.size(); ++g)
-        if (elsewhere.groups[g]) {
-            const std::size_t p = std::size_t(measurer.depths[group_tile[g]]);
-            if (runs_after[p].empty()) runs_after[p].push_back(0);
-            their_runs[p].push_back({spans[g].begin, spans[g].end});
-            runs_after[p].push_back(runs_after[p].back() + (spans[g].end - spans[g].begin));
-        }
+        if (elsewhere.groups[g]) given[std::size_t(measurer.depths[group_tile[g]])].add(spans[g].begin, spans[g].end);
     std::vector<PointDepths::Span>().swap(spans);
     std::vector<std::uint32_t>().swap(group_tile);
     {  // what builds the shares, freed before the first measures its own part
-        // The processes whose tiles lie near each vertex: within the reach, widened by the
-        // longest edge (a triangle within the reach of a tile then has a corner near it) and
-        // by 3 voxels (a point's group and its run reach that far beyond its tile).
+        // A triangle within the reach of a point or vertex in a tile has a corner within the
+        // reach and its longest edge of the tile; a point's group and its run reach 3 voxels
+        // beyond its tile.
         double longest_edge = 0;
         for (const auto& t : mesh.triangles)
             for (int c = 0; c < 3; ++c) {
@@ -179,67 +255,24 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
                 const Vec3& b = mesh.vertices[t[std::size_t((c + 1) % 3)]];
                 for (std::size_t k = 0; k < 3; ++k) longest_edge = std::max(longest_edge, std::fabs(a[k] - b[k]));
             }
-        const double widened = reach + longest_edge + 3 * d.h;
         std::vector<std::uint64_t> tile_bits(tiles);  // bit p: process p measures something there
         for (std::size_t t = 0; t < tiles; ++t)
             tile_bits[t] = std::uint64_t(1) << measurer.walls[t] | std::uint64_t(1) << measurer.depths[t];
-        std::vector<std::uint64_t> near(nv, 0);  // bit p: a tile of process p near
-        for (std::size_t v = 0; v < nv; ++v) {
-            std::array<int, 3> lo, hi;
-            for (std::size_t a = 0; a < 3; ++a) {
-                const double x = mesh.vertices[v][a];
-                lo[a] = cell_of(x - widened, d.origin[a], d.h, n[a]) / core;
-                hi[a] = cell_of(x + widened, d.origin[a], d.h, n[a]) / core;
-            }
-            std::uint64_t bits = 0;
-            for (int k = lo[2]; k <= hi[2]; ++k)
-                for (int j = lo[1]; j <= hi[1]; ++j)
-                    for (int i = lo[0]; i <= hi[0]; ++i)
-                        bits |= tile_bits[tile_holding(d, core, {i * core, j * core, k * core})];
-            near[v] = bits;
-        }
+        const std::vector<std::uint64_t> near = processes_near(mesh, d, core, reach + longest_edge + 3 * d.h, tile_bits);
         const double eps = wall_epsilon(mesh);
         std::vector<std::uint32_t> local(nv);
         for (int p = 1; p < processes; ++p) {
             {  // its points first, freed before the rest is made
-                std::vector<float> xyz(3 * (runs_after[std::size_t(p)].empty() ? 0 : runs_after[std::size_t(p)].back()));
-                float* at = xyz.data();
-                for (const auto& run : their_runs[std::size_t(p)])
-                    for (std::uint32_t k = run[0]; k < run[1]; ++k, at += 3) std::memcpy(at, tree.xyz[k].data(), 3 * sizeof(float));
+                const std::vector<float> xyz = given[std::size_t(p)].coordinates(tree);
                 facts.check_points += xyz.size() / 3;
                 facts.check_bytes += xyz.size() * sizeof(float);
                 on.give_check_points(p, tree.origin, xyz);
             }
-            CheckShare share;
+            const auto walls_here = [&](std::uint32_t v) { return measurer.walls[tile_of[v]] == p; };
+            CheckShare share = mesh_share(mesh, near, p, walls_here, local, measured[std::size_t(p)]);
             share.epsilon = eps;
             share.reach = reach;
             share.voxel = d.h;
-            std::fill(local.begin(), local.end(), std::numeric_limits<std::uint32_t>::max());
-            const std::uint64_t bit = std::uint64_t(1) << p;
-            const auto in_share = [&](const std::array<std::uint32_t, 3>& t) {
-                return ((near[t[0]] | near[t[1]] | near[t[2]]) & bit) != 0;
-            };
-            // The triangles in the shell's order, so that its normals sum as the whole's.
-            share.triangles.reserve(std::size_t(std::count_if(mesh.triangles.begin(), mesh.triangles.end(), in_share)));
-            share.vertices.reserve(share.triangles.capacity() / 2 + 64);
-            for (const auto& t : mesh.triangles) {
-                if (!in_share(t)) continue;
-                std::array<std::uint32_t, 3> mine;
-                for (int c = 0; c < 3; ++c) {
-                    const std::uint32_t v = t[std::size_t(c)];
-                    std::uint32_t& at = local[v];
-                    if (at == std::numeric_limits<std::uint32_t>::max()) {
-                        at = std::uint32_t(share.vertices.size());
-                        share.vertices.push_back(mesh.vertices[v]);
-                        if (measurer.walls[tile_of[v]] == p) {
-                            share.measured.push_back(at);
-                            measured[std::size_t(p)].push_back(v);
-                        }
-                    }
-                    mine[std::size_t(c)] = at;
-                }
-                share.triangles.push_back(mine);
-            }
             facts.check_walls += share.measured.size();
             facts.check_bytes += share.vertices.size() * sizeof(Vec3) + share.triangles.size() * sizeof(share.triangles[0]) +
                                  share.measured.size() * sizeof(std::uint32_t);
@@ -253,18 +286,16 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
         for (int p = 1; p < processes; ++p) {
             const CheckShareFigures got = on.take_check(p);
             const std::vector<std::uint32_t>& ids = measured[std::size_t(p)];
-            const std::vector<std::array<std::uint32_t, 2>>& runs = their_runs[std::size_t(p)];
-            const std::vector<std::size_t>& after = runs_after[std::size_t(p)];
+            const PointsGiven& points_given = given[std::size_t(p)];
             const std::string from = "process " + std::to_string(p);
             if (got.walls.size() != ids.size()) throw Error("the walls from " + from + " are not whole");
             for (std::size_t k = 0; k < ids.size(); ++k) wall[ids[k]] = got.walls[k];
             depths.inside += got.points_inside;
             depths.depth_min = std::min(depths.depth_min, got.depth_min);
             facts.check_points_back += got.unresolved.size();
-            for (std::uint32_t i : got.unresolved) {  // the i-th point given it, in the cloud's order
-                if (after.empty() || i >= after.back()) throw Error("the points from " + from + " name one it was not given");
-                const std::size_t r = std::size_t(std::upper_bound(after.begin(), after.end(), i) - after.begin()) - 1;
-                depths.unresolved.push_back(runs[r][0] + std::uint32_t(i - after[r]));
+            for (std::uint32_t i : got.unresolved) {
+                if (i >= points_given.count()) throw Error("the points from " + from + " name one it was not given");
+                depths.unresolved.push_back(points_given.at(i));
             }
         }
     };
