@@ -46,9 +46,9 @@ void measure_points(CheckShare& share, const Mesh& m, const TriangleGrid& grid, 
 }  // namespace
 
 CheckShareFigures measure_check_share(CheckShare share) {
-    Mesh m;
-    m.vertices = share.vertices;
-    m.triangles = share.triangles;
+    Mesh m;  // the share's own: it was given by value
+    m.vertices = std::move(share.vertices);
+    m.triangles = std::move(share.triangles);
     for (const auto& t : m.triangles)
         for (std::uint32_t v : t)
             if (v >= m.vertices.size()) throw InputError("measure_check_share: a triangle uses a vertex the share lacks");
