@@ -152,7 +152,17 @@ int run_reconstruct(const std::vector<std::string>& args) {
     else
         say("read: " + grouped(input.points.size()) + " points");
     try {
-        snvr::Shell shell = snvr::make_shell(std::move(input.points), settings, [&](const snvr::Progress& p) {
+        // Staged first (whole files, not yet visible), then renamed into place together:
+        // a failure anywhere leaves every output as it was, and a written output always
+        // means exit 0 (the checks only warn). The mesh is staged as soon as it is final,
+        // while the check runs (over several processes, the others measure meanwhile).
+        snvr::OutputFiles outputs;
+        snvr::ShellSettings run_settings = settings;
+        run_settings.mesh_ready = [&](const snvr::Mesh& mesh) {
+            say("write: " + o.output);
+            files.outputs.push_back({o.output, "mesh", outputs.add_mesh(mesh, o.output)});
+        };
+        snvr::Shell shell = snvr::make_shell(std::move(input.points), run_settings, [&](const snvr::Progress& p) {
             if (p.stage == "mesh") say("mesh: extracting the zero level set");
             else if (p.stage == "check") say("check: the shell against the points");
             else if (p.stage == "outliers" && !p.message.empty())
@@ -184,14 +194,10 @@ int run_reconstruct(const std::vector<std::string>& args) {
                                   dropped_pieces.dropped_volume, dropped_pieces.kept));
         for (const std::string& w : shell.warnings) warn(w);
 
-        // Staged first (whole files, not yet visible), then renamed into place together:
-        // a failure anywhere leaves every output as it was, and a written output always
-        // means exit 0 (the checks only warn).
-        say("write: " + o.output + (o.volume.empty() ? "" : ", " + o.volume));
-        snvr::OutputFiles outputs;
-        files.outputs.push_back({o.output, "mesh", outputs.add_mesh(shell.mesh, o.output)});
-        if (!o.volume.empty())
+        if (!o.volume.empty()) {
+            say("write: " + o.volume);
             files.outputs.push_back({o.volume, "volume", outputs.add_field(result.phi, result.domain, o.volume)});
+        }
         if (!o.outliers.empty()) {  // where the kept points went: shifted alike
             snvr::PointSet dropped = shell.outliers.points;
             for (snvr::Vec3& p : dropped)
@@ -200,7 +206,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
             files.outliers_file = o.outliers;
         }
         if (!o.preview.empty()) outputs.add_bytes(snvr::render::preview_png(shell.mesh, o.preview), o.preview);
-        files.write_seconds = stage.lap();
+        files.write_seconds = shell.seconds.mesh_ready + stage.lap();
         files.total_seconds = total.lap();
         const snvr::RunReport report = snvr::make_report(shell, files);
         if (!o.report.empty()) outputs.add_bytes(snvr::report_json(report), o.report);

@@ -30,36 +30,50 @@ PY
     fail "two processes"
 cmp "$tmp/one.stl" "$tmp/two.stl" || fail "two processes wrote other bytes than one"
 same_check "$tmp/one.json" "$tmp/two.json"
+# Input $2 (then the run's options) on one process and on two, as "$1": the same bytes and
+# check ($tmp/${1}1.json and ${1}2.json the reports).
+one_and_two() {
+    local name=$1 input=$2
+    shift 2
+    local args=(reconstruct "$input" --device openmp "$@")
+    "$cli" "${args[@]}" --report "$tmp/${name}1.json" -o "$tmp/${name}1.stl" 2>/dev/null || fail "$name on one process"
+    "${mpi[@]}" -np 2 "$cli" "${args[@]}" --report "$tmp/${name}2.json" -o "$tmp/${name}2.stl" 2>/dev/null ||
+        fail "$name on two processes"
+    cmp "$tmp/${name}1.stl" "$tmp/${name}2.stl" || fail "$name: other bytes on two processes"
+    same_check "$tmp/${name}1.json" "$tmp/${name}2.json"
+}
 # A solid blob: most walls far thicker than a process's share reaches (the first measures them).
 awk 'BEGIN { srand(3); for (i = 0; i < 4000; ++i) printf "%.6f %.6f %.6f\n", rand(), 0.5 * rand(), 0.7 * rand() }' \
     >"$tmp/blob.xyz"
-blob=(reconstruct "$tmp/blob.xyz" --resolution 64 --tile-cells 16 --device openmp --report)
-"$cli" "${blob[@]}" "$tmp/b1.json" -o "$tmp/b1.stl" 2>/dev/null || fail "the blob on one process"
-"${mpi[@]}" -np 2 "$cli" "${blob[@]}" "$tmp/b2.json" -o "$tmp/b2.stl" 2>/dev/null || fail "the blob on two"
-cmp "$tmp/b1.stl" "$tmp/b2.stl" || fail "the blob: other bytes on two processes"
-same_check "$tmp/b1.json" "$tmp/b2.json"
+one_and_two blob "$tmp/blob.xyz" --resolution 64 --tile-cells 16
 # A dense sphere (318,054 points, over the 2^18 the check samples for its percentile): the
 # points' depths are measured by the process whose tiles hold them, but the sampled ones.
 "$cli" sample noisy-sphere --spacing 0.0022 -o "$tmp/dense.ply" >/dev/null || fail "the sampler"
-dense=(reconstruct "$tmp/dense.ply" --resolution 64 --tile-cells 16 --device openmp --report)
-"$cli" "${dense[@]}" "$tmp/d1.json" -o "$tmp/d1.stl" 2>/dev/null || fail "the dense sphere on one process"
-"${mpi[@]}" -np 2 "$cli" "${dense[@]}" "$tmp/d2.json" -o "$tmp/d2.stl" 2>/dev/null || fail "the dense sphere on two"
-cmp "$tmp/d1.stl" "$tmp/d2.stl" || fail "the dense sphere: other bytes on two processes"
-same_check "$tmp/d1.json" "$tmp/d2.json"
-python3 - "$tmp/d2.json" <<'PY' || fail "the other process measured none of the check"
+one_and_two dense "$tmp/dense.ply" --resolution 64 --tile-cells 16
+python3 - "$tmp/dense2.json" <<'PY' || fail "the other process measured none of the check"
 import json, sys
 t = json.load(open(sys.argv[1]))["tiles"]
 print(f"the other process: {t['check_walls_elsewhere']} walls, {t['check_points_elsewhere']} points' depths "
       f"({t['check_points_back']} back to the first)")
 sys.exit(0 if t["check_walls_elsewhere"] > 0 and t["check_points_elsewhere"] > 100000 else 1)
 PY
-rm "$tmp"/b1.* "$tmp"/b2.* "$tmp/blob.xyz" "$tmp/one.json" "$tmp"/d1.* "$tmp"/d2.* "$tmp/dense.ply"
+# A sparse sphere (616 points): the points added between them are made by both processes.
+"$cli" sample noisy-sphere --spacing 0.05 -o "$tmp/sparse.ply" >/dev/null || fail "the sampler (sparse)"
+one_and_two sparse "$tmp/sparse.ply" --resolution 64 --tile-cells 16
+python3 - "$tmp/sparse1.json" "$tmp/sparse2.json" <<'PY' || fail "the points added were not made by both processes"
+import json, sys
+one, two = (json.load(open(f))["upsampled"] for f in sys.argv[1:])
+print(f"points added: {two['points_added']}, {two['made_elsewhere']} by the other process")
+sys.exit(0 if one["points_added"] == two["points_added"] > 1000 and 0 < two["made_elsewhere"] < two["points_added"]
+         and one["made_elsewhere"] == 0 else 1)
+PY
+rm "$tmp"/blob[12].* "$tmp/blob.xyz" "$tmp/one.json" "$tmp"/dense[12].* "$tmp/dense.ply" "$tmp"/sparse[12].* "$tmp/sparse.ply"
 grep -q '"processes": 2' "$tmp/two.json" || fail "the report does not say 2 processes"
 rm "$tmp/two.json"
 grep -q "tile: .* s left; process 0: [0-9]* of [0-9]*, process 1: [0-9]* of [0-9]*" "$tmp/two.log" ||
     fail "the progress does not show each process's tiles: $(tail -3 "$tmp/two.log")"
 rm "$tmp/two.log"
-echo "2 processes: the same bytes and check as 1 (the bunny, a solid blob, a dense sphere)"
+echo "2 processes: the same bytes and check as 1 (the bunny, a solid blob, a dense sphere, a sparse one)"
 
 out=$("${mpi[@]}" -np 2 "$cli" reconstruct "$data/bunny.ply" -o "$tmp/x.stl" --quiet 2>&1)
 [ $? -ne 0 ] || fail "no --tile-cells under mpirun was accepted"

@@ -187,3 +187,29 @@ TEST_CASE("make_shell: centred on request, refusals named, and a callback that c
     });
     CHECK(stages == " outliers domain distance init step mesh check");
 }
+
+TEST_CASE("make_shell: mesh_ready is handed the finished mesh once, in the check stage, and what it throws is thrown") {
+    const snvr::PointSet points = snvr::shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.03);
+    snvr::ShellSettings settings = small();
+    int calls = 0;
+    snvr::Mesh handed;
+    bool in_check_stage = false;
+    std::string stage;
+    settings.mesh_ready = [&](const snvr::Mesh& mesh) {
+        ++calls;
+        handed = mesh;
+        in_check_stage = stage == "check";  // the check has begun (its progress told), not ended
+    };
+    const snvr::Shell shell = snvr::make_shell(points, settings, [&](const snvr::Progress& p) {
+        stage = p.stage;
+        return true;
+    });
+    CHECK(calls == 1);
+    CHECK(in_check_stage);
+    CHECK(handed.vertices == shell.mesh.vertices);
+    CHECK(handed.triangles == shell.mesh.triangles);
+    CHECK(shell.seconds.mesh_ready >= 0);
+    CHECK(shell.seconds.mesh_ready <= shell.seconds.total);
+    settings.mesh_ready = [](const snvr::Mesh&) { throw snvr::IoError("cannot write 'x.stl': a test"); };
+    CHECK_THROWS_WITH_AS(snvr::make_shell(points, settings), doctest::Contains("a test"), snvr::IoError);
+}

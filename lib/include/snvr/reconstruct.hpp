@@ -55,6 +55,7 @@ struct DomainPlan {
     // on their local surfaces (0: none), and how many (Parameters::add_points).
     double upsample_spacing = 0;
     std::size_t upsampled = 0;
+    std::size_t upsampled_elsewhere = 0;  // of them, added by the other processes of a tiled run
     double eps = 0, xi = 0;       // world units
     double dt = 0;                // normalised
     int planned_steps = 0;        // the time steps the flow takes

@@ -67,6 +67,11 @@ struct ShellSettings {
     // when the format cannot hold it faithfully. Empty: doubles, as meshed.
     std::string written_as;
     bool keep_field = false;     // keep run.phi (else freed before the check)
+    // Called once with the finished mesh (Shell::mesh as returned) during the check, which
+    // does not change it: a caller writes it there, over several processes while the
+    // others finish their share of the check (the first process takes that much less of
+    // it, reckoning the writing of written_as's format). What it throws, make_shell throws.
+    std::function<void(const Mesh&)> mesh_ready;
     // Where a tiled run's tiles run (tiles.hpp); none: all in this process.
     std::shared_ptr<TileScheduler> tiles_on;
     // The points' length unit and a factor on it (a print at 1:100 is scale 0.01): the
@@ -82,6 +87,7 @@ struct ShellSettings {
 
 struct ShellSeconds {
     double outliers = 0, reconstruct = 0, mesh = 0, check = 0, total = 0;  // reconstruct: run.seconds has its stages
+    double mesh_ready = 0;  // in ShellSettings::mesh_ready (within total, not in check)
 };
 
 struct Shell {

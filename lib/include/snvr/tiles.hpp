@@ -8,7 +8,8 @@
 // to mesh (or, Parameters::whole_field false, each sends its part of the surface and the
 // bricks near its core's faces, and the root makes the seams and welds); on the other
 // processes the call returns once their tiles are sent, without a phase field or a mesh
-// (Result::tiles.worker). make_shell's check is then shared too: each other process
+// (Result::tiles.worker). Before the plan goes out, a sparse scan's points added on the
+// surface are shared too (UpsampleShare). make_shell's check is then shared too: each other process
 // measures the walls and points' depths the root gives it (CheckShare,
 // measure_check_share).
 #pragma once
@@ -59,6 +60,17 @@ struct CheckShareFigures {
     std::vector<std::uint32_t> unresolved;
 };
 
+// The points another process adds on the surface for the root before the tiles (a sparse
+// scan's, surface_upsampling.hpp): those of the run [begin, end) of the whole cloud's
+// order, the cloud given whole (float coordinates about `origin`, x y z in turn, in its
+// order: filed again, it is the root's). spacing 0: none to add in this run.
+struct UpsampleShare {
+    Vec3 origin{0, 0, 0};
+    std::vector<float> points;
+    double spacing = 0;
+    std::uint64_t begin = 0, end = 0;
+};
+
 // One tile's run, as the root needs it.
 struct TileResult {
     std::size_t tile = 0;
@@ -82,6 +94,13 @@ public:
     virtual TileResult receive() = 0;
     // The elementwise largest of every process's `mine`, on every process.
     virtual std::vector<int> most(const std::vector<int>& mine) = 0;
+    // First of all, at the root: each other process's share of the points added on the
+    // surface (given to every one, spacing 0 where none are added), then what it added
+    // (world units, x y z in turn); at another process, its share and what it added back.
+    virtual void give_upsampling(int process, const UpsampleShare& share) = 0;
+    virtual std::vector<double> take_upsampled(int process) = 0;
+    virtual UpsampleShare upsampling() = 0;
+    virtual void send_upsampled(const std::vector<double>& xyz) = 0;
     // The root's `plan` figures and tile `owners` to every process (the others' are
     // replaced).
     virtual void share(std::vector<double>& plan, std::vector<int>& owners) = 0;

@@ -30,7 +30,7 @@ PointCloud joined(const PointCloud& points, const PointSet& more) {
 }  // namespace
 
 PointCloud with_added_points(const PointCloud& points, double hole_least, double upsample_spacing, double slack,
-                             AddedPoints& added) {
+                             AddedPoints& added, const MakePointsBetween& make_between) {
     added = {};
     const std::array<Vec3, 2> box = points.box();
     PointCloud with;
@@ -42,7 +42,8 @@ PointCloud with_added_points(const PointCloud& points, double hole_least, double
     }
     if (upsample_spacing > 0) {
         const PointCloud& so_far = with.empty() ? points : with;
-        PointSet between = upsample_surface(detail::tree_of(so_far), upsample_spacing);
+        PointSet between =
+            make_between ? make_between(so_far) : upsample_surface(detail::tree_of(so_far), upsample_spacing);
         within(box, slack, between);
         added.between = between.size();
         if (!between.empty()) with = joined(so_far, between);

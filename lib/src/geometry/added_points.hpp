@@ -3,6 +3,7 @@
 // (sampling_holes.hpp) and between points sparser than the offset (surface_upsampling.hpp).
 #pragma once
 #include <cstddef>
+#include <functional>
 
 #include "snvr/point_cloud.hpp"
 
@@ -18,7 +19,10 @@ struct AddedPoints {
 // (0: none), none farther than `slack` outside the points' box (the surface between the
 // outermost points bulges out of their box a little; the grid's padding holds that much,
 // and no point far out of place). Empty when none was added (`added` says how many).
+// `between`, if given, makes the points between (upsample_surface over the cloud it is
+// given at upsample_spacing, however it shares the work).
+using MakePointsBetween = std::function<PointSet(const PointCloud& so_far)>;
 PointCloud with_added_points(const PointCloud& points, double hole_least, double upsample_spacing, double slack,
-                             AddedPoints& added);
+                             AddedPoints& added, const MakePointsBetween& between = {});
 
 }  // namespace snvr

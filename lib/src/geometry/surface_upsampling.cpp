@@ -54,10 +54,16 @@ void upsample_at(const detail::PointTree& tree, std::uint32_t k, double spacing,
 }  // namespace
 
 PointSet upsample_surface(const detail::PointTree& tree, double spacing) {
-    std::vector<PointSet> at(tree.size());
-    const std::ptrdiff_t n = std::ptrdiff_t(tree.size());
+    return upsample_surface(tree, spacing, 0, tree.size());
+}
+
+PointSet upsample_surface(const detail::PointTree& tree, double spacing, std::size_t begin, std::size_t end) {
+    end = std::min(end, tree.size());
+    begin = std::min(begin, end);
+    std::vector<PointSet> at(end - begin);
+    const std::ptrdiff_t n = std::ptrdiff_t(at.size());
 #pragma omp parallel for schedule(dynamic, 64) if (n >= detail::kParallelCostlyItems)
-    for (std::ptrdiff_t k = 0; k < n; ++k) upsample_at(tree, std::uint32_t(k), spacing, at[std::size_t(k)]);
+    for (std::ptrdiff_t k = 0; k < n; ++k) upsample_at(tree, std::uint32_t(begin + std::size_t(k)), spacing, at[std::size_t(k)]);
     PointSet out;
     for (const PointSet& s : at) out.insert(out.end(), s.begin(), s.end());
     return out;

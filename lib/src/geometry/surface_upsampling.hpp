@@ -4,6 +4,8 @@
 // flow at the voxel's scale cannot smooth that away. Filled in at a fraction of the
 // offset on the surface the points describe, the union of balls is the offset surface.
 #pragma once
+#include <cstddef>
+
 #include "geometry/point_tree.hpp"
 
 namespace snvr {
@@ -14,5 +16,8 @@ namespace snvr {
 // the disc of half the distance to its 6th nearest, inside their convex hull (so that a
 // surface's boundary does not grow). World units.
 PointSet upsample_surface(const detail::PointTree& tree, double spacing);
+// Those of points [begin, end) of the tree's order: the parts of a split, put together in
+// order, are the whole's.
+PointSet upsample_surface(const detail::PointTree& tree, double spacing, std::size_t begin, std::size_t end);
 
 }  // namespace snvr

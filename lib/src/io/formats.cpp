@@ -21,19 +21,20 @@ std::string laz_not_read(const std::string& path) {
 }
 
 // A row a format: name, extensions, signature {magic, any start},
-// reading {points, mesh, faces, points not read}, writing {mesh, points, field, stores, print}.
+// reading {points, mesh, faces, points not read},
+// writing {mesh, points, field, stores, print, ns a triangle}.
 // STL first: the mesh readers' and writers' lists have always begun with it.
 std::vector<Format> make_formats() {
     return {
-        {"STL", {".stl"}, {"", true}, {nullptr, read_stl_mesh, always}, {write_stl, nullptr, nullptr, Stores::Float32, true}},
-        {"PLY", {".ply"}, {"ply"}, {parse_ply, read_ply_mesh, ply_has_faces}, {write_ply, write_ply_points, nullptr, Stores::Float32}},
+        {"STL", {".stl"}, {"", true}, {nullptr, read_stl_mesh, always}, {write_stl, nullptr, nullptr, Stores::Float32, true, 30}},
+        {"PLY", {".ply"}, {"ply"}, {parse_ply, read_ply_mesh, ply_has_faces}, {write_ply, write_ply_points, nullptr, Stores::Float32, false, 17}},
         {"text points", {".xyz", ".pts", ".txt"}, {}, {parse_xyz}, {nullptr, write_text_points}},
         {"CSV", {".csv"}, {}, {parse_xyz}, {}},  // never written: the text writer separates by spaces
-        {"OBJ", {".obj"}, {}, {parse_obj, read_obj_mesh, obj_has_faces}, {write_obj}},
+        {"OBJ", {".obj"}, {}, {parse_obj, read_obj_mesh, obj_has_faces}, {write_obj, nullptr, nullptr, Stores::Exactly, false, 200}},
         {"OFF", {".off"}, {}, {parse_off, read_off_mesh, off_has_faces}, {}},
         {"LAS", {".las"}, {"LASF"}, {parse_las}, {}},
         {"LAZ", {".laz"}, {}, {nullptr, nullptr, nullptr, laz_not_read}, {}},
-        {"3MF", {".3mf"}, {}, {}, {write_3mf, nullptr, nullptr, Stores::Float32SixDecimals, true}},
+        {"3MF", {".3mf"}, {}, {}, {write_3mf, nullptr, nullptr, Stores::Float32SixDecimals, true, 2100}},
         {"VTI", {".vti"}, {}, {}, {nullptr, nullptr, write_vti}},
         {"NRRD", {".nrrd"}, {}, {}, {nullptr, nullptr, write_nrrd}},
     };
@@ -107,6 +108,11 @@ void require_signature(std::string_view first, const std::string& path) {
 bool is_print_format(const std::string& path) {
     const Format* format = format_of(path);
     return format && format->write.print;
+}
+
+double mesh_writing_seconds(const std::string& path, std::size_t triangles) {
+    const Format* format = format_of(path);
+    return format && format->write.mesh ? format->write.ns_a_triangle * 1e-9 * double(triangles) : 0;
 }
 
 }  // namespace snvr::detail

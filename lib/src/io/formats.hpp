@@ -2,6 +2,7 @@
 // text asks of a format comes from here. A new format is a row (formats.cpp) and its
 // parser or writer (declared in point_readers.hpp, mesh_readers.hpp or writers.hpp).
 #pragma once
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -47,6 +48,9 @@ struct Writing {
     FieldWriter field = nullptr;
     Stores stores = Stores::Exactly;  // by the mesh writer
     bool print = false;               // a slicer's format: coordinates centred where float32 would move them
+    // Writing a mesh, about, on one thread (this machine, the bunny's 3.3 M triangles): what
+    // a run may do meanwhile is planned on it, never its result.
+    double ns_a_triangle = 0;
 };
 
 struct Format {
@@ -81,5 +85,9 @@ void require_signature(std::string_view first, const std::string& path);
 
 // Whether `path` names a print format (STL, 3MF).
 bool is_print_format(const std::string& path);
+
+// About how long writing `triangles` to path's mesh format takes on one thread (0 for
+// no mesh format).
+double mesh_writing_seconds(const std::string& path, std::size_t triangles);
 
 }  // namespace snvr::detail

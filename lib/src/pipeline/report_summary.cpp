@@ -50,8 +50,11 @@ std::string report_summary(const RunReport& report) {
                                           grouped(r.hole_fills).c_str(), r.hole_least / d.h, r.hole_least / r.offset, 100 * r.hole_share));
     if (r.upsample_spacing > 0)
         row("upsampled", format_text("%s points added %.3g voxels (%.2g x offset) apart on the points' local surfaces: the "
-                                     "sampling sets the offset, and its balls would show (--points-as-given leaves them)",
-                                     grouped(r.upsampled).c_str(), r.upsample_spacing / d.h, r.upsample_spacing / r.offset));
+                                     "sampling sets the offset, and its balls would show (--points-as-given leaves them)%s",
+                                     grouped(r.upsampled).c_str(), r.upsample_spacing / d.h, r.upsample_spacing / r.offset,
+                                     r.upsampled_elsewhere ? ("; " + grouped(r.upsampled_elsewhere) +
+                                                              " made by the other processes").c_str()
+                                                           : ""));
     // In the cells of --eps-cells/--xi-cells, whichever way they were given.
     const double per_cell = eps_of_cells(1, d.h);
     row("eps, xi", format_text("%.6g (%.3g cells), %.6g (%.3g cells)", r.eps, r.eps / per_cell, r.xi, r.xi / per_cell));

@@ -28,24 +28,35 @@ int cell_of(double x, double origin, double h, int n) {
     return std::clamp(int(std::floor((x - origin) / h)), 0, n - 1);
 }
 
-// The check's work in walls (one vertex's wall: about 0.65 us on one thread). The first
+// The check's work in walls (one vertex's wall: 0.47-0.9 us on one thread, the city block's
+// and the bunny's; writing the mesh meanwhile is reckoned at 0.8 us a wall). The first
 // process's own part, done while the others measure: the grid and the edges and topology
-// 0.6 a vertex (the bunny at 512 on two processes: with 0.9 it finished 0.4 s before the
-// other, with 0.6 within 0.1 s). The points' depths go by groups of neighbours, about
-// 8 us a group whatever its points (the 50 M-point city block at 1024, 30 points a group,
-// and the 200 M-point one, 91 a group). A point given to another process costs the first
-// 25 ns (gathered and sent) and the other 130 ns more than measuring it here (filed again:
-// 93-111 ns a point on the 200 M-point block), so that a dense scan's depths mostly stay
-// (its points cost about as much to send as to measure) and a sparse one's go.
-constexpr double kFirstWorkAVertex = 0.6;
-constexpr double kWorkAGroup = 12;
-constexpr double kGiveAPoint = 0.04;
-constexpr double kSendAPoint = 0.2;
+// 0.7 a vertex (0.46 us on the bunny at 512, 0.68 on the city block: with 0.6 and no cost
+// for the others' filing of their shares, it finished 0.1-0.2 s before the other on the
+// bunny and 2.8 s after it on the city block). Another process first files its share's
+// triangles: an eighth of a wall more for each wall it measures (the bunny: 0.3 s for
+// 1.4 M walls, 1.0 s for 3.3 M on the city block). The points' depths go by groups of
+// neighbours, about 7.5 us a group whatever its points (9 walls; the 50 M-point city block
+// at 1024, 30 points a group at 250 ns, and the 200 M-point one, 91 at 90 ns). A point
+// given to another process costs the first 25 ns (gathered and sent) and the other about
+// 100 ns more than measuring it here (filed again: 93-111 ns a point on the 200 M-point
+// block), so that a dense scan's depths mostly stay (its points cost about as much to send
+// as to measure) and a sparse one's go. (With 12 walls a group and 0.2 a point sent, the
+// first finished 2.9 s after the other on the 50 M-point block; with 0.08 a point sent,
+// the 200 M-point block's other process was given 91 M points to file and its check took
+// 24.3 s where it took 18.9.)
+constexpr double kWallSeconds = 0.8e-6;
+constexpr double kFirstWorkAVertex = 0.7;
+constexpr double kShareAWall = 0.12;
+constexpr double kWorkAGroup = 9;
+constexpr double kGiveAPoint = 0.03;
+constexpr double kSendAPoint = 0.13;
 
 // What a tile holds of the check's work: its vertices' walls, and its points' groups.
 struct TileWork {
     double walls = 0;
     std::size_t groups = 0, points = 0;
+    double walls_measured(bool elsewhere) const { return walls * (elsewhere ? 1 + kShareAWall : 1); }
     double depths(bool sent) const { return kWorkAGroup * double(groups) + (sent ? kSendAPoint * double(points) : 0); }
 };
 
@@ -74,7 +85,7 @@ Measurers check_measurers(const std::vector<int>& owners, const std::vector<Tile
         const int p = t < owners.size() ? owners[t] : 0;
         if (p > 0 && p < processes) {
             by.walls[t] = p;
-            work[std::size_t(p)] += in[t].walls;
+            work[std::size_t(p)] += in[t].walls_measured(true);
         } else if (in[t].walls > 0) {
             dealt.push_back({t, false, in[t].walls});
         }
@@ -85,7 +96,7 @@ Measurers check_measurers(const std::vector<int>& owners, const std::vector<Tile
         std::size_t best = 0;
         double done = kInf;
         for (std::size_t p = 0; p < work.size(); ++p) {
-            const double cost = item.depths ? in[item.tile].depths(p != 0) : item.cost;
+            const double cost = item.depths ? in[item.tile].depths(p != 0) : in[item.tile].walls_measured(p != 0);
             if (work[p] + cost < done) done = work[p] + cost, best = p;
         }
         work[best] = done;
@@ -180,7 +191,8 @@ CheckShare mesh_share(const Mesh& mesh, const std::vector<std::uint64_t>& near, 
 }  // namespace
 
 MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
-                          TileScheduler& on, TileFacts& facts) {
+                          TileScheduler& on, TileFacts& facts, const std::function<void()>& meanwhile,
+                          double meanwhile_seconds) {
     const Domain& d = run.domain;
     const int core = run.tiles.core_cells;
     const std::array<int, 3> n{d.nx, d.ny, d.nz};
@@ -210,7 +222,7 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     if (!surface) spans = PointDepths::group_spans(tree, d.h, false);
     constexpr std::uint32_t kHere = std::numeric_limits<std::uint32_t>::max();  // measured here
     std::vector<std::uint32_t> group_tile(spans.size());  // freed once dealt
-    double first_work = kFirstWorkAVertex * double(nv);
+    double first_work = kFirstWorkAVertex * double(nv) + meanwhile_seconds / kWallSeconds;
     for (std::size_t g = 0; g < spans.size(); ++g) {
         const PointDepths::Span& s = spans[g];
         if (s.sampled || 0.5 * norm(sub(s.hi, s.lo)) > d.h) {
@@ -280,7 +292,12 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
         }
     }
     // Vertices of another's tiles in no triangle: no wall anywhere (infinity, as alone).
+    // `meanwhile` runs first, once this process has measured its own part: while the others
+    // finish theirs, or, where this one has the most to do, with their cores free for what
+    // the system does on its behalf (writing a file takes twice as long with both cores
+    // busy: the city block's 440 MB of STL 0.25 s after the check, 0.77 s beside it).
     elsewhere.fill = [&](std::vector<double>& wall, PointDepths::Figures& depths) {
+        if (meanwhile) meanwhile();
         for (std::size_t v = 0; v < wall.size(); ++v)
             if (elsewhere.vertex[v]) wall[v] = std::numeric_limits<double>::infinity();
         for (int p = 1; p < processes; ++p) {

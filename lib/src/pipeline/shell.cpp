@@ -163,13 +163,27 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     shell.seconds.mesh += stage.lap();
 
     enter("check");
-    // Over several processes, each measures the walls and points of its own tiles.
+    // The mesh is final: the caller may write it now.
+    const auto hand_over = [&] {
+        if (!settings.mesh_ready) return;
+        Stopwatch handing;
+        settings.mesh_ready(shell.mesh);
+        shell.seconds.mesh_ready = handing.lap();
+    };
+    // Over several processes, each measures the walls and points of its own tiles (the
+    // mesh handed over once they have their shares).
     TileScheduler* on = settings.tiles_on.get();
-    if (on && on->processes() > 1 && run.tiles.core_cells > 0)
-        shell.quality = detail::check_sharing(shell.mesh, points, run, settings.measure, *on, shell.run.tiles);
-    else
+    if (on && on->processes() > 1 && run.tiles.core_cells > 0) {
+        const double writing = settings.mesh_ready ? detail::mesh_writing_seconds(written_file(settings.written_as),
+                                                                                  shell.mesh.triangles.size())
+                                                   : 0;
+        shell.quality = detail::check_sharing(shell.mesh, points, run, settings.measure, *on, shell.run.tiles,
+                                              hand_over, writing);
+    } else {
+        hand_over();
         shell.quality = settings.measure ? measure_quality(shell.mesh, points, run.offset, run.domain.h)
                                          : measure_shell(shell.mesh, points, run.offset, run.domain.h);
+    }
     // The outlier rules' last count is this one when it was taken on these points (not
     // moved since) at this link (0.5-0.7 s for 1.5-25 M points, twice over).
     const DroppedOutliers& o = shell.outliers;
@@ -184,7 +198,7 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
         shell.warnings.push_back(format_text("the shell is only %.3g mm across: if the points are not in millimetres, give "
                                         "--units (m, cm or in)",
                                         across));
-    shell.seconds.check = stage.lap();
+    shell.seconds.check = stage.lap() - shell.seconds.mesh_ready;
     shell.seconds.total = total.lap();
     return shell;
 }

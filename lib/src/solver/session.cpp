@@ -9,6 +9,7 @@
 
 #include "geometry/band_distance.hpp"
 #include "geometry/added_points.hpp"
+#include "solver/shared_upsampling.hpp"
 #include "process_limits.hpp"
 #include "solver/operations.hpp"
 #include "solver/solver_memory.hpp"
@@ -49,13 +50,22 @@ void report(const ProgressCallback& cb, const std::string& stage, const std::str
 
 }  // namespace
 
-PointCloud points_with_added(const PointCloud& points, DomainPlan& plan) {
+PointCloud points_with_added(const PointCloud& points, DomainPlan& plan, TileScheduler* on) {
     // At most 4 voxels (a quarter of the offset) beyond the points' box: the grid pads the
     // box by the offset and over 6 voxels more, and the shell keeps the offset from every
     // point.
     AddedPoints added;
     const double slack = std::min(4 * plan.domain.h, 0.25 * plan.offset);
-    PointCloud with_added = with_added_points(points, plan.hole_least, plan.upsample_spacing, slack, added);
+    const bool shared = on && on->processes() > 1;
+    bool made = false;
+    MakePointsBetween between;
+    if (shared)
+        between = [&](const PointCloud& so_far) {
+            made = true;
+            return points_between_shared(*on, so_far, plan.upsample_spacing, plan.upsampled_elsewhere);
+        };
+    PointCloud with_added = with_added_points(points, plan.hole_least, plan.upsample_spacing, slack, added, between);
+    if (shared && !made) no_points_between(*on);
     plan.hole_fills = added.at_holes;
     plan.upsampled = added.between;
     return with_added;

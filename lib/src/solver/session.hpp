@@ -16,13 +16,16 @@
 #include "solver/problem.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
+#include "snvr/tiles.hpp"
 
 namespace snvr {
 
 // The distance is measured to the points and those added on their surface as the plan
 // says (its hole_least and upsample_spacing; Parameters::add_points): those points, or
-// none when nothing is added; the plan learns how many were added.
-PointCloud points_with_added(const PointCloud& points, DomainPlan& plan);
+// none when nothing is added; the plan learns how many were added. With a scheduler of
+// several processes (at the root of a tiled run) the points between are made by all of
+// them (shared_upsampling.hpp).
+PointCloud points_with_added(const PointCloud& points, DomainPlan& plan, TileScheduler* on = nullptr);
 
 // What preparing a session found and cost.
 struct SessionFacts {
