@@ -171,7 +171,7 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
         shell.seconds.mesh_ready = handing.lap();
     };
     // Over several processes, each measures the walls and points of its own tiles (the
-    // mesh handed over once they have their shares).
+    // mesh handed over once this one has measured its own part, the others finishing theirs).
     TileScheduler* on = settings.tiles_on.get();
     if (on && on->processes() > 1 && run.tiles.core_cells > 0) {
         const double writing = settings.mesh_ready ? detail::mesh_writing_seconds(written_file(settings.written_as),
