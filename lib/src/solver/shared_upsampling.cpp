@@ -9,6 +9,7 @@
 #include "geometry/point_tree.hpp"
 #include "geometry/surface_upsampling.hpp"
 #include "snvr/error.hpp"
+#include "solver/memory_budget.hpp"
 
 namespace snvr {
 
@@ -44,10 +45,11 @@ void no_points_between(TileScheduler& on) {
     for (int p = 1; p < on.processes(); ++p) on.give_upsampling(p, none);
 }
 
-void points_between_for_root(TileScheduler& on) {
+void points_between_for_root(TileScheduler& on, std::size_t budget) {
     UpsampleShare share = on.upsampling();
     if (!(share.spacing > 0)) return;
     if (share.points.size() % 3) throw Error("the points to add between are not x y z in turn");
+    require_points_fit(share.points.size() / 3, budget);
     std::vector<Vec3f> xyz(share.points.size() / 3);
     if (!xyz.empty()) std::memcpy(xyz.data(), share.points.data(), share.points.size() * sizeof(float));
     std::vector<float>().swap(share.points);

@@ -442,7 +442,7 @@ void reconstruct_tiled(const PointCloud& measured, const DomainPlan& plan, const
 template <class Real>
 void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result& res) {
     Stopwatch clock;
-    points_between_for_root(on);
+    points_between_for_root(on, params.max_memory.value_or(0));
     std::vector<double> figures;
     std::vector<int> owners;
     on.share(figures, owners);
