@@ -25,11 +25,7 @@ namespace {
 // (a ray's crossings, a nearest triangle beyond the reach) are named instead.
 void measure_points(CheckShare& share, const Mesh& m, const TriangleGrid& grid, CheckShareFigures& out) {
     if (share.points.empty()) return;
-    std::vector<Vec3f> xyz(share.points.size() / 3);
-    for (std::size_t k = 0; k < xyz.size(); ++k)
-        xyz[k] = {share.points[3 * k], share.points[3 * k + 1], share.points[3 * k + 2]};
-    std::vector<float>().swap(share.points);  // the cloud's copy is enough
-    const PointCloud cloud(std::move(xyz), share.origin);
+    const PointCloud cloud = detail::cloud_of_flat(std::move(share.points), share.origin);
     const detail::PointTree& tree = detail::tree_of(cloud);
     detail::PointDepths::Part part;
     part.complete_within = share.reach;

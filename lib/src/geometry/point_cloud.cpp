@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <limits>
 #include <numeric>
@@ -130,6 +131,14 @@ PointCloud::PointCloud(std::vector<Vec3f> coordinates, const Vec3& origin) {
             non_finite(i, {origin[0] + c[0], origin[1] + c[1], origin[2] + c[2]});
     }
     tree_ = std::make_unique<detail::PointTree>(std::move(coordinates), std::vector<std::uint32_t>(), origin);
+}
+
+PointCloud detail::cloud_of_flat(std::vector<float>&& xyz, const Vec3& origin) {
+    if (xyz.size() % 3) throw InputError("points sent as x y z in turn are not whole");
+    std::vector<Vec3f> points(xyz.size() / 3);
+    if (!points.empty()) std::memcpy(points.data(), xyz.data(), xyz.size() * sizeof(float));
+    std::vector<float>().swap(xyz);
+    return PointCloud(std::move(points), origin);
 }
 
 PointCloud::PointCloud(const PointCloud& other) : tree_(std::make_unique<detail::PointTree>(*other.tree_)) {}

@@ -154,4 +154,8 @@ struct CloudAccess {
 };
 inline const PointTree& tree_of(const PointCloud& cloud) { return CloudAccess::tree(cloud); }
 
+// Points sent from one process to another (x y z in turn, float coordinates about
+// `origin`) as a cloud; the flat copy is freed first (InputError if not whole points).
+PointCloud cloud_of_flat(std::vector<float>&& xyz, const Vec3& origin);
+
 }  // namespace snvr::detail

@@ -48,12 +48,8 @@ void no_points_between(TileScheduler& on) {
 void points_between_for_root(TileScheduler& on, std::size_t budget) {
     UpsampleShare share = on.upsampling();
     if (!(share.spacing > 0)) return;
-    if (share.points.size() % 3) throw Error("the points to add between are not x y z in turn");
     require_points_fit(share.points.size() / 3, budget);
-    std::vector<Vec3f> xyz(share.points.size() / 3);
-    if (!xyz.empty()) std::memcpy(xyz.data(), share.points.data(), share.points.size() * sizeof(float));
-    std::vector<float>().swap(share.points);
-    const PointCloud cloud(std::move(xyz), share.origin);
+    const PointCloud cloud = detail::cloud_of_flat(std::move(share.points), share.origin);
     const PointSet made = upsample_surface(detail::tree_of(cloud), share.spacing, share.begin, share.end);
     std::vector<double> flat;
     flat.reserve(3 * made.size());

@@ -452,10 +452,7 @@ void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result
     std::vector<float> xyz;
     on.take_points(origin, xyz);
     require_points_fit(xyz.size() / 3, mine.max_memory.value_or(0));
-    std::vector<Vec3f> points(xyz.size() / 3);
-    for (std::size_t k = 0; k < points.size(); ++k) points[k] = {xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]};
-    std::vector<float>().swap(xyz);
-    const PointCloud measured(std::move(points), origin);
+    const PointCloud measured = detail::cloud_of_flat(std::move(xyz), origin);
     static_cast<DomainPlan&>(res) = plan;
     res.tiles.core_cells = mine.tile_cells;
     res.tiles.halo_cells = tile_halo(plan, mine, res.tiles.halo_derived);
