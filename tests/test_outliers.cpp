@@ -150,3 +150,41 @@ TEST_CASE("small clusters far from the object go, so that the grid is planned on
     CHECK(split_outliers(with_strays, p, off).outliers.size() < strays / 2);
     CHECK(plan_domain(with_strays, p).domain.h > 5 * plan_domain(object, p).domain.h);
 }
+
+TEST_CASE("small clusters dropped at a link that does not change: the kept points' clusters are those counted afresh") {
+    // A sphere dense for the grid (its offset the default in voxels, so the box alone sets
+    // the link), a small ball beside it, and inside the sphere tight groups of 9 points
+    // (too few to stay, company enough for the density rule) and of 12 (kept), alternating
+    // on a lattice wider than the link: the second round finds the clusters of the first,
+    // less those dropped, carried over rather than linked again, and counts them right.
+    std::mt19937_64 gen(11);
+    std::normal_distribution<double> normal;
+    PointSet points;
+    const auto ball = [&](const Vec3& c, double r, int n) {
+        for (int i = 0; i < n; ++i) {
+            Vec3 d{normal(gen), normal(gen), normal(gen)};
+            const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            points.push_back({c[0] + r * d[0] / len, c[1] + r * d[1] / len, c[2] + r * d[2] / len});
+        }
+    };
+    ball({0, 0, 0}, 0.5, 20000);
+    ball({0.75, 0, 0}, 0.1, 400);
+    std::size_t dropped = 0, kept_groups = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) {
+                const int n = (i + j + k) % 2 ? 9 : 12;
+                (n == 9 ? dropped : kept_groups) += n == 9 ? 9 : 1;
+                for (int m = 0; m < n; ++m)
+                    points.push_back({0.17 * (i - 1) + 0.001 * normal(gen), 0.17 * (j - 1) + 0.001 * normal(gen),
+                                      0.17 * (k - 1) + 0.001 * normal(gen)});
+            }
+    Parameters p;
+    p.resolution = 64;
+    PointCloud cloud(points);
+    const DroppedOutliers d = drop_outliers(cloud, p);
+    CHECK(d.input_indices.size() == dropped);
+    CHECK(d.clusters == 2 + kept_groups);
+    CHECK(d.clusters == count_point_clusters(cloud, d.link));
+    CHECK(d.clusters == count_point_clusters(PointCloud(cloud.to_point_set()), d.link));
+}
