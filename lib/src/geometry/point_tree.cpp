@@ -262,8 +262,11 @@ void PointTree::keep_only(const std::vector<std::uint8_t>& flags) {
         kept[i].child = first;
         kept[i].children = std::uint32_t(kept.size()) - first;
     }
+    // Only a node that lost points has a new box (the others hold the same points).
+    std::vector<std::uint8_t> lost(kept.size());
+    for (std::size_t i = 0; i < kept.size(); ++i) lost[i] = kept[i].count() != nodes[was[i]].count();
     nodes = std::move(kept);
-    tighten_boxes(nodes.size() > (1u << 12) && threads_here() > 1);
+    tighten_boxes(nodes.size() > (1u << 12) && threads_here() > 1, &lost);
 }
 
 namespace {
@@ -362,12 +365,12 @@ void PointTree::build_nodes(const std::uint64_t* keys) {
 
 // Each leaf's box from its points, then each inner node's from its children (which
 // always come after it).
-void PointTree::tighten_boxes(bool parallel) {
+void PointTree::tighten_boxes(bool parallel, const std::vector<std::uint8_t>* only) {
     const std::ptrdiff_t nn = std::ptrdiff_t(nodes.size());
 #pragma omp parallel for schedule(dynamic, 1024) if (parallel)
     for (std::ptrdiff_t i = 0; i < nn; ++i) {
         Node& node = nodes[i];
-        if (!node.leaf()) continue;
+        if (!node.leaf() || (only && !(*only)[i])) continue;
         node.lo = node.hi = xyz[node.begin];
         for (std::uint32_t k = node.begin + 1; k < node.end; ++k)
             for (int a = 0; a < 3; ++a) {
@@ -377,7 +380,7 @@ void PointTree::tighten_boxes(bool parallel) {
     }
     for (std::ptrdiff_t i = nn; i-- > 0;) {
         Node& node = nodes[i];
-        if (node.leaf()) continue;
+        if (node.leaf() || (only && !(*only)[i])) continue;
         node.lo = nodes[node.child].lo;
         node.hi = nodes[node.child].hi;
         for (std::uint32_t c = 1; c < node.children; ++c)

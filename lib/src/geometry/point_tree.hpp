@@ -143,7 +143,8 @@ private:
         std::uint64_t key(const Vec3f& p) const;
     };
     void build_nodes(const std::uint64_t* keys);  // n sorted keys
-    void tighten_boxes(bool parallel);
+    // Each node's box made tight again; only those flagged in `only` (by place) when given.
+    void tighten_boxes(bool parallel, const std::vector<std::uint8_t>* only = nullptr);
 
     Frame frame_{{0, 0, 0}, 1};
 };
