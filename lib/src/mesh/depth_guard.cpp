@@ -499,7 +499,11 @@ public:
         } else {
             for (const Vec3& v : x) frame.add_to_box(v);
         }
-        grid_ = std::make_unique<CellGrid>(frame.lo, frame.hi, cell, 2 * std::size_t(n) + 4096);
+        // As many cells as the whole mesh's would have, for a subset too: the moved
+        // triangles of a repair lie scattered over the whole shell, and a grid sized to
+        // their number made cells so wide that each held dozens of triangles for every
+        // point near it (1.4 s of the 50 M-point city block's 4.4 s guard, 0.4 s so).
+        grid_ = std::make_unique<CellGrid>(frame.lo, frame.hi, cell, 2 * mesh.triangles.size() + 4096);
         cell_of_.resize(std::size_t(n));
         Vec3 extent{0, 0, 0};
 #pragma omp parallel if (n > detail::kParallelCheapItems)
