@@ -212,13 +212,14 @@ public:
     void give_check(int process, const snvr::CheckShare& share) override {
         const std::int64_t sizes[3] = {std::int64_t(share.vertices.size()), std::int64_t(share.triangles.size()),
                                        std::int64_t(share.measured.size())};
-        const double figures[3] = {share.epsilon, share.reach, share.voxel};
+        const double figures[7] = {share.epsilon,         share.reach,           share.voxel,          share.points_frame[0],
+                                   share.points_frame[1], share.points_frame[2], share.points_frame[3]};
         const auto put = [&](const void* data, std::size_t n, MPI_Datatype type) {
             check(MPI_Send(data, as_count(n, "a share of the check"), type, process, kCheckShare, MPI_COMM_WORLD),
                   "sending a share of the check");
         };
         put(sizes, 3, MPI_INT64_T);
-        put(figures, 3, MPI_DOUBLE);
+        put(figures, 7, MPI_DOUBLE);
         put(share.vertices.data(), 3 * share.vertices.size(), MPI_DOUBLE);
         put(share.triangles.data(), 3 * share.triangles.size(), MPI_UINT32_T);
         put(share.measured.data(), share.measured.size(), MPI_UINT32_T);
@@ -248,17 +249,18 @@ public:
         snvr::CheckShare share;
         take_points(share.origin, share.points);
         std::int64_t sizes[3];
-        double figures[3];
+        double figures[7];
         const auto get = [&](void* data, std::size_t n, MPI_Datatype type) {
             check(MPI_Recv(data, as_count(n, "a share of the check"), type, 0, kCheckShare, MPI_COMM_WORLD,
                            MPI_STATUS_IGNORE),
                   "receiving a share of the check");
         };
         get(sizes, 3, MPI_INT64_T);
-        get(figures, 3, MPI_DOUBLE);
+        get(figures, 7, MPI_DOUBLE);
         share.epsilon = figures[0];
         share.reach = figures[1];
         share.voxel = figures[2];
+        std::copy(figures + 3, figures + 7, share.points_frame.begin());
         share.vertices.resize(static_cast<std::size_t>(sizes[0]));
         share.triangles.resize(static_cast<std::size_t>(sizes[1]));
         share.measured.resize(static_cast<std::size_t>(sizes[2]));

@@ -172,6 +172,38 @@ TEST_CASE("PointCloud::keep prunes the tree: its shape sound, its boxes tight, i
     }
 }
 
+TEST_CASE("points taken from a tree in its order and filed in its frame: the tree the sort makes, without sorting") {
+    const PointCloud whole(noisy_dense_sphere());
+    const PointTree& a = detail::tree_of(whole);
+    // Every other leaf's points, in the tree's order (as a process is given its tiles').
+    std::vector<Vec3f> part;
+    bool take = true;
+    a.for_each_leaf([](const PointTree::Node&) { return true; }, [&](const PointTree::Node& leaf) {
+        if (take) part.insert(part.end(), a.xyz.begin() + leaf.begin, a.xyz.begin() + leaf.end);
+        take = !take;
+    });
+    const PointTree in_frame(part, {}, a.origin, &a.frame());
+    std::vector<Vec3f> shuffled = part;
+    std::reverse(shuffled.begin(), shuffled.end());
+    const PointTree reversed(shuffled, {}, a.origin, &a.frame());  // out of order: sorted as usual
+    REQUIRE(in_frame.size() == part.size());
+    CHECK(tree_faults(in_frame, part.size(), true) == 0);
+    CHECK(tree_faults(reversed, part.size(), true) == 0);
+    std::size_t moved = 0;
+    for (std::size_t k = 0; k < part.size(); ++k) moved += in_frame.xyz[k] != part[k] || in_frame.input[k] != k;
+    CHECK(moved == 0);
+    // The same points, nodes and boxes as the sort makes of them in that frame.
+    REQUIRE(reversed.nodes.size() == in_frame.nodes.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < in_frame.nodes.size(); ++i) {
+        const PointTree::Node &x = in_frame.nodes[i], &y = reversed.nodes[i];
+        differ += x.begin != y.begin || x.end != y.end || x.child != y.child || x.children != y.children || x.lo != y.lo || x.hi != y.hi;
+    }
+    CHECK(differ == 0);
+    for (std::size_t k = 0; k < part.size(); ++k) differ += reversed.xyz[k] != in_frame.xyz[k];
+    CHECK(differ == 0);
+}
+
 TEST_CASE("nearest_lanes: eight queries at once give nearest()'s distances, and brute force's") {
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> unit(0, 1);

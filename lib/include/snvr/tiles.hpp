@@ -48,6 +48,9 @@ struct CheckShare {
     Vec3 origin{0, 0, 0};       // the points: float coordinates about it, x y z in turn
     std::vector<float> points;
     double voxel = 0;           // the run's (the points are measured in groups of its size)
+    // The Morton frame (its low corner, then cells a unit) of the root's tree, whose order
+    // the points keep: filed in it they need no sorting. A scale of 0: none.
+    std::array<double, 4> points_frame{0, 0, 0, 0};
 };
 
 // What a share measured: each measured vertex's wall (CheckShare::measured's order; NaN

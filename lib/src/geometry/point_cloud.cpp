@@ -107,6 +107,19 @@ std::unique_ptr<detail::PointTree> file_array(const Real* xyz, std::size_t n) {
     });
 }
 
+// Float coordinates about an origin, checked and filed (in `frame` when given).
+std::unique_ptr<detail::PointTree> file_coordinates(std::vector<Vec3f> coordinates, const Vec3& origin,
+                                                    const detail::PointTree::Frame* frame) {
+    check_size(coordinates.size());
+    if (!finite(origin)) throw InputError("the points' origin is not finite");
+    for (std::size_t i = 0; i < coordinates.size(); ++i) {
+        const Vec3f& c = coordinates[i];
+        if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
+            non_finite(i, {origin[0] + c[0], origin[1] + c[1], origin[2] + c[2]});
+    }
+    return std::make_unique<detail::PointTree>(std::move(coordinates), std::vector<std::uint32_t>(), origin, frame);
+}
+
 }  // namespace
 
 std::size_t PointCloud::bytes() const {
@@ -122,23 +135,17 @@ PointCloud::PointCloud(const PointSet& points)
 PointCloud::PointCloud(const double* xyz, std::size_t n) : tree_(file_array(xyz, n)) {}
 PointCloud::PointCloud(const float* xyz, std::size_t n) : tree_(file_array(xyz, n)) {}
 
-PointCloud::PointCloud(std::vector<Vec3f> coordinates, const Vec3& origin) {
-    check_size(coordinates.size());
-    if (!finite(origin)) throw InputError("the points' origin is not finite");
-    for (std::size_t i = 0; i < coordinates.size(); ++i) {
-        const Vec3f& c = coordinates[i];
-        if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
-            non_finite(i, {origin[0] + c[0], origin[1] + c[1], origin[2] + c[2]});
-    }
-    tree_ = std::make_unique<detail::PointTree>(std::move(coordinates), std::vector<std::uint32_t>(), origin);
-}
+PointCloud::PointCloud(std::vector<Vec3f> coordinates, const Vec3& origin)
+    : tree_(file_coordinates(std::move(coordinates), origin, nullptr)) {}
 
-PointCloud detail::cloud_of_flat(std::vector<float>&& xyz, const Vec3& origin) {
+PointCloud detail::cloud_of_flat(std::vector<float>&& xyz, const Vec3& origin, const PointTree::Frame* frame) {
     if (xyz.size() % 3) throw InputError("points sent as x y z in turn are not whole");
     std::vector<Vec3f> points(xyz.size() / 3);
     if (!points.empty()) std::memcpy(points.data(), xyz.data(), xyz.size() * sizeof(float));
     std::vector<float>().swap(xyz);
-    return PointCloud(std::move(points), origin);
+    PointCloud cloud;
+    CloudAccess::tree_of(cloud) = file_coordinates(std::move(points), origin, frame);
+    return cloud;
 }
 
 PointCloud::PointCloud(const PointCloud& other) : tree_(std::make_unique<detail::PointTree>(*other.tree_)) {}

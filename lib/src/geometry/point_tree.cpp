@@ -120,14 +120,21 @@ std::uint64_t PointTree::Frame::key(const Vec3f& p) const {
     return k;
 }
 
-PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> order, const Vec3& at) : origin(at) {
+PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> order, const Vec3& at,
+                     const Frame* frame)
+    : origin(at) {
     settle_threads();  // every stage's first parallel region is here or after a read
     const std::size_t n = coordinates.size();
     if (n == 0) return;
-    Vec3f lo, hi;
-    float_box(coordinates, lo, hi);
-    const double extent = std::max({double(hi[0]) - lo[0], double(hi[1]) - lo[1], double(hi[2]) - lo[2]});
-    frame_ = {{lo[0], lo[1], lo[2]}, extent > 0 ? double(1u << kBits) / extent : 1.0};
+    if (frame) {
+        frame_ = *frame;
+        if (file_in_order(coordinates, order)) return;
+    } else {
+        Vec3f lo, hi;
+        float_box(coordinates, lo, hi);
+        const double extent = std::max({double(hi[0]) - lo[0], double(hi[1]) - lo[1], double(hi[2]) - lo[2]});
+        frame_ = {{lo[0], lo[1], lo[2]}, extent > 0 ? double(1u << kBits) / extent : 1.0};
+    }
 
     // Counting sort by a coarse cell (the top `bits` digits): about 8 points a cell, at
     // most 2^21 cells. Each thread counts, then scatters, its own part of the input, so
@@ -200,6 +207,24 @@ PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> 
         }
     }
     build_nodes(keys.get());
+}
+
+bool PointTree::file_in_order(std::vector<Vec3f>& coordinates, std::vector<std::uint32_t>& order) {
+    // Their keys at once, for the nodes; out of order, nothing is kept of them.
+    const std::size_t n = coordinates.size();
+    const std::unique_ptr<std::uint64_t[]> keys(new std::uint64_t[n]);
+    for (std::size_t i = 0; i < n; ++i) {
+        keys[i] = frame_.key(coordinates[i]);
+        if (i > 0 && keys[i] < keys[i - 1]) return false;
+    }
+    xyz.resize(n);
+    input.resize(n);
+    std::copy(coordinates.begin(), coordinates.end(), xyz.begin());
+    for (std::size_t i = 0; i < n; ++i) input[i] = order.empty() ? std::uint32_t(i) : order[i];
+    std::vector<Vec3f>().swap(coordinates);
+    std::vector<std::uint32_t>().swap(order);
+    build_nodes(keys.get());
+    return true;
 }
 
 void PointTree::keep_only(const std::vector<std::uint8_t>& flags) {

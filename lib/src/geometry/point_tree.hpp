@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "large_array.hpp"
@@ -36,9 +37,19 @@ public:
         std::uint32_t index; // npos when nothing nearer was found
     };
 
+    // Cubic cells over the points' first box, 2^21 a side: a point's cell, bit-interleaved.
+    struct Frame {
+        double lo[3];
+        double scale;
+        std::uint64_t key(const Vec3f& p) const;
+    };
+
     PointTree() = default;
     // Takes the coordinates (about origin) and each one's input index; sorts and files them.
-    PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> input, const Vec3& origin);
+    // In `frame` when given (another tree's, whose box holds these points): points taken
+    // from that tree in its order then come already sorted, and filing them sorts nothing.
+    PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> input, const Vec3& origin,
+              const Frame* frame = nullptr);
 
     Vec3 origin{0, 0, 0};
     UnsetVector<Vec3f> xyz;            // by tree order
@@ -134,14 +145,12 @@ public:
 
     static constexpr int kMaxDepth = 22;  // levels of 21-bit Morton keys, and the root
 
-private:
+    const Frame& frame() const { return frame_; }
 
-    // Cubic cells over the points' first box, 2^21 a side: a point's cell, bit-interleaved.
-    struct Frame {
-        double lo[3];
-        double scale;
-        std::uint64_t key(const Vec3f& p) const;
-    };
+private:
+    // Files points already in key order (ties in input order), as the sort would leave
+    // them; false, and nothing filed, when they are not.
+    bool file_in_order(std::vector<Vec3f>& coordinates, std::vector<std::uint32_t>& order);
     void build_nodes(const std::uint64_t* keys);  // n sorted keys
     // Each node's box made tight again; only those flagged in `only` (by place) when given.
     void tighten_boxes(bool parallel, const std::vector<std::uint8_t>* only = nullptr);
@@ -152,11 +161,13 @@ private:
 // The tree a cloud keeps its points in, for the library's stages.
 struct CloudAccess {
     static const PointTree& tree(const PointCloud& cloud) { return *cloud.tree_; }
+    static std::unique_ptr<PointTree>& tree_of(PointCloud& cloud) { return cloud.tree_; }
 };
 inline const PointTree& tree_of(const PointCloud& cloud) { return CloudAccess::tree(cloud); }
 
 // Points sent from one process to another (x y z in turn, float coordinates about
 // `origin`) as a cloud; the flat copy is freed first (InputError if not whole points).
-PointCloud cloud_of_flat(std::vector<float>&& xyz, const Vec3& origin);
+// `frame`: the sender's tree's, when they were taken from it in its order (PointTree).
+PointCloud cloud_of_flat(std::vector<float>&& xyz, const Vec3& origin, const PointTree::Frame* frame = nullptr);
 
 }  // namespace snvr::detail

@@ -285,6 +285,8 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             share.epsilon = eps;
             share.reach = reach;
             share.voxel = d.h;
+            const PointTree::Frame& frame = tree.frame();  // the points given follow its order
+            share.points_frame = {frame.lo[0], frame.lo[1], frame.lo[2], frame.scale};
             facts.check_walls += share.measured.size();
             facts.check_bytes += share.vertices.size() * sizeof(Vec3) + share.triangles.size() * sizeof(share.triangles[0]) +
                                  share.measured.size() * sizeof(std::uint32_t);

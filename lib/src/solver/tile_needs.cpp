@@ -116,9 +116,17 @@ std::vector<float> points_for(const detail::PointTree& tree, const Domain& whole
     tree.for_each_leaf([](const detail::PointTree::Node&) { return true; }, [&](const detail::PointTree::Node& leaf) {
         const Vec3 lo = tree.lo(leaf), hi = tree.hi(leaf);
         near.clear();
+        bool whole_leaf = false;  // inside one of the process's tiles' reach: every point goes
         for_tiles_near(lo, hi, whole, tiles, core_cells, halo_cells, reach, [&](std::size_t t) {
-            if (owner[t] == process && Reach(whole, tiles[t].lo, tiles[t].hi, reach).meets(lo, hi)) near.push_back(t);
+            if (owner[t] != process || whole_leaf) return;
+            const Reach box(whole, tiles[t].lo, tiles[t].hi, reach);
+            if (box.holds(lo, hi)) whole_leaf = true;
+            if (box.meets(lo, hi)) near.push_back(t);
         });
+        if (whole_leaf) {
+            xyz.insert(xyz.end(), tree.xyz[leaf.begin].data(), tree.xyz[leaf.begin].data() + 3 * leaf.count());
+            return;
+        }
         for (std::uint32_t k = leaf.begin; k < leaf.end && !near.empty(); ++k) {
             const Vec3 p = tree.point(k);
             for (std::size_t t : near)
