@@ -170,8 +170,9 @@ public:
     }
 
     void give_upsampling(int process, const snvr::UpsampleShare& share) override {
-        const double figures[3] = {share.spacing, double(share.begin), double(share.end)};
-        check(MPI_Send(figures, 3, MPI_DOUBLE, process, kUpsample, MPI_COMM_WORLD), "sending the points to add");
+        const double figures[7] = {share.spacing,         double(share.begin),   double(share.end),    share.points_frame[0],
+                                   share.points_frame[1], share.points_frame[2], share.points_frame[3]};
+        check(MPI_Send(figures, 7, MPI_DOUBLE, process, kUpsample, MPI_COMM_WORLD), "sending the points to add");
         if (share.spacing > 0) give_points(process, share.origin, share.points);
     }
 
@@ -181,9 +182,10 @@ public:
 
     snvr::UpsampleShare upsampling() override {
         snvr::UpsampleShare share;
-        double figures[3] = {0, 0, 0};
-        check(MPI_Recv(figures, 3, MPI_DOUBLE, 0, kUpsample, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+        double figures[7] = {0, 0, 0, 0, 0, 0, 0};
+        check(MPI_Recv(figures, 7, MPI_DOUBLE, 0, kUpsample, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
               "receiving the points to add");
+        std::copy(figures + 3, figures + 7, share.points_frame.begin());
         share.spacing = figures[0];
         share.begin = std::uint64_t(figures[1]);
         share.end = std::uint64_t(figures[2]);

@@ -66,12 +66,15 @@ struct CheckShareFigures {
 // The points another process adds on the surface for the root before the tiles (a sparse
 // scan's, surface_upsampling.hpp): those of the run [begin, end) of the whole cloud's
 // order, the cloud given whole (float coordinates about `origin`, x y z in turn, in its
-// order: filed again, it is the root's). spacing 0: none to add in this run.
+// order: filed in `points_frame`, it is the root's again). spacing 0: none to add in this run.
 struct UpsampleShare {
     Vec3 origin{0, 0, 0};
     std::vector<float> points;
     double spacing = 0;
     std::uint64_t begin = 0, end = 0;
+    // The root's tree's Morton frame (as CheckShare's): filed in it, the points keep the
+    // root's order, which [begin, end) counts in.
+    std::array<double, 4> points_frame{0, 0, 0, 0};
 };
 
 // One tile's run, as the root needs it.

@@ -209,6 +209,12 @@ PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> 
     build_nodes(keys.get());
 }
 
+bool PointTree::in_frame_order() const {
+    for (std::size_t k = 1; k < xyz.size(); ++k)
+        if (frame_.key(xyz[k]) < frame_.key(xyz[k - 1])) return false;
+    return true;
+}
+
 bool PointTree::file_in_order(std::vector<Vec3f>& coordinates, std::vector<std::uint32_t>& order) {
     // The keys twice, checked, then kept once the coordinates are gone: at most 28 bytes a
     // point, as the sort (with them kept at once, 36 held the 200 M-point block's other

@@ -146,6 +146,9 @@ public:
     static constexpr int kMaxDepth = 22;  // levels of 21-bit Morton keys, and the root
 
     const Frame& frame() const { return frame_; }
+    // Whether the points' keys in the frame still ascend (scaling may round a few across
+    // a cell's edge): points taken in this order and filed in this frame keep it.
+    bool in_frame_order() const;
 
 private:
     // Files points already in key order (ties in input order), as the sort would leave

@@ -15,12 +15,20 @@ namespace snvr {
 
 PointSet points_between_shared(TileScheduler& on, const PointCloud& so_far, double spacing, std::size_t& elsewhere) {
     const detail::PointTree& tree = detail::tree_of(so_far);
+    // The runs count in this tree's order, which the others file again in its frame; where
+    // scaling has left a point out of that frame's order (rare), this process makes them all.
+    if (!tree.in_frame_order()) {
+        no_points_between(on);
+        return upsample_surface(tree, spacing);
+    }
     const std::size_t n = tree.size(), processes = std::size_t(on.processes());
     const auto first = [&](std::size_t p) { return n * p / processes; };  // of process p's run
     {
         UpsampleShare share;
         share.origin = tree.origin;
         share.spacing = spacing;
+        const detail::PointTree::Frame& frame = tree.frame();
+        share.points_frame = {frame.lo[0], frame.lo[1], frame.lo[2], frame.scale};
         share.points.resize(3 * n);
         if (n) std::memcpy(share.points.data(), tree.xyz.data(), 3 * n * sizeof(float));
         for (std::size_t p = 1; p < processes; ++p) {
@@ -49,7 +57,9 @@ void points_between_for_root(TileScheduler& on, std::size_t budget) {
     UpsampleShare share = on.upsampling();
     if (!(share.spacing > 0)) return;
     require_points_fit(share.points.size() / 3, budget);
-    const PointCloud cloud = detail::cloud_of_flat(std::move(share.points), share.origin);
+    const detail::PointTree::Frame frame{{share.points_frame[0], share.points_frame[1], share.points_frame[2]},
+                                         share.points_frame[3]};
+    const PointCloud cloud = detail::cloud_of_flat(std::move(share.points), share.origin, &frame);
     const PointSet made = upsample_surface(detail::tree_of(cloud), share.spacing, share.begin, share.end);
     std::vector<double> flat;
     flat.reserve(3 * made.size());
