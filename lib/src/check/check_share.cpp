@@ -25,8 +25,7 @@ namespace {
 // (a ray's crossings, a nearest triangle beyond the reach) are named instead.
 void measure_points(CheckShare& share, const Mesh& m, const TriangleGrid& grid, CheckShareFigures& out) {
     if (share.points.empty()) return;
-    const detail::PointTree::Frame frame{{share.points_frame[0], share.points_frame[1], share.points_frame[2]},
-                                         share.points_frame[3]};
+    const auto frame = detail::PointTree::Frame::of(share.points_frame.data());
     const PointCloud cloud =
         detail::cloud_of_flat(std::move(share.points), share.origin, frame.scale > 0 ? &frame : nullptr);
     const detail::PointTree& tree = detail::tree_of(cloud);

@@ -6,6 +6,7 @@
 // box's distance, rounded, is never above a point's in it.
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -42,6 +43,9 @@ public:
         double lo[3];
         double scale;
         std::uint64_t key(const Vec3f& p) const;
+        // As sent between processes: lo x y z, then scale.
+        std::array<double, 4> figures() const { return {lo[0], lo[1], lo[2], scale}; }
+        static Frame of(const double* f) { return {{f[0], f[1], f[2]}, f[3]}; }
     };
 
     PointTree() = default;

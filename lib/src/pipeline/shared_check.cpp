@@ -40,7 +40,7 @@ int cell_of(double x, double origin, double h, int n) {
 // at 1024, 30 points a group at 250 ns, and the 200 M-point one, 91 at 90 ns). A point
 // given to another process costs the first 25 ns (gathered and sent) and the other about
 // 100 ns more than measuring it here (filed again: 93-111 ns a point on the 200 M-point
-// block), so that a dense scan's depths mostly stay (its points cost about as much to send
+// block; in the first's order and frame 66 ns on the 50 M-point one, the cost kept), so that a dense scan's depths mostly stay (its points cost about as much to send
 // as to measure) and a sparse one's go. (With 12 walls a group and 0.2 a point sent, the
 // first finished 2.9 s after the other on the 50 M-point block; with 0.08 a point sent,
 // the 200 M-point block's other process was given 91 M points to file and its check took
@@ -285,8 +285,7 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             share.epsilon = eps;
             share.reach = reach;
             share.voxel = d.h;
-            const PointTree::Frame& frame = tree.frame();  // the points given follow its order
-            share.points_frame = {frame.lo[0], frame.lo[1], frame.lo[2], frame.scale};
+            share.points_frame = tree.frame().figures();  // the points given follow its order
             facts.check_walls += share.measured.size();
             facts.check_bytes += share.vertices.size() * sizeof(Vec3) + share.triangles.size() * sizeof(share.triangles[0]) +
                                  share.measured.size() * sizeof(std::uint32_t);

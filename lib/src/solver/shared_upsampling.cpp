@@ -27,8 +27,7 @@ PointSet points_between_shared(TileScheduler& on, const PointCloud& so_far, doub
         UpsampleShare share;
         share.origin = tree.origin;
         share.spacing = spacing;
-        const detail::PointTree::Frame& frame = tree.frame();
-        share.points_frame = {frame.lo[0], frame.lo[1], frame.lo[2], frame.scale};
+        share.points_frame = tree.frame().figures();
         share.points.resize(3 * n);
         if (n) std::memcpy(share.points.data(), tree.xyz.data(), 3 * n * sizeof(float));
         for (std::size_t p = 1; p < processes; ++p) {
@@ -57,8 +56,7 @@ void points_between_for_root(TileScheduler& on, std::size_t budget) {
     UpsampleShare share = on.upsampling();
     if (!(share.spacing > 0)) return;
     require_points_fit(share.points.size() / 3, budget);
-    const detail::PointTree::Frame frame{{share.points_frame[0], share.points_frame[1], share.points_frame[2]},
-                                         share.points_frame[3]};
+    const auto frame = detail::PointTree::Frame::of(share.points_frame.data());
     const PointCloud cloud = detail::cloud_of_flat(std::move(share.points), share.origin, &frame);
     const PointSet made = upsample_surface(detail::tree_of(cloud), share.spacing, share.begin, share.end);
     std::vector<double> flat;

@@ -184,8 +184,8 @@ public:
         std::vector<double> figures = plan_figures(plan, facts.core_cells, whole_field_);
         // The tree's frame too: each process's points go in its order, and filed in the
         // same frame they need no sorting (the city block's 30 M points 2.0 -> 1.3 s).
-        const detail::PointTree::Frame& frame = tree.frame();
-        figures.insert(figures.end(), {frame.lo[0], frame.lo[1], frame.lo[2], frame.scale});
+        const std::array<double, 4> frame = tree.frame().figures();
+        figures.insert(figures.end(), frame.begin(), frame.end());
         on->share(figures, owner_);
         for (int p = 1; p < facts.processes; ++p) {
             const std::vector<float> xyz =
@@ -456,7 +456,7 @@ void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result
     std::vector<float> xyz;
     on.take_points(origin, xyz);
     require_points_fit(xyz.size() / 3, mine.max_memory.value_or(0));
-    const detail::PointTree::Frame frame{{figures[18], figures[19], figures[20]}, figures[21]};
+    const auto frame = detail::PointTree::Frame::of(&figures[18]);
     const PointCloud measured = detail::cloud_of_flat(std::move(xyz), origin, &frame);
     static_cast<DomainPlan&>(res) = plan;
     res.tiles.core_cells = mine.tile_cells;
