@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "io/point_readers.hpp"
+#include "spilled_memory.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
 #include "snvr/point_io.hpp"
@@ -151,6 +152,8 @@ PyShell shell(const py::handle& points, std::optional<int> resolution, std::opti
         cloud = std::move(snvr::read_input(out.files.input, p).points);
         out.files.read_seconds = read.lap();
     } else {
+        // Under a budget, the cloud's arrays beyond it go to files, as read_input's do.
+        const snvr::detail::SpillScope spill(p.max_memory.value_or(0), 0, p.temp_dir);
         cloud = cloud_of(points);
     }
     out.input_points = cloud.size();
@@ -263,8 +266,9 @@ PYBIND11_MODULE(snvr, m) {
         if (points.origin == snvr::Vec3{0, 0, 0}) {
             // The file's floats as they are: the reader's own buffer becomes the array (no
             // copy), and shell() files it exactly as snvr-cl files the file.
-            auto* held = new std::vector<snvr::Vec3f>(std::move(points.xyz));
-            const py::capsule owner(held, [](void* v) { delete static_cast<std::vector<snvr::Vec3f>*>(v); });
+            using Coordinates = snvr::detail::PointArray<snvr::Vec3f>;
+            auto* held = new Coordinates(std::move(points.xyz));
+            const py::capsule owner(held, [](void* v) { delete static_cast<Coordinates*>(v); });
             return py::array_t<float>({n, py::ssize_t(3)}, held->empty() ? nullptr : held->front().data(), owner);
         }
         // Far from the world origin: float64 in world units (no PointSet between).

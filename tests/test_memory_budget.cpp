@@ -1,7 +1,8 @@
 // The memory budget (Parameters::max_memory, lib/src/solver/memory_budget.hpp): a run
 // that fits goes whole, its estimates above what it took; one whose solver does not fit
-// whole goes in tiles, the whole run's shell; one whose points, field or mesh cannot fit
-// stops before its long part with an error naming them; snvr-cl reads the budget's sizes.
+// whole goes in tiles, the whole run's shell; one whose field or mesh cannot fit stops
+// before its long part with an error naming them; points beyond it go to files, the same
+// shell; snvr-cl reads the budget's sizes.
 #include <doctest/doctest.h>
 
 #include <string>
@@ -11,6 +12,7 @@
 #include "snvr/point_io.hpp"
 #include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"
+#include "snvr/shapes.hpp"
 #include "snvr/shell.hpp"
 #include "cli_run.hpp"
 
@@ -109,12 +111,6 @@ TEST_CASE("a budget nothing fits: stopped before the distance, naming what tiles
     CHECK(e.find("over the memory budget of 0.0625 GiB (--max-memory)") != std::string::npos);
     CHECK(e.find("the mesh and its check") != std::string::npos);
     CHECK(e.find("which tiles do not shrink") != std::string::npos);
-    // The points alone, before they are filed.
-    PointSet many(2000000);
-    for (std::size_t i = 0; i < many.size(); ++i) many[i] = {double(i % 1000), double(i / 1000 % 1000), double(i / 1000000)};
-    const std::string p = error_of(PointCloud(many), bunny_settings(128, 64 * kMiB));
-    CAPTURE(p);
-    CHECK(p.find("2000000 points need about") != std::string::npos);
     // The budget is lifted when the call ends, by its error too.
     CHECK(detail::budget_in_force() == 0);
     // Below the least budget: a parameter error.
@@ -141,4 +137,27 @@ TEST_CASE("snvr-cl --max-memory: sizes read in powers of 1024, a budget too smal
     CHECK(fits.output.find("rc=0") != std::string::npos);
     CHECK(fits.output.find("budget 512.0 MiB (--max-memory)") != std::string::npos);
     CHECK(fs::exists(t.out()));
+}
+
+TEST_CASE("snvr-cl: points beyond the budget go to files in the temporary folder, the same shell, none left") {
+    TempDir t;
+    const std::string cloud = (t.path / "sphere.ply").string();
+    write_points(shapes::noisy_sphere({0, 0, 0}, 0.35, 0.0009, 0.0002), cloud);  // 2 M points, 24 MB as floats
+    const fs::path temp = t.path / "temp";
+    fs::create_directories(temp);
+    const std::string cli = SNVR_CLI;
+    const std::string run = cli + " reconstruct " + cloud + " --resolution 64 --device openmp --units m";
+    const Run whole = run_command(run + " -o " + (t.path / "whole.stl").string() + " --quiet 2>&1; echo rc=$?");
+    CAPTURE(whole.output);
+    REQUIRE(whole.output.find("rc=0") != std::string::npos);
+    // A sixteenth of 96 MiB: the coordinates, their input places, keys and nodes go to files.
+    const Run spilled = run_command(run + " -o " + (t.path / "spilled.stl").string() + " --max-memory 96M --temp-dir " +
+                                    temp.string() + " 2>&1; echo rc=$?");
+    CAPTURE(spilled.output);
+    REQUIRE(spilled.output.find("rc=0") != std::string::npos);
+    CHECK(spilled.output.find("the points beyond the budget in files:") != std::string::npos);
+    CHECK(spilled.output.find("in " + temp.string()) != std::string::npos);
+    CHECK(run_command("cmp " + (t.path / "whole.stl").string() + " " + (t.path / "spilled.stl").string() +
+                      " && echo same").output.find("same") != std::string::npos);
+    CHECK(fs::is_empty(temp));
 }

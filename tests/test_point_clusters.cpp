@@ -108,7 +108,7 @@ TEST_CASE("cluster_roots: each point's cluster as its first member, on one threa
             }
         }
         for (int threads : {1, 2}) {
-            const std::vector<std::uint32_t> roots =
+            const detail::PointArray<std::uint32_t> roots =
                 snvr::testing::with_threads(threads, [&] { return detail::cluster_roots(t, link); });
             std::size_t wrong = 0;
             for (std::size_t k = 0; k < t.size(); ++k) wrong += roots[k] != label[k];

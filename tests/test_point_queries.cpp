@@ -176,14 +176,14 @@ TEST_CASE("points taken from a tree in its order and filed in its frame: the tre
     const PointCloud whole(noisy_dense_sphere());
     const PointTree& a = detail::tree_of(whole);
     // Every other leaf's points, in the tree's order (as a process is given its tiles').
-    std::vector<Vec3f> part;
+    detail::PointArray<Vec3f> part;
     bool take = true;
     a.for_each_leaf([](const PointTree::Node&) { return true; }, [&](const PointTree::Node& leaf) {
         if (take) part.insert(part.end(), a.xyz.begin() + leaf.begin, a.xyz.begin() + leaf.end);
         take = !take;
     });
     const PointTree in_frame(part, {}, a.origin, &a.frame());
-    std::vector<Vec3f> shuffled = part;
+    detail::PointArray<Vec3f> shuffled = part;
     std::reverse(shuffled.begin(), shuffled.end());
     const PointTree reversed(shuffled, {}, a.origin, &a.frame());  // out of order: sorted as usual
     REQUIRE(in_frame.size() == part.size());
@@ -354,14 +354,14 @@ TEST_CASE("strided_sample: the points of ranks floor(s n / samples) by input ind
     std::uniform_int_distribution<std::uint32_t> step(1, 200);
     for (const int gaps : {0, 1, 2})  // none, even (as after dropped points), uneven (whole words empty)
         for (const std::size_t n : {1, 7, 1000, 54321}) {
-            std::vector<Vec3f> xyz(n);
-            std::vector<std::uint32_t> input(n);
+            detail::PointArray<Vec3f> xyz(n);
+            detail::PointArray<std::uint32_t> input(n);
             std::uint32_t next = 0;
             for (std::size_t i = 0; i < n; ++i) {
                 xyz[i] = {unit(rng), unit(rng), unit(rng)};
                 input[i] = gaps == 0 ? std::uint32_t(i) : gaps == 1 ? std::uint32_t(3 * i + 1) : (next += step(rng));
             }
-            const std::vector<std::uint32_t> by_rank = input;  // ascending
+            const std::vector<std::uint32_t> by_rank(input.begin(), input.end());  // ascending
             const PointTree t(xyz, input, {0, 0, 0});
             for (const std::size_t samples : {std::size_t(1), std::size_t(3), std::size_t(999), n, n + 5}) {
                 CAPTURE(gaps);

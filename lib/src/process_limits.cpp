@@ -16,6 +16,8 @@
 #include <thread>
 #include <vector>
 
+#include "spilled_memory.hpp"
+
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -103,7 +105,7 @@ std::size_t resident_bytes() {
 BudgetScope::BudgetScope(std::size_t budget, std::size_t held) {
     if (!budget || budget_bytes) return;
     outermost_ = true;
-    const std::size_t now = resident_bytes();
+    const std::size_t now = resident_but_spilled();
     budget_base = now > held ? now - held : 0;
     budget_bytes = budget;
 }
@@ -121,7 +123,8 @@ void release_free_memory() {
 std::size_t budget_in_force() { return budget_bytes; }
 
 std::size_t budget_used() {
-    const std::size_t now = resident_bytes();
+    // The spilled points' pages come and go (spilled_memory.hpp): the rest is what counts.
+    const std::size_t now = resident_but_spilled();
     return budget_bytes && now > budget_base ? now - budget_base : 0;
 }
 

@@ -105,6 +105,12 @@ struct MemoryFacts {
     std::size_t estimated_peak = 0;  // held + the largest stage after
     bool tiled_by_budget = false;    // tiles chosen to fit (Parameters::tile_cells was 0)
     std::string bound;               // what sets the estimated peak ("the points", "the mesh and its check", ...)
+    // Under a budget, the points' arrays beyond it kept in files in the temporary folder
+    // (make_shell fills these at its end, the read's files counted).
+    std::size_t spilled_arrays = 0;  // arrays put in files
+    std::size_t spilled_bytes = 0;   // the most the files held at once
+    std::size_t spill_trims = 0;     // times their pages were given back to stay in the budget
+    std::string spill_folder;
 };
 
 // What reconstruct() ran (the plan it fitted to the points) and what it found.

@@ -83,7 +83,7 @@ bool take(PointCloud& cloud, const std::vector<std::uint8_t>& flagged, std::vect
 // `dropped` (by tree order, whole clusters at a time), renumbered as the cloud's keep
 // renumbers them: a point's new place is the number of points kept before it, counted on
 // bits. In place: the k-th point kept goes to a place at or before its old one.
-void roots_of_kept(std::vector<std::uint32_t>& root, const std::vector<std::uint8_t>& dropped) {
+void roots_of_kept(detail::PointArray<std::uint32_t>& root, const std::vector<std::uint8_t>& dropped) {
     const std::size_t n = root.size();
     std::vector<std::uint64_t> gone(n / 64 + 1, 0);
     for (std::size_t k = 0; k < n; ++k) gone[k / 64] |= std::uint64_t(dropped[k] != 0) << (k % 64);
@@ -106,8 +106,8 @@ void roots_of_kept(std::vector<std::uint32_t>& root, const std::vector<std::uint
 // object a few cells across; a small object close beside the main one stays. None when
 // they would be more than 5% of the points. Only the small clusters' boxes are kept (a
 // box for every point's root took 1.2 GB at 25 M points).
-std::vector<std::uint32_t> far_clusters(const PointCloud& cloud, const std::vector<std::uint32_t>& root,
-                                        const std::vector<std::uint32_t>& members, std::size_t total,
+std::vector<std::uint32_t> far_clusters(const PointCloud& cloud, const detail::PointArray<std::uint32_t>& root,
+                                        const detail::PointArray<std::uint32_t>& members, std::size_t total,
                                         const OutlierSettings& s) {
     struct Box {
         Bounds b;
@@ -193,7 +193,7 @@ std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cl
     // were: their roots are carried over rather than linked again (1.1 s of the 50 M-point
     // city block's 10.4; the 4 bytes a point they take through the keep stay below the
     // linking's peak).
-    std::vector<std::uint32_t> root;  // by tree order, at `link`
+    detail::PointArray<std::uint32_t> root;  // by tree order, at `link`
     for (int round = 0; round < 8; ++round) {
         if (!plan) plan = lengths_of(cloud);
         const double next_link = 2 * plan->offset;
@@ -203,7 +203,7 @@ std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cl
         std::vector<std::uint8_t> small(cloud.size());
         std::size_t roots = 0;
         {
-            std::vector<std::uint32_t> members(root.size(), 0);
+            detail::PointArray<std::uint32_t> members(root.size(), 0);
             for (std::uint32_t r : root) ++members[r];
             const std::vector<std::uint32_t> far = far_clusters(cloud, root, members, total, s);
             const auto is_far = [&far](std::uint32_t r) { return !far.empty() && std::binary_search(far.begin(), far.end(), r); };

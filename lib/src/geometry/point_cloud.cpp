@@ -86,7 +86,7 @@ std::unique_ptr<detail::PointTree> file_points(std::size_t n, const At& at) {
         if (!finite(at(std::size_t(i)))) first_bad = std::min(first_bad, i);
     if (first_bad < count) non_finite(std::size_t(first_bad), at(std::size_t(first_bad)));
     const Vec3 origin = choose_origin(n, at);
-    std::vector<Vec3f> xyz(n);
+    detail::PointArray<Vec3f> xyz(n);
     int beyond = -1;  // an axis some point cannot be held along, about the origin
 #pragma omp parallel for reduction(max : beyond) schedule(static) if (count > detail::kParallelCheapItems)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
@@ -97,7 +97,7 @@ std::unique_ptr<detail::PointTree> file_points(std::size_t n, const At& at) {
         }
     }
     if (beyond >= 0) too_far(n, at, beyond);
-    return std::make_unique<detail::PointTree>(std::move(xyz), std::vector<std::uint32_t>(), origin);
+    return std::make_unique<detail::PointTree>(std::move(xyz), detail::PointArray<std::uint32_t>(), origin);
 }
 
 template <class Real>
@@ -108,7 +108,7 @@ std::unique_ptr<detail::PointTree> file_array(const Real* xyz, std::size_t n) {
 }
 
 // Float coordinates about an origin, checked and filed (in `frame` when given).
-std::unique_ptr<detail::PointTree> file_coordinates(std::vector<Vec3f> coordinates, const Vec3& origin,
+std::unique_ptr<detail::PointTree> file_coordinates(detail::PointArray<Vec3f> coordinates, const Vec3& origin,
                                                     const detail::PointTree::Frame* frame) {
     check_size(coordinates.size());
     if (!finite(origin)) throw InputError("the points' origin is not finite");
@@ -117,7 +117,7 @@ std::unique_ptr<detail::PointTree> file_coordinates(std::vector<Vec3f> coordinat
         if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
             non_finite(i, {origin[0] + c[0], origin[1] + c[1], origin[2] + c[2]});
     }
-    return std::make_unique<detail::PointTree>(std::move(coordinates), std::vector<std::uint32_t>(), origin, frame);
+    return std::make_unique<detail::PointTree>(std::move(coordinates), detail::PointArray<std::uint32_t>(), origin, frame);
 }
 
 }  // namespace
@@ -125,6 +125,14 @@ std::unique_ptr<detail::PointTree> file_coordinates(std::vector<Vec3f> coordinat
 std::size_t PointCloud::bytes() const {
     return tree_->xyz.capacity() * sizeof(Vec3f) + tree_->input.capacity() * sizeof(std::uint32_t) +
            tree_->nodes.capacity() * sizeof(detail::PointTree::Node);
+}
+
+std::size_t detail::heap_bytes(const PointCloud& cloud) {
+    const PointTree& t = tree_of(cloud);
+    std::size_t bytes = t.nodes.capacity() * sizeof(PointTree::Node);
+    if (!spilled(t.xyz.data())) bytes += t.xyz.capacity() * sizeof(Vec3f);
+    if (!spilled(t.input.data())) bytes += t.input.capacity() * sizeof(std::uint32_t);
+    return bytes;
 }
 
 PointCloud::PointCloud() : tree_(std::make_unique<detail::PointTree>()) {}
@@ -136,11 +144,17 @@ PointCloud::PointCloud(const double* xyz, std::size_t n) : tree_(file_array(xyz,
 PointCloud::PointCloud(const float* xyz, std::size_t n) : tree_(file_array(xyz, n)) {}
 
 PointCloud::PointCloud(std::vector<Vec3f> coordinates, const Vec3& origin)
-    : tree_(file_coordinates(std::move(coordinates), origin, nullptr)) {}
+    : tree_(file_coordinates(detail::PointArray<Vec3f>(coordinates.begin(), coordinates.end()), origin, nullptr)) {}
+
+PointCloud detail::cloud_of(PointArray<Vec3f>&& coordinates, const Vec3& origin) {
+    PointCloud cloud;
+    CloudAccess::tree_of(cloud) = file_coordinates(std::move(coordinates), origin, nullptr);
+    return cloud;
+}
 
 PointCloud detail::cloud_of_flat(std::vector<float>&& xyz, const Vec3& origin, const PointTree::Frame* frame) {
     if (xyz.size() % 3) throw InputError("points sent as x y z in turn are not whole");
-    std::vector<Vec3f> points(xyz.size() / 3);
+    PointArray<Vec3f> points(xyz.size() / 3);
     if (!points.empty()) std::memcpy(points.data(), xyz.data(), xyz.size() * sizeof(float));
     std::vector<float>().swap(xyz);
     PointCloud cloud;

@@ -19,7 +19,7 @@ using Node = PointTree::Node;
 // so every cluster's root is its least index whatever order the unions came in.
 class Forest {
 public:
-    explicit Forest(std::vector<std::uint32_t>& parent) : parent_(parent) {}
+    explicit Forest(PointArray<std::uint32_t>& parent) : parent_(parent) {}
     std::uint32_t find(std::uint32_t n) const {
         for (;;) {
             std::uint32_t p = load(n);
@@ -44,7 +44,7 @@ public:
 
 private:
     std::uint32_t load(std::uint32_t n) const { return __atomic_load_n(&parent_[n], __ATOMIC_RELAXED); }
-    std::vector<std::uint32_t>& parent_;
+    PointArray<std::uint32_t>& parent_;
 };
 
 // The squared gap between two boxes (world units); below every pair's squared distance
@@ -72,7 +72,7 @@ public:
 
     // Each point's cluster as its least index. Both threads link the units: the unions
     // commute, so the roots are the same.
-    std::vector<std::uint32_t> roots() {
+    PointArray<std::uint32_t> roots() {
         if (t_.nodes.empty() || !(link_sq_ > 0)) return parent_;
         collect(0);
         const std::ptrdiff_t nu = std::ptrdiff_t(units_.size()), n = std::ptrdiff_t(parent_.size());
@@ -204,14 +204,14 @@ private:
 
     const PointTree& t_;
     double link_sq_;
-    std::vector<std::uint32_t> parent_;
+    PointArray<std::uint32_t> parent_;
     Forest forest_;
     std::vector<Unit> units_;
 };
 
 }  // namespace
 
-std::vector<std::uint32_t> cluster_roots(const PointTree& tree, double link_distance) {
+PointArray<std::uint32_t> cluster_roots(const PointTree& tree, double link_distance) {
     return Linker(tree, link_distance).roots();
 }
 
@@ -220,7 +220,7 @@ std::vector<std::uint32_t> cluster_roots(const PointTree& tree, double link_dist
 namespace snvr {
 
 std::size_t count_point_clusters(const PointCloud& points, double link_distance) {
-    const std::vector<std::uint32_t> root = detail::cluster_roots(detail::tree_of(points), link_distance);
+    const detail::PointArray<std::uint32_t> root = detail::cluster_roots(detail::tree_of(points), link_distance);
     std::size_t roots = 0;
     for (std::uint32_t k = 0; k < root.size(); ++k) roots += root[k] == k;
     return roots;

@@ -34,7 +34,7 @@ std::uint64_t spread(std::uint32_t v) {
 unsigned digit(std::uint64_t key, int level) { return unsigned(key >> (3 * (kBits - 1 - level))) & 7u; }
 
 // The smallest and largest of each axis, in parallel.
-void float_box(const std::vector<Vec3f>& p, Vec3f& lo, Vec3f& hi) {
+void float_box(const PointArray<Vec3f>& p, Vec3f& lo, Vec3f& hi) {
     const float inf = std::numeric_limits<float>::infinity();
     lo = {inf, inf, inf};
     hi = {-inf, -inf, -inf};
@@ -120,7 +120,7 @@ std::uint64_t PointTree::Frame::key(const Vec3f& p) const {
     return k;
 }
 
-PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> order, const Vec3& at,
+PointTree::PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> order, const Vec3& at,
                      const Frame* frame)
     : origin(at) {
     settle_threads();  // every stage's first parallel region is here or after a read
@@ -138,8 +138,11 @@ PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> 
 
     // Counting sort by a coarse cell (the top `bits` digits): about 8 points a cell, at
     // most 2^21 cells. Each thread counts, then scatters, its own part of the input, so
-    // the sort is stable: within a cell the points keep their input order.
-    const int bits = std::clamp(int(std::log2(std::max(1.0, double(n) / 8)) / 3), 1, 7);
+    // the sort is stable: within a cell the points keep their input order. Points in a
+    // file (spilled_memory.hpp) go to at most 4096 cells, so that the scatter writes a
+    // few pages at a time; the cells' sorts then do more, with the same order.
+    const int finest = spilled(coordinates.data()) ? 4 : 7;
+    const int bits = std::clamp(int(std::log2(std::max(1.0, double(n) / 8)) / 3), 1, finest);
     const int shift = 3 * (kBits - bits);
     const std::size_t cells = std::size_t(1) << (3 * bits);
     const int parts = n > (1u << 16) ? threads_here() : 1;
@@ -176,12 +179,12 @@ PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> 
         }
     }
     std::vector<std::uint32_t>().swap(count);
-    std::vector<Vec3f>().swap(coordinates);
-    std::vector<std::uint32_t>().swap(order);
+    PointArray<Vec3f>().swap(coordinates);
+    PointArray<std::uint32_t>().swap(order);
 
     // Each coarse cell by its points' full keys (ties in input order). Left unset until
     // the threads fill it: zeroing it first took a tenth of the build, on one thread.
-    const std::unique_ptr<std::uint64_t[]> keys(new std::uint64_t[n]);
+    PointArray<std::uint64_t> keys(n);
     const std::ptrdiff_t ncells = std::ptrdiff_t(cells);
 #pragma omp parallel if (std::ptrdiff_t(n) > kParallelCheapItems)
     {
@@ -206,7 +209,7 @@ PointTree::PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> 
             for (std::uint32_t i = b; i < e; ++i) keys[i] = sorted[i - b].first;
         }
     }
-    build_nodes(keys.get());
+    build_nodes(keys.data());
 }
 
 bool PointTree::in_frame_order() const {
@@ -215,7 +218,7 @@ bool PointTree::in_frame_order() const {
     return true;
 }
 
-bool PointTree::file_in_order(std::vector<Vec3f>& coordinates, std::vector<std::uint32_t>& order) {
+bool PointTree::file_in_order(PointArray<Vec3f>& coordinates, PointArray<std::uint32_t>& order) {
     // The keys twice, checked, then kept once the coordinates are gone: at most 28 bytes a
     // point, as the sort (with them kept at once, 36 held the 200 M-point block's other
     // process at 4.3 GB where it had 3.55).
@@ -230,11 +233,11 @@ bool PointTree::file_in_order(std::vector<Vec3f>& coordinates, std::vector<std::
     input.resize(n);
     std::copy(coordinates.begin(), coordinates.end(), xyz.begin());
     for (std::size_t i = 0; i < n; ++i) input[i] = order.empty() ? std::uint32_t(i) : order[i];
-    std::vector<Vec3f>().swap(coordinates);
-    std::vector<std::uint32_t>().swap(order);
-    const std::unique_ptr<std::uint64_t[]> keys(new std::uint64_t[n]);
+    PointArray<Vec3f>().swap(coordinates);
+    PointArray<std::uint32_t>().swap(order);
+    PointArray<std::uint64_t> keys(n);
     for (std::size_t i = 0; i < n; ++i) keys[i] = frame_.key(xyz[i]);
-    build_nodes(keys.get());
+    build_nodes(keys.data());
     return true;
 }
 
@@ -274,7 +277,7 @@ void PointTree::keep_only(const std::vector<std::uint8_t>& flags) {
     };
     // The nodes again, those left with points only, breadth first from the root (each
     // one's children together, after it).
-    std::vector<Node> kept;
+    PointArray<Node> kept;
     std::vector<std::uint32_t> was;  // the node each kept one was
     if (to > 0) {
         Node root = nodes[0];
@@ -312,7 +315,7 @@ namespace {
 // as tasks (their root made, not split) when `tasks` is given.
 struct NodeBuilder {
     const std::uint64_t* keys;
-    std::vector<PointTree::Node>& out;
+    PointArray<PointTree::Node>& out;
     struct Task {
         std::uint32_t slot;
         int level;
@@ -372,7 +375,7 @@ void PointTree::build_nodes(const std::uint64_t* keys) {
         top.task_size = std::max<std::uint32_t>(kLeafSize, n / std::uint32_t(32 * threads_here()));
     }
     top.fill(0, 0);
-    std::vector<std::vector<Node>> local(tasks.size());
+    std::vector<PointArray<Node>> local(tasks.size());
     const std::ptrdiff_t nt = std::ptrdiff_t(tasks.size());
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
     for (std::ptrdiff_t t = 0; t < nt; ++t) {
@@ -388,13 +391,13 @@ void PointTree::build_nodes(const std::uint64_t* keys) {
     nodes.resize(offset[tasks.size()]);
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
     for (std::ptrdiff_t t = 0; t < nt; ++t) {
-        std::vector<Node>& part = local[t];
+        PointArray<Node>& part = local[t];
         const std::uint32_t shift = std::uint32_t(offset[t]) - 1;
         for (Node& node : part)
             if (node.children) node.child += shift;
         nodes[tasks[t].slot] = part[0];
         std::copy(part.begin() + 1, part.end(), nodes.begin() + std::ptrdiff_t(offset[t]));
-        std::vector<Node>().swap(part);
+        PointArray<Node>().swap(part);
     }
     tighten_boxes(parallel);
 }

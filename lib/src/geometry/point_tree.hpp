@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "large_array.hpp"
+#include "spilled_memory.hpp"
 #include "snvr/point_cloud.hpp"
 
 namespace snvr::detail {
@@ -52,13 +53,13 @@ public:
     // Takes the coordinates (about origin) and each one's input index; sorts and files them.
     // In `frame` when given (another tree's, whose box holds these points): points taken
     // from that tree in its order then come already sorted, and filing them sorts nothing.
-    PointTree(std::vector<Vec3f> coordinates, std::vector<std::uint32_t> input, const Vec3& origin,
+    PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> input, const Vec3& origin,
               const Frame* frame = nullptr);
 
     Vec3 origin{0, 0, 0};
-    UnsetVector<Vec3f> xyz;            // by tree order
-    UnsetVector<std::uint32_t> input;  // input index of each
-    std::vector<Node> nodes;          // nodes[0] is the root (none when there are no points)
+    PointArray<Vec3f> xyz;            // by tree order
+    PointArray<std::uint32_t> input;  // input index of each
+    PointArray<Node> nodes;           // nodes[0] is the root (none when there are no points)
 
     std::size_t size() const { return xyz.size(); }
     Vec3 point(std::size_t k) const {
@@ -157,7 +158,7 @@ public:
 private:
     // Files points already in key order (ties in input order), as the sort would leave
     // them; false, and nothing filed, when they are not.
-    bool file_in_order(std::vector<Vec3f>& coordinates, std::vector<std::uint32_t>& order);
+    bool file_in_order(PointArray<Vec3f>& coordinates, PointArray<std::uint32_t>& order);
     void build_nodes(const std::uint64_t* keys);  // n sorted keys
     // Each node's box made tight again; only those flagged in `only` (by place) when given.
     void tighten_boxes(bool parallel, const std::vector<std::uint8_t>* only = nullptr);
@@ -171,6 +172,13 @@ struct CloudAccess {
     static std::unique_ptr<PointTree>& tree_of(PointCloud& cloud) { return cloud.tree_; }
 };
 inline const PointTree& tree_of(const PointCloud& cloud) { return CloudAccess::tree(cloud); }
+
+// The bytes a cloud holds on the heap (PointCloud::bytes but its arrays in files).
+std::size_t heap_bytes(const PointCloud& cloud);
+
+// Float coordinates about `origin`, as the readers make them, filed (the same errors as
+// the PointCloud constructor's).
+PointCloud cloud_of(PointArray<Vec3f>&& coordinates, const Vec3& origin);
 
 // Points sent from one process to another (x y z in turn, float coordinates about
 // `origin`) as a cloud; the flat copy is freed first (InputError if not whole points).

@@ -205,7 +205,7 @@ InputSource::InputSource(const std::string& path, const std::string& temp_folder
     if (fd < 0) {  // the system's folder unusable: as before, in memory
         const std::string_view packed = all();
         owned_ = gunzip(packed, path, look);
-        read_.reset();
+        PointArray<char>().swap(read_);
         file_.reset();
         memory_ = owned_;
         size_ = owned_.size();
@@ -262,13 +262,13 @@ void InputSource::skip_bom(bool skip) {
 std::string_view InputSource::all() {
     if (memory_.data() == nullptr && size_ > 0) {
         try {
-            read_ = large_array<char>(file_->size);  // left unset: the read fills it
+            read_.resize(file_->size);  // left unset: the read fills it
         } catch (const std::bad_alloc&) {
             throw ResourceError("cannot read '" + path_ + "': its " + std::to_string(file_->size) +
                                 " bytes do not fit in memory");
         }
-        read_whole(read_.get());
-        memory_ = std::string_view(read_.get(), file_->size);
+        read_whole(read_.data());
+        memory_ = std::string_view(read_.data(), file_->size);
         finish();
     }
     return memory_.substr(std::min(skip_, memory_.size()));

@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#include "large_array.hpp"
+#include "spilled_memory.hpp"
 
 namespace snvr::detail {
 
@@ -67,7 +67,7 @@ private:
     std::string path_;
     std::unique_ptr<OpenFile> file_;  // a plain file, open; null when the bytes are in memory
     std::unique_ptr<ReadFault> fault_;
-    LargeArray<char> read_;           // a plain file's bytes, once all() read them
+    PointArray<char> read_;  // a plain file's bytes, once all() read them (a text file's: beyond a budget, in a file)
     std::string owned_;               // inflated, or a plain file's head
     std::string_view memory_;         // every byte, where they are in memory
     std::size_t skip_ = 0, size_ = 0;

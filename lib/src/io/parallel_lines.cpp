@@ -37,7 +37,7 @@ std::size_t block_start(const LineRegion& region, char end, std::size_t block_by
     return found == std::string_view::npos ? region.text.size() : found + 1;
 }
 
-bool append_block(ParsedBlock& block, std::uint64_t limit, std::vector<Float3>& out, LinesOutcome& outcome) {
+bool append_block(ParsedBlock& block, std::uint64_t limit, PointArray<Float3>& out, LinesOutcome& outcome) {
     if (block.thrown) {
         outcome.thrown = block.thrown;
         return true;

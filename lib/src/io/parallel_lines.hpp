@@ -101,7 +101,7 @@ struct LinesOutcome {
 
 // Appends a parsed block (the next in file order) to `out`, up to the limit; true when
 // no further block can matter (the limit is reached, or a failure or throw recorded).
-bool append_block(ParsedBlock& block, std::uint64_t limit, std::vector<Float3>& out, LinesOutcome& outcome);
+bool append_block(ParsedBlock& block, std::uint64_t limit, PointArray<Float3>& out, LinesOutcome& outcome);
 
 // Throws what the outcome holds, in the order a serial reader meets it: an exception, a
 // line refused, too few points for the limit, a point floats cannot hold.

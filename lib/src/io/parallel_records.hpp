@@ -61,7 +61,7 @@ struct ConvertedRecords {
 // thread converting an even, contiguous share in order.
 template <class Decode>
 ConvertedRecords convert_records(const InputSource& source, const RecordSpan& records, const Decode& decode,
-                                 const Vec3& origin, std::vector<Float3>& out, const ParseOptions& options) {
+                                 const Vec3& origin, PointArray<Float3>& out, const ParseOptions& options) {
     const std::size_t count = records.count;
     out.resize(count);
     ConvertedRecords result{count, {}};

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "snvr/geometry.hpp"
+#include "spilled_memory.hpp"
 
 namespace snvr::detail {
 
@@ -34,7 +35,7 @@ class InputSource;
 // lies within half the box's longest side of its centre, so |x - origin| <= D + 0.87 D;
 // a near one holds its points within 1.5 D of 0, and every x lies within D of them.
 struct FloatPoints {
-    std::vector<std::array<float, 3>> xyz;
+    PointArray<std::array<float, 3>> xyz;  // beyond a budget, in a file (spilled_memory.hpp)
     Vec3 origin{0, 0, 0};
 };
 

@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "geometry/point_tree.hpp"
 #include "io/formats.hpp"
 #include "io/io_common.hpp"
 #include "io/point_readers.hpp"
@@ -80,7 +81,7 @@ PointSet read_points(const std::string& path) { return detail::world_points(deta
 
 PointCloud read_point_cloud(const std::string& path) {
     detail::FloatPoints points = detail::read_float_points(path);
-    return PointCloud(std::move(points.xyz), points.origin);
+    return detail::cloud_of(std::move(points.xyz), points.origin);
 }
 
 }  // namespace snvr

@@ -603,7 +603,7 @@ public:
             lo = tree.lo(n), hi = tree.hi(n);
             for (int d = 0; d < 3; ++d) big[d] = std::max(std::fabs(lo[d]), std::fabs(hi[d]));
         };
-        const std::vector<Node>& nodes = tree.nodes;
+        const auto& nodes = tree.nodes;
         std::size_t leaves = 0;
         for (const Node& n : nodes) leaves += n.leaf();
         if (grid_->used_cells() < leaves / 8) {

@@ -9,8 +9,10 @@
 
 #include "geometry/vec3_math.hpp"
 #include "io/io_common.hpp"
+#include "geometry/point_tree.hpp"
 #include "io/point_readers.hpp"
 #include "process_limits.hpp"
+#include "spilled_memory.hpp"
 #include "snvr/error.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/shell.hpp"
@@ -40,7 +42,7 @@ void require_float_range(const Mesh& mesh, const std::string& path) {
 // The file's points, or its mesh sampled at half the run's voxel.
 InputPoints read_or_sample(const std::string& path, const Parameters& params) {
     detail::PointsOrMesh content = detail::read_points_or_mesh(path, params.temp_dir);
-    if (!content.is_mesh) return {PointCloud(std::move(content.points.xyz), content.points.origin), 0, 0};
+    if (!content.is_mesh) return {detail::cloud_of(std::move(content.points.xyz), content.points.origin), 0, 0};
     const Mesh& mesh = content.mesh;
     require_float_range(mesh, path);
     InputPoints in;
@@ -54,6 +56,8 @@ InputPoints read_or_sample(const std::string& path, const Parameters& params) {
 }  // namespace
 
 InputPoints read_input(const std::string& path, const Parameters& params) {
+    // Under a budget, points beyond it are read into a file (make_shell's rule).
+    const detail::SpillScope spill(params.max_memory.value_or(0), 0, params.temp_dir);
     try {
         return read_or_sample(path, params);
     } catch (const std::bad_alloc&) {

@@ -9,11 +9,13 @@
 #include <string>
 #include <utility>
 
+#include "geometry/point_tree.hpp"
 #include "geometry/vec3_math.hpp"
 #include "io/formats.hpp"
 #include "pipeline/shared_check.hpp"
 #include "pipeline/shell_mesh.hpp"
 #include "process_limits.hpp"
+#include "spilled_memory.hpp"
 #include "solver/memory_budget.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
@@ -88,7 +90,6 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     };
     given.validate();
     if (points.empty()) throw InputError("the point set is empty");
-    require_points_fit(points.size(), given.params.max_memory.value_or(0));
     shell.units = given.units;
     shell.to_millimetres = given.to_millimetres();
     const double to_mm = shell.to_millimetres;
@@ -199,6 +200,12 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
                                         "--units (m, cm or in)",
                                         across));
     shell.seconds.check = stage.lap() - shell.seconds.mesh_ready;
+    const detail::SpillFacts spilled = detail::spill_facts();
+    MemoryFacts& memory = shell.run.memory;
+    memory.spilled_arrays = spilled.arrays;
+    memory.spilled_bytes = spilled.most_bytes;
+    memory.spill_trims = spilled.trims;
+    memory.spill_folder = spilled.arrays ? spilled.folder : "";
     shell.seconds.total = total.lap();
     return shell;
 }
@@ -207,8 +214,13 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
 
 Shell make_shell(PointCloud points, const ShellSettings& given, const ProgressCallback& progress) {
     const char* now = "settings";
-    // The points are the run's now: they count against its budget.
-    detail::BudgetScope budget(given.params.max_memory.value_or(0), points.bytes());
+    // The points are the run's now: they count against its budget, but for what of them
+    // lies in a file. Under a budget, the points' arrays beyond it go to files in the
+    // temporary folder (spilled_memory.hpp: the same answers, pages read back as needed).
+    const std::size_t budget = given.params.max_memory.value_or(0);
+    const std::size_t held = detail::heap_bytes(points);
+    const detail::BudgetScope within(budget, held);
+    const detail::SpillScope spill(budget, held, given.params.temp_dir);
     try {
         return shell_stages(std::move(points), given, progress, now);
     } catch (const std::bad_alloc&) {

@@ -44,10 +44,6 @@ constexpr std::size_t kCheckBytesPerPoint = 8;
 // and the half vertex each triangle has (24 + 8 + 1 bytes), 33 bytes; with a margin.
 constexpr std::size_t kSurfaceBytesPerTriangle = 40;
 
-// A point at the outlier rules' peak: its coordinates (12) and input place (4) in the tree,
-// the tree's nodes (about 2) and the rules' lists (the clusters' 9; the 200 M-point city
-// block: 29 bytes a point then, the program's own included).
-constexpr std::size_t kPointBytes = 36;
 // An OpenCL runtime's own memory once loaded (PoCL on this machine: 80 MiB resident).
 constexpr std::size_t kDeviceRuntimeBytes = std::size_t(96) << 20;
 
@@ -163,14 +159,6 @@ double face_share(int cells) {
 }
 
 }  // namespace
-
-void require_points_fit(std::size_t points, std::size_t budget) {
-    if (!budget || points * kPointBytes <= budget) return;
-    throw ResourceError(std::to_string(points) + " points need about " + gib(points * kPointBytes) +
-                        " as they are filed and sifted for outliers (" + std::to_string(kPointBytes) +
-                        " bytes a point), over the memory budget of " + gib(budget) +
-                        " (--max-memory): the points are held whole; give a larger budget");
-}
 
 MemoryChoice fit_memory(const PointCloud& measured, const DomainPlan& plan, const Parameters& params) {
     MemoryChoice choice;

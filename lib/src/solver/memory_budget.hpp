@@ -25,10 +25,6 @@
 
 namespace snvr {
 
-// Before the points are filed: throws ResourceError when `points` alone would take more
-// than `budget` (0: none) at the outlier rules' peak.
-void require_points_fit(std::size_t points, std::size_t budget);
-
 // The tile size chosen (0: whole) and the facts behind it. Throws ResourceError when a
 // budget was given and neither the whole run nor any tile size fits it, naming the part
 // that does not.

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "process_limits.hpp"
+#include "spilled_memory.hpp"
 #include "snvr/error.hpp"
 #include "solver/memory_budget.hpp"
 #include "solver/session.hpp"
@@ -95,8 +96,10 @@ Result reconstruct_tiles_of(const Parameters& params, TileScheduler& tiles_on) {
     if (params.tile_cells <= 0) throw ParameterError("another process's share of a tiled run needs its tile size");
     Stopwatch total;
     Result res;
-    // Its points and its tiles' solver keep to the budget too.
-    detail::BudgetScope budget(params.max_memory.value_or(0), 0);
+    // Its points and its tiles' solver keep to the budget too, its points' arrays beyond
+    // it in files (as make_shell's).
+    const detail::BudgetScope budget(params.max_memory.value_or(0), 0);
+    const detail::SpillScope spill(params.max_memory.value_or(0), 0, params.temp_dir);
     if (params.precision == Precision::Double) reconstruct_tiles_given<double>(params, tiles_on, res);
     else reconstruct_tiles_given<float>(params, tiles_on, res);
     res.seconds.total = total.lap();

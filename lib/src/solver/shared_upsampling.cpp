@@ -9,7 +9,6 @@
 #include "geometry/point_tree.hpp"
 #include "geometry/surface_upsampling.hpp"
 #include "snvr/error.hpp"
-#include "solver/memory_budget.hpp"
 
 namespace snvr {
 
@@ -52,10 +51,9 @@ void no_points_between(TileScheduler& on) {
     for (int p = 1; p < on.processes(); ++p) on.give_upsampling(p, none);
 }
 
-void points_between_for_root(TileScheduler& on, std::size_t budget) {
+void points_between_for_root(TileScheduler& on) {
     UpsampleShare share = on.upsampling();
     if (!(share.spacing > 0)) return;
-    require_points_fit(share.points.size() / 3, budget);
     const auto frame = detail::PointTree::Frame::of(share.points_frame.data());
     const PointCloud cloud = detail::cloud_of_flat(std::move(share.points), share.origin, &frame);
     const PointSet made = upsample_surface(detail::tree_of(cloud), share.spacing, share.begin, share.end);

@@ -18,8 +18,7 @@ PointSet points_between_shared(TileScheduler& on, const PointCloud& so_far, doub
 // At the root, where no points were made between: the others are told (they wait for it).
 void no_points_between(TileScheduler& on);
 // At another process, before anything else of the run: its share of the points between,
-// made and sent back (none where the root adds none). The cloud counts against `budget`
-// (bytes, 0: none) as a run's points do.
-void points_between_for_root(TileScheduler& on, std::size_t budget);
+// made and sent back (none where the root adds none).
+void points_between_for_root(TileScheduler& on);
 
 }  // namespace snvr

@@ -446,7 +446,7 @@ void reconstruct_tiled(const PointCloud& measured, const DomainPlan& plan, const
 template <class Real>
 void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result& res) {
     Stopwatch clock;
-    points_between_for_root(on, params.max_memory.value_or(0));
+    points_between_for_root(on);
     std::vector<double> figures;
     std::vector<int> owners;
     on.share(figures, owners);
@@ -455,7 +455,6 @@ void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result
     Vec3 origin{0, 0, 0};
     std::vector<float> xyz;
     on.take_points(origin, xyz);
-    require_points_fit(xyz.size() / 3, mine.max_memory.value_or(0));
     const auto frame = detail::PointTree::Frame::of(&figures[18]);
     const PointCloud measured = detail::cloud_of_flat(std::move(xyz), origin, &frame);
     static_cast<DomainPlan&>(res) = plan;

@@ -1,0 +1,99 @@
+// The points' arrays beyond a run's memory budget, kept in files (the run's temporary
+// folder) rather than on the heap: while a SpillScope lives, a PointArray of at least a
+// sixteenth of the budget is mapped from an unnamed file there (its blocks reserved
+// first, so a full disk is an error naming the folder, never a fault later), and a thread
+// keeps the process's resident memory under the budget by giving the mapped pages back
+// to the kernel, which writes them to the file and reads them again when they are
+// touched. The stages walk the points in their tree's (Morton) order, so the pages they
+// need are few at a time: the file is the points' partition, and each tile's points are
+// a few runs of it. Nothing else changes: the arrays hold what they would on the heap,
+// so the run's answers are the same bytes.
+#pragma once
+#include <cstddef>
+#include <cstdlib>
+#include <memory>
+#include <new>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace snvr::detail {
+
+// While it lives (the outermost of nested scopes in force), large PointArrays go to files
+// in `folder` and the resident memory is held under `budget`: bytes the run may add to
+// what the process held at the scope's start, `held` (what the run already holds on the
+// heap) counted as added. A budget of 0: nothing spills.
+class SpillScope {
+public:
+    SpillScope(std::size_t budget, std::size_t held, const std::string& folder);
+    ~SpillScope();
+    SpillScope(const SpillScope&) = delete;
+    SpillScope& operator=(const SpillScope&) = delete;
+private:
+    bool outermost_ = false;
+};
+
+// A mapping of at least `bytes` from a file, or nullptr where no scope is in force or the
+// array is small. Throws ResourceError where the folder cannot hold it.
+void* spill_allocate(std::size_t bytes);
+// Unmaps p if it is a spilled array (true), else leaves it (false).
+bool spill_release(void* p) noexcept;
+// Heap storage for an array (huge pages from 2 MiB), freed with std::free; throws bad_alloc.
+void* heap_allocate(std::size_t bytes);
+// Whether p begins a spilled array.
+bool spilled(const void* p) noexcept;
+// This process's resident bytes but its spilled arrays' pages (which come and go).
+std::size_t resident_but_spilled();
+
+// What spilling did since a scope began with no array in a file (a run's, its read's
+// included).
+struct SpillFacts {
+    std::size_t arrays = 0;     // arrays spilled
+    std::size_t most_bytes = 0; // the most their files held at once
+    std::size_t trims = 0;      // times their pages were given back to stay in the budget
+    std::string folder;         // where the last scope spilled
+};
+SpillFacts spill_facts();
+
+// An allocator that leaves new elements unset, puts large arrays on huge pages (as
+// large_array.hpp) and spills them under a SpillScope.
+template <class T>
+struct PointsAllocator : std::allocator<T> {
+    static_assert(std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>,
+                  "points' arrays hold plain values");
+    using value_type = T;
+    template <class U>
+    struct rebind {
+        using other = PointsAllocator<U>;
+    };
+    PointsAllocator() = default;
+    template <class U>
+    PointsAllocator(const PointsAllocator<U>&) noexcept {}
+    T* allocate(std::size_t n) {
+        if (n > std::size_t(-1) / sizeof(T)) throw std::bad_alloc();
+        if (void* p = spill_allocate(n * sizeof(T))) return static_cast<T*>(p);
+        return static_cast<T*>(heap_allocate(n * sizeof(T)));
+    }
+    void deallocate(T* p, std::size_t) noexcept {
+        if (!spill_release(p)) std::free(p);
+    }
+    template <class U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+    template <class U>
+    bool operator==(const PointsAllocator<U>&) const noexcept { return true; }
+    template <class U>
+    bool operator!=(const PointsAllocator<U>&) const noexcept { return false; }
+};
+
+// An array with an element a point (or so many): in a file beyond the budget.
+template <class T>
+using PointArray = std::vector<T, PointsAllocator<T>>;
+
+}  // namespace snvr::detail
