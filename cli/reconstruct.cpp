@@ -126,10 +126,8 @@ int run_reconstruct(const std::vector<std::string>& args) {
     parsed->shell.tiles_on = process_tiles();
     // The others read nothing: the first gives each its plan, its tiles and their points.
     if (process_rank() != 0) {
-        snvr::TileScheduler& on = *parsed->shell.tiles_on;
-        snvr::reconstruct_tiles_of(parsed->shell.params, on);
-        // Then its share of the check: the walls and points of its tiles.
-        on.send_check(snvr::measure_check_share(on.check_share()));
+        // Its tiles, then its share of the check: the walls and points of its tiles.
+        snvr::serve_shell(parsed->shell.params, *parsed->shell.tiles_on);
         return 0;
     }
     const ReconstructOptions& o = *parsed;

@@ -119,4 +119,9 @@ struct Shell {
 Shell make_shell(PointCloud points, const ShellSettings& settings, const ProgressCallback& progress = {});
 Shell make_shell(const PointSet& points, const ShellSettings& settings, const ProgressCallback& progress = {});
 
+// Another process's part of a make_shell spread over processes (tiles.hpp): its tiles
+// (reconstruct_tiles_of), then its share of the check (measure_check_share), sent to the
+// root; under the run's budget, its points' arrays beyond it in files as make_shell's.
+void serve_shell(const Parameters& params, TileScheduler& tiles_on);
+
 }  // namespace snvr

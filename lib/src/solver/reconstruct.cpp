@@ -97,7 +97,7 @@ Result reconstruct_tiles_of(const Parameters& params, TileScheduler& tiles_on) {
     Stopwatch total;
     Result res;
     // Its points and its tiles' solver keep to the budget too, its points' arrays beyond
-    // it in files (as make_shell's).
+    // it in files (as make_shell's; under serve_shell, its scopes are in force).
     const detail::BudgetScope budget(params.max_memory.value_or(0), 0);
     const detail::SpillScope spill(params.max_memory.value_or(0), 0, params.temp_dir);
     if (params.precision == Precision::Double) reconstruct_tiles_given<double>(params, tiles_on, res);
