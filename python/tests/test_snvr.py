@@ -268,3 +268,14 @@ def test_memory_budget():
     assert memory["estimated"]["peak"] <= 2**30 and fits.report["tiles"]["core_cells"] == 0
     with pytest.raises(MemoryError, match=r"memory budget \(--max-memory\) is 64 MiB"):
         snvr.shell(points, resolution=1024, device="openmp", max_memory=64 * 2**20)
+
+
+def test_points_beyond_the_budget_go_to_files(tmp_path):
+    points = sphere(0.0004)  # about 1.77 M points: the cloud's arrays of 4 MiB and more go to files
+    whole = snvr.shell(points, resolution=64, device="openmp")
+    spilled = snvr.shell(points, resolution=64, device="openmp", max_memory=64 * 2**20, temp_dir=str(tmp_path))
+    files = spilled.report["memory"]["spilled"]
+    assert files["arrays"] > 0 and files["folder"] == str(tmp_path)
+    assert whole.report["memory"]["spilled"]["arrays"] == 0
+    assert np.array_equal(spilled.vertices, whole.vertices) and np.array_equal(spilled.faces, whole.faces)
+    assert not os.listdir(tmp_path)

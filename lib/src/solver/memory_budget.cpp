@@ -30,7 +30,10 @@ namespace {
 // began (the field then held beside them), and where points cover every triangle (the
 // city block at 2048: 38.5 M triangles, 200 M points) their frames for the depth search,
 // 72 bytes each, came on top: 5.8 GB, about 150 bytes a triangle; the check's points a few
-// bytes each. Where the tiles make the surface no field is held then, and the mesh stage
+// bytes each at most (2026-11-29, anonymous memory sampled through the check: the 98.5
+// M-point sphere at 256, 1.07 M triangles, 256 MB, 0.6 a point beyond the triangles'
+// model; the 50 M-point city block at 1024, 8.8 M triangles, 1.48 GB, under the
+// triangles' model alone). Where the tiles make the surface no field is held then, and the mesh stage
 // and the check, measured from a clean start, peaked at 108-110 bytes a triangle (the
 // bunny and igea at 512, 3.3-3.4 M triangles): the check's, once the field is freed. Each
 // is taken with a margin.
@@ -39,7 +42,7 @@ constexpr std::size_t kTrianglesPerBrick = 90;
 constexpr std::size_t kMeshBytesPerTriangle = 90;    // beside the field (extraction, fairing, guard)
 constexpr std::size_t kCheckBytesPerTriangle = 110;  // alone, the field freed (the check)
 constexpr std::size_t kFrameBytes = 72, kFramesPerPoint = 2;  // at most this many frames a point makes
-constexpr std::size_t kCheckBytesPerPoint = 8;
+constexpr std::size_t kCheckBytesPerPoint = 2;
 // A tile's part of the surface (tile_surface.hpp), a triangle's share: its corners, keys
 // and the half vertex each triangle has (24 + 8 + 1 bytes), 33 bytes; with a margin.
 constexpr std::size_t kSurfaceBytesPerTriangle = 40;
