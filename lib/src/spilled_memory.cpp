@@ -13,6 +13,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -195,17 +196,18 @@ void* spill_allocate(std::size_t bytes) {
 }
 
 void* heap_allocate(std::size_t bytes) {
-    constexpr std::size_t kHugePage = std::size_t(2) << 20;
-    if (bytes < kHugePage) {
-        if (void* p = std::malloc(std::max<std::size_t>(bytes, 1))) return p;
-        throw std::bad_alloc();
-    }
-    if (bytes > std::size_t(-1) - kHugePage) throw std::bad_alloc();
-    const std::size_t whole = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-    void* p = std::aligned_alloc(kHugePage, whole);
-    if (!p) throw std::bad_alloc();
-    ::madvise(p, whole, MADV_HUGEPAGE);  // advice only: plain pages where refused
-    return p;
+    // Plain malloc: on huge pages (as large_array's) the 98.5 M-point sphere peaked 0.29 GB
+    // higher.
+    if (void* p = std::malloc(std::max<std::size_t>(bytes, 1))) return p;
+    throw std::bad_alloc();
+}
+
+void advise_huge_pages(void* p, std::size_t bytes) noexcept {
+    if (spilled(p)) return;
+    constexpr std::uintptr_t kHugePage = std::uintptr_t(2) << 20;
+    const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(p) + kHugePage - 1) & ~(kHugePage - 1);
+    const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(kHugePage - 1);
+    if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);  // advice only
 }
 
 bool spill_release(void* p) noexcept {

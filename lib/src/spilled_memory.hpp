@@ -39,8 +39,11 @@ private:
 void* spill_allocate(std::size_t bytes);
 // Unmaps p if it is a spilled array (true), else leaves it (false).
 bool spill_release(void* p) noexcept;
-// Heap storage for an array (huge pages from 2 MiB), freed with std::free; throws bad_alloc.
+// Heap storage for an array, freed with std::free; throws bad_alloc.
 void* heap_allocate(std::size_t bytes);
+// Asks for huge pages under an array on the heap that the threads fill piecemeal (a page
+// fault per 4 KiB otherwise, the threads' faults queued on one lock); none for a spilled one.
+void advise_huge_pages(void* p, std::size_t bytes) noexcept;
 // Whether p begins a spilled array.
 bool spilled(const void* p) noexcept;
 // This process's resident bytes but its spilled arrays' pages (which come and go).
@@ -56,8 +59,7 @@ struct SpillFacts {
 };
 SpillFacts spill_facts();
 
-// An allocator that leaves new elements unset, puts large arrays on huge pages (as
-// large_array.hpp) and spills them under a SpillScope.
+// An allocator that leaves new elements unset and spills large arrays under a SpillScope.
 template <class T>
 struct PointsAllocator : std::allocator<T> {
     static_assert(std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>,

@@ -263,6 +263,7 @@ std::string_view InputSource::all() {
     if (memory_.data() == nullptr && size_ > 0) {
         try {
             read_.resize(file_->size);  // left unset: the read fills it
+            advise_huge_pages(read_.data(), read_.size());
         } catch (const std::bad_alloc&) {
             throw ResourceError("cannot read '" + path_ + "': its " + std::to_string(file_->size) +
                                 " bytes do not fit in memory");
