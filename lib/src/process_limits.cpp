@@ -59,6 +59,15 @@ bool cgroup_memory(std::size_t& max, std::size_t& current) {
     std::string text;
     if (!(m >> text) || text == "max" || !(c >> current)) return false;
     max = std::size_t(std::stoull(text));
+    if (spilled_any()) {
+        // The spilled arrays' pages are the group's cached file pages, which the kernel
+        // takes back as the group needs room: not counted as used.
+        std::ifstream stat("/sys/fs/cgroup" + path + "/memory.stat");
+        std::string key;
+        std::size_t value = 0;
+        while (stat >> key >> value)
+            if (key == "file") current -= std::min(current, value);
+    }
     return true;
 }
 

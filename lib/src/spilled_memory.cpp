@@ -4,7 +4,6 @@
 
 #include <fcntl.h>
 #include <sys/mman.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -152,8 +151,13 @@ SpillScope::SpillScope(std::size_t budget, std::size_t held, const std::string& 
     if (s.mappings.empty()) s.facts = SpillFacts{};  // a new run's (a read's files are its run's)
     s.facts.folder = s.folder;
     s.stop = false;
+    try {
+        s.governor = std::thread(govern, std::ref(s));
+    } catch (const std::system_error&) {  // no thread to hold the budget: nothing spills
+        outermost_ = false;
+        return;
+    }
     in_force = true;
-    s.governor = std::thread(govern, std::ref(s));
 }
 
 SpillScope::~SpillScope() {
@@ -233,6 +237,8 @@ bool spilled(const void* p) noexcept {
     std::lock_guard<std::mutex> hold(s.lock);
     return std::any_of(s.mappings.begin(), s.mappings.end(), [p](const Mapping& m) { return m.at == p; });
 }
+
+bool spilled_any() noexcept { return live.load() > 0; }
 
 std::size_t resident_but_spilled() {
     if (live.load() == 0) return resident_bytes();

@@ -15,8 +15,9 @@
 #include <new>
 #include <string>
 #include <type_traits>
-#include <utility>
 #include <vector>
+
+#include "large_array.hpp"
 
 namespace snvr::detail {
 
@@ -46,6 +47,8 @@ void* heap_allocate(std::size_t bytes);
 void advise_huge_pages(void* p, std::size_t bytes) noexcept;
 // Whether p begins a spilled array.
 bool spilled(const void* p) noexcept;
+// Whether any array is in a file now.
+bool spilled_any() noexcept;
 // This process's resident bytes but its spilled arrays' pages (which come and go).
 std::size_t resident_but_spilled();
 
@@ -59,12 +62,11 @@ struct SpillFacts {
 };
 SpillFacts spill_facts();
 
-// An allocator that leaves new elements unset and spills large arrays under a SpillScope.
+// UnsetAllocator (large_array.hpp, new elements left unset) that spills large arrays
+// under a SpillScope.
 template <class T>
-struct PointsAllocator : std::allocator<T> {
-    static_assert(std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>,
-                  "points' arrays hold plain values");
-    using value_type = T;
+struct PointsAllocator : UnsetAllocator<T> {
+    static_assert(std::is_trivially_destructible_v<T>, "points' arrays hold plain values");
     template <class U>
     struct rebind {
         using other = PointsAllocator<U>;
@@ -80,18 +82,6 @@ struct PointsAllocator : std::allocator<T> {
     void deallocate(T* p, std::size_t) noexcept {
         if (!spill_release(p)) std::free(p);
     }
-    template <class U>
-    void construct(U* p) noexcept {
-        ::new (static_cast<void*>(p)) U;
-    }
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-    template <class U>
-    bool operator==(const PointsAllocator<U>&) const noexcept { return true; }
-    template <class U>
-    bool operator!=(const PointsAllocator<U>&) const noexcept { return false; }
 };
 
 // An array with an element a point (or so many): in a file beyond the budget.

@@ -13,7 +13,6 @@
 #include <memory>
 #include <vector>
 
-#include "large_array.hpp"
 #include "spilled_memory.hpp"
 #include "snvr/point_cloud.hpp"
 
