@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <list>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -38,21 +39,34 @@ int as_count(std::size_t n, const char* what) {
 // Long arrays go in parts: MPI counts in int.
 constexpr std::size_t kPart = std::size_t(1) << 28;
 template <class T>
-void send_parts(const std::vector<T>& data, MPI_Datatype type, int to, int tag, const char* what) {
-    const std::int64_t count = std::int64_t(data.size());
+void send_parts(const T* data, std::size_t n, MPI_Datatype type, int to, int tag, const char* what) {
+    const std::int64_t count = std::int64_t(n);
     check(MPI_Send(&count, 1, MPI_INT64_T, to, tag, MPI_COMM_WORLD), what);
-    for (std::size_t at = 0; at < data.size(); at += kPart)
-        check(MPI_Send(data.data() + at, int(std::min(kPart, data.size() - at)), type, to, tag, MPI_COMM_WORLD), what);
+    for (std::size_t at = 0; at < n; at += kPart)
+        check(MPI_Send(data + at, int(std::min(kPart, n - at)), type, to, tag, MPI_COMM_WORLD), what);
+}
+template <class T>
+void send_parts(const std::vector<T>& data, MPI_Datatype type, int to, int tag, const char* what) {
+    send_parts(data.data(), data.size(), type, to, tag, what);
+}
+// The count first, then the parts into room(count).
+template <class T, class Room>
+void receive_parts_into(MPI_Datatype type, int from, int tag, const char* what, const Room& room) {
+    std::int64_t count = 0;
+    check(MPI_Recv(&count, 1, MPI_INT64_T, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), what);
+    const std::size_t n = static_cast<std::size_t>(count);
+    T* data = room(n);
+    for (std::size_t at = 0; at < n; at += kPart)
+        check(MPI_Recv(data + at, int(std::min(kPart, n - at)), type, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+              what);
 }
 template <class T>
 std::vector<T> receive_parts(MPI_Datatype type, int from, int tag, const char* what) {
-    std::int64_t count = 0;
-    check(MPI_Recv(&count, 1, MPI_INT64_T, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), what);
-    std::vector<T> data(static_cast<std::size_t>(count));
-    for (std::size_t at = 0; at < data.size(); at += kPart)
-        check(MPI_Recv(data.data() + at, int(std::min(kPart, data.size() - at)), type, from, tag, MPI_COMM_WORLD,
-                       MPI_STATUS_IGNORE),
-              what);
+    std::vector<T> data;
+    receive_parts_into<T>(type, from, tag, what, [&data](std::size_t n) {
+        data.resize(n);
+        return data.data();
+    });
     return data;
 }
 
@@ -173,7 +187,7 @@ public:
         const double figures[7] = {share.spacing,         double(share.begin),   double(share.end),    share.points_frame[0],
                                    share.points_frame[1], share.points_frame[2], share.points_frame[3]};
         check(MPI_Send(figures, 7, MPI_DOUBLE, process, kUpsample, MPI_COMM_WORLD), "sending the points to add");
-        if (share.spacing > 0) give_points(process, share.origin, share.points);
+        if (share.spacing > 0) give_points(process, share.origin, share.points.data(), share.points.size());
     }
 
     std::vector<double> take_upsampled(int process) override {
@@ -189,7 +203,7 @@ public:
         share.spacing = figures[0];
         share.begin = std::uint64_t(figures[1]);
         share.end = std::uint64_t(figures[2]);
-        if (share.spacing > 0) take_points(share.origin, share.points);
+        if (share.spacing > 0) take_points_into(share.origin, share.points);
         return share;
     }
 
@@ -197,18 +211,18 @@ public:
         send_parts(xyz, MPI_DOUBLE, 0, kUpsampled, "sending the points added");
     }
 
-    void give_points(int process, const snvr::Vec3& origin, const std::vector<float>& xyz) override {
+    void give_points(int process, const snvr::Vec3& origin, const float* xyz, std::size_t floats) override {
         check(MPI_Send(origin.data(), 3, MPI_DOUBLE, process, kPoints, MPI_COMM_WORLD), "sending the points");
-        send_parts(xyz, MPI_FLOAT, process, kPoints, "sending the points");
+        send_parts(xyz, floats, MPI_FLOAT, process, kPoints, "sending the points");
     }
 
-    void take_points(snvr::Vec3& origin, std::vector<float>& xyz) override {
+    void take_points(snvr::Vec3& origin, const std::function<float*(std::size_t)>& room) override {
         check(MPI_Recv(origin.data(), 3, MPI_DOUBLE, 0, kPoints, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receiving the points");
-        xyz = receive_parts<float>(MPI_FLOAT, 0, kPoints, "receiving the points");
+        receive_parts_into<float>(MPI_FLOAT, 0, kPoints, "receiving the points", room);
     }
 
-    void give_check_points(int process, const snvr::Vec3& origin, const std::vector<float>& xyz) override {
-        give_points(process, origin, xyz);
+    void give_check_points(int process, const snvr::Vec3& origin, const float* xyz, std::size_t floats) override {
+        give_points(process, origin, xyz, floats);
     }
 
     void give_check(int process, const snvr::CheckShare& share) override {
@@ -249,7 +263,7 @@ public:
 
     snvr::CheckShare check_share() override {
         snvr::CheckShare share;
-        take_points(share.origin, share.points);
+        take_points_into(share.origin, share.points);
         std::int64_t sizes[3];
         double figures[7];
         const auto get = [&](void* data, std::size_t n, MPI_Datatype type) {
@@ -286,6 +300,14 @@ public:
     }
 
 private:
+    // Points from the root into a vector of this process's.
+    void take_points_into(snvr::Vec3& origin, std::vector<float>& xyz) {
+        take_points(origin, [&xyz](std::size_t floats) {
+            xyz.resize(floats);
+            return xyz.data();
+        });
+    }
+
     struct Outgoing {
         snvr::TileResult result;
         std::array<std::int64_t, kHeaderSize> header;

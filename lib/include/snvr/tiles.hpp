@@ -16,6 +16,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "snvr/field.hpp"
@@ -110,15 +111,17 @@ public:
     // The root's `plan` figures and tile `owners` to every process (the others' are
     // replaced).
     virtual void share(std::vector<double>& plan, std::vector<int>& owners) = 0;
-    // At the root: a process's points, float coordinates about `origin`, x y z in turn.
-    virtual void give_points(int process, const Vec3& origin, const std::vector<float>& xyz) = 0;
-    // At another process: its points from the root.
-    virtual void take_points(Vec3& origin, std::vector<float>& xyz) = 0;
+    // At the root: a process's points, float coordinates about `origin`, x y z in turn
+    // (`floats` of them).
+    virtual void give_points(int process, const Vec3& origin, const float* xyz, std::size_t floats) = 0;
+    // At another process: its points from the root, put where room(floats) says (the caller's
+    // own array, which a run under a budget may keep in a file).
+    virtual void take_points(Vec3& origin, const std::function<float*(std::size_t floats)>& room) = 0;
     // The shell's check shared, once the tiles are done: at the root, each other process's
     // share (given to every one of them, empty when there is none: first its points, then
     // the rest, share.points unused, so that the root never holds both) and later what it
     // measured; at another process, its share, whole, and what it measured back.
-    virtual void give_check_points(int process, const Vec3& origin, const std::vector<float>& xyz) = 0;
+    virtual void give_check_points(int process, const Vec3& origin, const float* xyz, std::size_t floats) = 0;
     virtual void give_check(int process, const CheckShare& share) = 0;
     virtual CheckShareFigures take_check(int process) = 0;
     virtual CheckShare check_share() = 0;

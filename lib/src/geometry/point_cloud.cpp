@@ -146,9 +146,9 @@ PointCloud::PointCloud(const float* xyz, std::size_t n) : tree_(file_array(xyz, 
 PointCloud::PointCloud(std::vector<Vec3f> coordinates, const Vec3& origin)
     : tree_(file_coordinates(detail::PointArray<Vec3f>(coordinates.begin(), coordinates.end()), origin, nullptr)) {}
 
-PointCloud detail::cloud_of(PointArray<Vec3f>&& coordinates, const Vec3& origin) {
+PointCloud detail::cloud_of(PointArray<Vec3f>&& coordinates, const Vec3& origin, const PointTree::Frame* frame) {
     PointCloud cloud;
-    CloudAccess::tree_of(cloud) = file_coordinates(std::move(coordinates), origin, nullptr);
+    CloudAccess::tree_of(cloud) = file_coordinates(std::move(coordinates), origin, frame);
     return cloud;
 }
 
@@ -157,9 +157,7 @@ PointCloud detail::cloud_of_flat(std::vector<float>&& xyz, const Vec3& origin, c
     PointArray<Vec3f> points(xyz.size() / 3);
     if (!points.empty()) std::memcpy(points.data(), xyz.data(), xyz.size() * sizeof(float));
     std::vector<float>().swap(xyz);
-    PointCloud cloud;
-    CloudAccess::tree_of(cloud) = file_coordinates(std::move(points), origin, frame);
-    return cloud;
+    return cloud_of(std::move(points), origin, frame);
 }
 
 PointCloud::PointCloud(const PointCloud& other) : tree_(std::make_unique<detail::PointTree>(*other.tree_)) {}

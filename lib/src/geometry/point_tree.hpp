@@ -176,8 +176,8 @@ inline const PointTree& tree_of(const PointCloud& cloud) { return CloudAccess::t
 std::size_t heap_bytes(const PointCloud& cloud);
 
 // Float coordinates about `origin`, as the readers make them, filed (the same errors as
-// the PointCloud constructor's).
-PointCloud cloud_of(PointArray<Vec3f>&& coordinates, const Vec3& origin);
+// the PointCloud constructor's); in `frame` as PointTree's constructor says.
+PointCloud cloud_of(PointArray<Vec3f>&& coordinates, const Vec3& origin, const PointTree::Frame* frame = nullptr);
 
 // Points sent from one process to another (x y z in turn, float coordinates about
 // `origin`) as a cloud; the flat copy is freed first (InputError if not whole points).

@@ -122,8 +122,8 @@ struct PointsGiven {
         return runs[r][0] + std::uint32_t(i - before[r]);
     }
     // Their coordinates about the tree's origin, x y z in turn.
-    std::vector<float> coordinates(const PointTree& tree) const {
-        std::vector<float> xyz(3 * count());
+    PointArray<float> coordinates(const PointTree& tree) const {
+        PointArray<float> xyz(3 * count());
         float* to = xyz.data();
         for (const auto& run : runs)
             for (std::uint32_t k = run[0]; k < run[1]; ++k, to += 3) std::memcpy(to, tree.xyz[k].data(), 3 * sizeof(float));
@@ -275,10 +275,10 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
         std::vector<std::uint32_t> local(nv);
         for (int p = 1; p < processes; ++p) {
             {  // its points first, freed before the rest is made
-                const std::vector<float> xyz = given[std::size_t(p)].coordinates(tree);
+                const PointArray<float> xyz = given[std::size_t(p)].coordinates(tree);
                 facts.check_points += xyz.size() / 3;
                 facts.check_bytes += xyz.size() * sizeof(float);
-                on.give_check_points(p, tree.origin, xyz);
+                on.give_check_points(p, tree.origin, xyz.data(), xyz.size());
             }
             const auto walls_here = [&](std::uint32_t v) { return measurer.walls[tile_of[v]] == p; };
             CheckShare share = mesh_share(mesh, near, p, walls_here, local, measured[std::size_t(p)]);

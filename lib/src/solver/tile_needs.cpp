@@ -109,7 +109,7 @@ std::vector<int> owners_of(const std::vector<TileNeeds>& needs, int processes) {
     return owner;
 }
 
-std::vector<float> points_for(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
+detail::PointArray<float> points_for(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
                               const std::vector<int>& owner, int process, int core_cells, int halo_cells, double reach) {
     // Each leaf's points that fall in the reach of one of the process's tiles: all of them
     // at once when the leaf lies inside one, else one by one. Counted first, so that the
@@ -143,7 +143,7 @@ std::vector<float> points_for(const detail::PointTree& tree, const Domain& whole
     };
     std::size_t count = 0;
     each([&](const detail::PointTree::Node& leaf) { count += leaf.count(); }, [&](std::uint32_t) { ++count; });
-    std::vector<float> xyz;
+    detail::PointArray<float> xyz;
     xyz.reserve(3 * count);
     each([&](const detail::PointTree::Node& leaf) {
              xyz.insert(xyz.end(), tree.xyz[leaf.begin].data(), tree.xyz[leaf.begin].data() + 3 * leaf.count());

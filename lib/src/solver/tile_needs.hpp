@@ -31,7 +31,7 @@ std::vector<TileNeeds> needs_of(const detail::PointTree& tree, const Domain& who
 // The points (float coordinates about the tree's origin, x y z in turn) within `reach`
 // of a tile's box (halo included) that `process` runs: all its tiles' distances need,
 // each point once, in the tree's order.
-std::vector<float> points_for(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
+detail::PointArray<float> points_for(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
                               const std::vector<int>& owner, int process, int core_cells, int halo_cells, double reach);
 
 // Which process runs each tile: the heaviest first (by the points near it), each to the

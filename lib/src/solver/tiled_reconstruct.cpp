@@ -188,10 +188,10 @@ public:
         figures.insert(figures.end(), frame.begin(), frame.end());
         on->share(figures, owner_);
         for (int p = 1; p < facts.processes; ++p) {
-            const std::vector<float> xyz =
+            const detail::PointArray<float> xyz =
                 points_for(tree, plan.domain, tiles_, owner_, p, facts.core_cells, facts.halo_cells, reach);
             facts.points_sent += xyz.size() / 3;
-            on->give_points(p, tree.origin, xyz);
+            on->give_points(p, tree.origin, xyz.data(), xyz.size());
         }
     }
 
@@ -452,11 +452,16 @@ void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result
     on.share(figures, owners);
     Parameters mine = params;  // as the root runs it
     const DomainPlan plan = plan_of(figures, mine);
+    // Received straight into the cloud's own array (in a file under a budget).
     Vec3 origin{0, 0, 0};
-    std::vector<float> xyz;
-    on.take_points(origin, xyz);
+    detail::PointArray<Vec3f> xyz;
+    on.take_points(origin, [&xyz](std::size_t floats) {
+        if (floats % 3) throw InputError("points sent as x y z in turn are not whole");
+        xyz.resize(floats / 3);
+        return xyz.empty() ? nullptr : xyz.front().data();
+    });
     const auto frame = detail::PointTree::Frame::of(&figures[18]);
-    const PointCloud measured = detail::cloud_of_flat(std::move(xyz), origin, &frame);
+    const PointCloud measured = detail::cloud_of(std::move(xyz), origin, &frame);
     static_cast<DomainPlan&>(res) = plan;
     res.tiles.core_cells = mine.tile_cells;
     res.tiles.halo_cells = tile_halo(plan, mine, res.tiles.halo_derived);
