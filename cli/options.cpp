@@ -305,13 +305,15 @@ Command reconstruct_command(ReconstructOptions& o) {
         {"--tile-halo-cells", "", "N",
          "the tiles' halo in cells (a multiple of 8) instead of the one\nderived from the flow", store(p.tile_halo_cells)},
         {"--temp-dir", "", "DIR",
-         "where temporary files go: a .gz input is inflated there into an\n"
-         "unnamed file, gone when the run ends however it ends (default:\n"
-         "the output's folder)",
+         "where temporary files go: a .gz input is inflated there, and under\n"
+         "--max-memory the points beyond it are kept there; unnamed files,\n"
+         "gone when the run ends however it ends (default: the output's\n"
+         "folder)",
          store(p.temp_dir)},
         {"--max-memory", "", "SIZE",
          "memory the run may take, e.g. 2G or 512M (powers of 1024): the\n"
-         "points it files and all after; the grid whole where it fits, else\n"
+         "points it files and all after; points beyond it are kept in files\n"
+         "in --temp-dir (the same shell); the grid whole where it fits, else\n"
          "in the largest tiles that fit, else an error saying what does not\n"
          "(default: whole where the memory available holds it, else tiles)",
          [&p](const std::string& option, const std::string& value) { p.max_memory = parse_size(option, value); }},
