@@ -7,9 +7,9 @@
 #include <string>
 #include <utility>
 
+#include "geometry/point_tree.hpp"
 #include "geometry/vec3_math.hpp"
 #include "io/io_common.hpp"
-#include "geometry/point_tree.hpp"
 #include "io/point_readers.hpp"
 #include "process_limits.hpp"
 #include "spilled_memory.hpp"
