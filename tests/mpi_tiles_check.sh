@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # snvr-cl under mpirun (2 processes, as CI runs it: root, oversubscribed): the tiled run's
 # shell byte for byte the one process's; the other process reads nothing (the first gives
-# it the plan and its points); --tile-cells required; one process failing
+# it the plan and its points), under a budget too; --tile-cells required; one process failing
 # (reading, in a tile, or killed) fails the run, names the process (and the tile), and
 # nothing is written.
 set -uo pipefail
@@ -57,6 +57,17 @@ print(f"the other process: {t['check_walls_elsewhere']} walls, {t['check_points_
       f"({t['check_points_back']} back to the first)")
 sys.exit(0 if t["check_walls_elsewhere"] > 0 and t["check_points_elsewhere"] > 100000 else 1)
 PY
+# Under a budget: the points' arrays beyond it in files on both processes (the other's
+# received straight into its cloud's), the same bytes as one process without a budget.
+"$cli" sample noisy-sphere --spacing 0.0015 -o "$tmp/budget.ply" >/dev/null || fail "the sampler (budget)"
+budget=(reconstruct "$tmp/budget.ply" --device openmp --resolution 64 --tile-cells 16)
+"$cli" "${budget[@]}" -o "$tmp/budget1.stl" 2>/dev/null || fail "budget on one process"
+"${mpi[@]}" -np 2 "$cli" "${budget[@]}" --max-memory 64M --report "$tmp/budget2.json" -o "$tmp/budget2.stl" \
+    2>/dev/null || fail "budget on two processes"
+cmp "$tmp/budget1.stl" "$tmp/budget2.stl" || fail "budget: other bytes on two processes under --max-memory"
+python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["memory"]["spilled"]["arrays"] > 0 else 1)' \
+    "$tmp/budget2.json" || fail "budget: no array went to a file"
+rm "$tmp"/budget[12].* "$tmp/budget.ply"
 # A sparse sphere (616 points): the points added between them are made by both processes.
 "$cli" sample noisy-sphere --spacing 0.05 -o "$tmp/sparse.ply" >/dev/null || fail "the sampler (sparse)"
 one_and_two sparse "$tmp/sparse.ply" --resolution 64 --tile-cells 16
