@@ -43,6 +43,7 @@ struct Spill {
     std::size_t budget = 0, limit = 0, least = 0;
     std::string folder;
     SpillFacts facts;
+    std::size_t read_before = 0, written_before = 0;  // /proc/self/io's when the facts began
     // The resident file pages before the first spill (the program's own), so that the
     // spilled ones are what grew past them.
     std::size_t file_pages_before = 0;
@@ -77,6 +78,18 @@ Resident resident_now() {
         in.ignore(1 << 12, '\n');
     }
     return r;
+}
+
+// The process's bytes read from and written to storage so far (/proc/self/io).
+void storage_bytes(std::size_t& read, std::size_t& written) {
+    std::ifstream in("/proc/self/io");
+    std::string key;
+    std::size_t value = 0;
+    read = written = 0;
+    while (in >> key >> value) {
+        if (key == "read_bytes:") read = value;
+        if (key == "write_bytes:") written = value;
+    }
 }
 
 std::string gib(std::size_t bytes) {
@@ -148,7 +161,10 @@ SpillScope::SpillScope(std::size_t budget, std::size_t held, const std::string& 
     const std::size_t margin = std::max<std::size_t>(budget / 3, std::size_t(64) << 20);
     const std::size_t base = now - std::min(now, held);
     s.limit = base + budget - std::min(budget, margin);
-    if (s.mappings.empty()) s.facts = SpillFacts{};  // a new run's (a read's files are its run's)
+    if (s.mappings.empty()) {  // a new run's facts (a read's files are its run's)
+        s.facts = SpillFacts{};
+        storage_bytes(s.read_before, s.written_before);
+    }
     s.facts.folder = s.folder;
     s.stop = false;
     try {
@@ -254,8 +270,13 @@ std::size_t resident_but_spilled() {
 
 SpillFacts spill_facts() {
     Spill& s = spill();
+    std::size_t read = 0, written = 0;
+    storage_bytes(read, written);
     std::lock_guard<std::mutex> hold(s.lock);
-    return s.facts;
+    SpillFacts facts = s.facts;
+    facts.read_bytes = read - std::min(read, s.read_before);
+    facts.written_bytes = written - std::min(written, s.written_before);
+    return facts;
 }
 
 }  // namespace snvr::detail

@@ -59,6 +59,9 @@ struct SpillFacts {
     std::size_t most_bytes = 0; // the most their files held at once
     std::size_t trims = 0;      // times their pages were given back to stay in the budget
     std::string folder;         // where the last scope spilled
+    // Bytes the process read from storage and wrote to it meanwhile (/proc/self/io: the
+    // input's reading counted; the files' pages read again where memory was short).
+    std::size_t read_bytes = 0, written_bytes = 0;
 };
 SpillFacts spill_facts();
 

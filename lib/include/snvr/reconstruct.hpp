@@ -111,6 +111,8 @@ struct MemoryFacts {
     std::size_t spilled_bytes = 0;   // the most the files held at once
     std::size_t spill_trims = 0;     // times their pages were given back to stay in the budget
     std::string spill_folder;
+    std::size_t storage_read = 0;     // bytes the process read from storage meanwhile (the
+    std::size_t storage_written = 0;  // input's too) and wrote (the files' pages written out)
 };
 
 // What reconstruct() ran (the plan it fitted to the points) and what it found.

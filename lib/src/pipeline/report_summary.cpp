@@ -121,9 +121,9 @@ std::string report_summary(const RunReport& report) {
                             budget.runtime ? format_text(", the OpenCL runtime %.0f", mib(budget.runtime)).c_str() : ""));
     if (budget.spilled_arrays)
         row("", format_text("the points beyond the budget in files: %.1f MiB at most (%zu arrays, in %s), their pages "
-                            "given back %zu times",
+                            "given back %zu times; %.1f MiB read from storage, %.1f MiB written",
                             mib(budget.spilled_bytes), budget.spilled_arrays, budget.spill_folder.c_str(),
-                            budget.spill_trims));
+                            budget.spill_trims, mib(budget.storage_read), mib(budget.storage_written)));
     const CycleTotals& c = report.cycles;
     row("V-cycles", format_text("%d in %zu steps, at most %d in a step%s", c.total, r.steps.size(), c.most_in_a_step,
                         c.not_converged ? format_text(", %d not converged", c.not_converged).c_str() : ""));

@@ -206,6 +206,8 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     memory.spilled_bytes = spilled.most_bytes;
     memory.spill_trims = spilled.trims;
     memory.spill_folder = spilled.arrays ? spilled.folder : "";
+    memory.storage_read = spilled.arrays ? spilled.read_bytes : 0;
+    memory.storage_written = spilled.arrays ? spilled.written_bytes : 0;
     shell.seconds.total = total.lap();
     return shell;
 }
