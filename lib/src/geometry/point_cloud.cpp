@@ -129,10 +129,10 @@ std::size_t PointCloud::bytes() const {
 
 std::size_t detail::heap_bytes(const PointCloud& cloud) {
     const PointTree& t = tree_of(cloud);
-    std::size_t bytes = t.nodes.capacity() * sizeof(PointTree::Node);
-    if (!spilled(t.xyz.data())) bytes += t.xyz.capacity() * sizeof(Vec3f);
-    if (!spilled(t.input.data())) bytes += t.input.capacity() * sizeof(std::uint32_t);
-    return bytes;
+    const auto on_heap = [](const auto& array) {
+        return spilled(array.data()) ? 0 : array.capacity() * sizeof(array[0]);
+    };
+    return on_heap(t.xyz) + on_heap(t.input) + on_heap(t.nodes);
 }
 
 PointCloud::PointCloud() : tree_(std::make_unique<detail::PointTree>()) {}
