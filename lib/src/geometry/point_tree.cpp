@@ -219,24 +219,19 @@ bool PointTree::in_frame_order() const {
 }
 
 bool PointTree::file_in_order(PointArray<Vec3f>& coordinates, PointArray<std::uint32_t>& order) {
-    // The keys twice, checked, then kept once the coordinates are gone: at most 28 bytes a
-    // point, as the sort (with them kept at once, 36 held the 200 M-point block's other
-    // process at 4.3 GB where it had 3.55).
+    // Each key once, checked as it is made; the coordinates become the tree's own (the
+    // 200 M-point city block's other process filed 122 M points in 6.9 s with the keys made
+    // twice and the points copied into fresh memory). At most 24 bytes a point.
     const std::size_t n = coordinates.size();
-    std::uint64_t last = frame_.key(coordinates[0]);
-    for (std::size_t i = 1; i < n; ++i) {
-        const std::uint64_t key = frame_.key(coordinates[i]);
-        if (key < last) return false;
-        last = key;
-    }
-    xyz.resize(n);
-    input.resize(n);
-    std::copy(coordinates.begin(), coordinates.end(), xyz.begin());
-    for (std::size_t i = 0; i < n; ++i) input[i] = order.empty() ? std::uint32_t(i) : order[i];
-    PointArray<Vec3f>().swap(coordinates);
-    PointArray<std::uint32_t>().swap(order);
     PointArray<std::uint64_t> keys(n);
-    for (std::size_t i = 0; i < n; ++i) keys[i] = frame_.key(xyz[i]);
+    for (std::size_t i = 0; i < n; ++i) {
+        keys[i] = frame_.key(coordinates[i]);
+        if (i && keys[i] < keys[i - 1]) return false;
+    }
+    xyz = std::move(coordinates);
+    input.resize(n);
+    for (std::size_t i = 0; i < n; ++i) input[i] = order.empty() ? std::uint32_t(i) : order[i];
+    PointArray<std::uint32_t>().swap(order);
     build_nodes(keys.data());
     return true;
 }
