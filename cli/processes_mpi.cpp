@@ -70,7 +70,7 @@ std::vector<T> receive_parts(MPI_Datatype type, int from, int tag, const char* w
     return data;
 }
 
-enum Tag { kHeader = 1, kTable, kStored, kFigures, kPoints, kSurface, kCheckShare, kChecked, kUpsample, kUpsampled };
+enum Tag { kHeader = 1, kTable, kStored, kFigures, kPoints, kSurface, kCheckShare, kChecked, kUpsample, kUpsampled, kBytes };
 constexpr int kHeaderSize = 10;
 
 // A worker's results go out as it goes on (MPI_Isend), each kept until sent() has waited
@@ -219,6 +219,28 @@ public:
     void take_points(snvr::Vec3& origin, const std::function<float*(std::size_t)>& room) override {
         check(MPI_Recv(origin.data(), 3, MPI_DOUBLE, 0, kPoints, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receiving the points");
         receive_parts_into<float>(MPI_FLOAT, 0, kPoints, "receiving the points", room);
+    }
+
+    void send_bytes(int process, const void* bytes, std::size_t size) override {
+        send_parts(static_cast<const char*>(bytes), size, MPI_BYTE, process, kBytes, "sending the points to file");
+    }
+
+    void receive_bytes(int process, const std::function<void*(std::size_t)>& room) override {
+        receive_parts_into<char>(MPI_BYTE, process, kBytes, "receiving the points to file",
+                                 [&room](std::size_t n) { return static_cast<char*>(room(n)); });
+    }
+
+    void sum(std::vector<std::uint64_t>& values) override {
+        for (std::size_t at = 0; at < values.size(); at += kPart)
+            check(MPI_Allreduce(MPI_IN_PLACE, values.data() + at, int(std::min(kPart, values.size() - at)), MPI_UINT64_T,
+                                MPI_SUM, MPI_COMM_WORLD),
+                  "summing the points' counts");
+    }
+
+    void least(std::vector<double>& values) override {
+        check(MPI_Allreduce(MPI_IN_PLACE, values.data(), as_count(values.size(), "the least figures"), MPI_DOUBLE, MPI_MIN,
+                            MPI_COMM_WORLD),
+              "agreeing on the points' box");
     }
 
     void give_check_points(int process, const snvr::Vec3& origin, const float* xyz, std::size_t floats) override {

@@ -126,7 +126,9 @@ int run_reconstruct(const std::vector<std::string>& args) {
     parsed->shell.tiles_on = process_tiles();
     // The others read nothing: the first gives each its plan, its tiles and their points.
     if (process_rank() != 0) {
-        // Its tiles, then its share of the check: the walls and points of its tiles.
+        // Its part of filing the points, its tiles, then its share of the check: the walls
+        // and points of its tiles.
+        snvr::serve_input(parsed->input, parsed->shell.params, *parsed->shell.tiles_on);
         snvr::serve_shell(parsed->shell.params, *parsed->shell.tiles_on);
         return 0;
     }
@@ -142,7 +144,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
     files.input = o.input;
 
     say("read: " + o.input);
-    snvr::InputPoints input = snvr::read_input(o.input, settings.params);
+    snvr::InputPoints input = snvr::read_input(o.input, settings.params, settings.tiles_on.get());
     files.read_seconds = stage.lap();
     if (input.triangles)
         say(snvr::format_text("read: a mesh of %s triangles, sampled at %.3g into %s points",

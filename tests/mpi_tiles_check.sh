@@ -57,6 +57,25 @@ print(f"the other process: {t['check_walls_elsewhere']} walls, {t['check_points_
       f"({t['check_points_back']} back to the first)")
 sys.exit(0 if t["check_walls_elsewhere"] > 0 and t["check_points_elsewhere"] > 100000 else 1)
 PY
+# Its binary PLY is read in parts, a part a process, and the points' tree filed by both
+# (above); as text the first reads it and gives the other its part; where the other
+# cannot see the file, the first gives it its part too: the same bytes each time.
+"$cli" sample noisy-sphere --spacing 0.0022 -o "$tmp/dense.xyz" >/dev/null || fail "the sampler (text)"
+one_and_two dense_text "$tmp/dense.xyz" --resolution 64 --tile-cells 16
+dense=(reconstruct "$tmp/dense.ply" --device openmp --resolution 64 --tile-cells 16 --quiet)
+"${mpi[@]}" -np 1 "$cli" "${dense[@]}" -o "$tmp/w.stl" : -np 1 "$cli" "${dense[@]/dense.ply/absent.ply}" -o "$tmp/w.stl" ||
+    fail "the dense sphere with the other process not seeing it"
+cmp "$tmp/dense1.stl" "$tmp/w.stl" || fail "the dense sphere with the other not seeing it: other bytes"
+rm "$tmp/w.stl"
+# The other process fails to read its part (the read-fault hook): the run fails, names it,
+# and writes nothing.
+out=$("${mpi[@]}" -np 1 "$cli" "${dense[@]}" -o "$tmp/y.stl" : -np 1 -x SNVR_TEST_READ_FAULT=eio:3000000 "$cli" \
+      "${dense[@]}" -o "$tmp/y.stl" 2>&1)
+[ $? -ne 0 ] || fail "a process that failed to read its part did not fail the run"
+grep -q "process 1 of 2" <<<"$out" || fail "the failure to read a part does not name the process: $out"
+[ ! -e "$tmp/y.stl" ] || fail "an output was written"
+echo "read in parts, given parts, the other not seeing the file: the same bytes; a part that fails fails the run"
+rm "$tmp"/dense_text[12].* "$tmp/dense.xyz"
 # Under a budget: the points' arrays beyond it in files on both processes (the other's
 # received straight into its cloud's), the same bytes as one process without a budget.
 "$cli" sample noisy-sphere --spacing 0.0015 -o "$tmp/budget.ply" >/dev/null || fail "the sampler (budget)"
@@ -101,14 +120,14 @@ grep -q "give --tile-cells N" <<<"$out" || fail "no --tile-cells: $out"
 [ ! -e "$tmp/x.stl" ] || fail "an output was written"
 echo "no --tile-cells: refused once"
 
-# The others read nothing: process 1 given an input that is not there runs its tiles as
-# the first gives them, the same bytes.
+# The others need not see the input: process 1 given an input that is not there runs its
+# tiles as the first gives them, the same bytes.
 absent=(reconstruct "$tmp/absent.ply" "${run[@]:2}")
 "${mpi[@]}" -np 1 "$cli" "${run[@]}" -o "$tmp/w.stl" : -np 1 "$cli" "${absent[@]}" -o "$tmp/w.stl" ||
     fail "process 1 read its input"
 cmp "$tmp/one.stl" "$tmp/w.stl" || fail "process 1 without the input: other bytes"
 rm "$tmp/w.stl"
-echo "the other processes read nothing: the same bytes"
+echo "the other processes need not see the input: the same bytes"
 
 # The first process fails to read the input (the read-fault hook): the run fails, says
 # which process, and writes nothing.

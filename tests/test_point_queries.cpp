@@ -1,12 +1,22 @@
 // The point tree's per-cell queries against brute force over every point: eight queries
 // in lanes (nearest_lanes), the neighbour counts of the outlier rules
-// (points_short_of), and the stray points' rule on shapes made for it.
+// (points_short_of), and the stray points' rule on shapes made for it; the tree filed by
+// several processes (threads here) is the one a process files alone.
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <condition_variable>
+#include <cstring>
+#include <deque>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <mutex>
 #include <random>
+#include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "geometry/neighbour_counts.hpp"
@@ -14,10 +24,15 @@
 #include "geometry/point_tree.hpp"
 #include "geometry/stray_points.hpp"
 #include "snvr/point_cloud.hpp"
+#include "snvr/point_io.hpp"
 #include "snvr/shapes.hpp"
+#include "snvr/tiles.hpp"
+#include "solver/shared_filing.hpp"
+#include "temp_dir.hpp"
 
 using namespace snvr;
 using detail::PointTree;
+using snvr::testing::TempDir;
 
 namespace {
 
@@ -118,7 +133,220 @@ PointSet noisy_dense_sphere() {
     return dense;
 }
 
+// Processes as threads of one process, for what the points' shared filing asks of them:
+// bytes in order between two of them, and sums over all. Nothing else is asked.
+class ThreadProcesses {
+public:
+    explicit ThreadProcesses(int n) : n_(n), boxes_(std::size_t(n * n)) {}
+    class One : public TileScheduler {
+    public:
+        One(ThreadProcesses& all, int rank) : all_(all), rank_(rank) {}
+        int processes() const override { return all_.n_; }
+        int rank() const override { return rank_; }
+        void send_bytes(int to, const void* bytes, std::size_t size) override {
+            std::vector<char> copy(size);
+            if (size) std::memcpy(copy.data(), bytes, size);
+            std::lock_guard<std::mutex> lock(all_.mutex_);
+            all_.box(rank_, to).push_back(std::move(copy));
+            all_.changed_.notify_all();
+        }
+        void receive_bytes(int from, const std::function<void*(std::size_t)>& room) override {
+            std::vector<char> got;
+            {
+                std::unique_lock<std::mutex> lock(all_.mutex_);
+                all_.changed_.wait(lock, [&] { return !all_.box(from, rank_).empty(); });
+                got = std::move(all_.box(from, rank_).front());
+                all_.box(from, rank_).pop_front();
+            }
+            void* to = room(got.size());
+            if (!got.empty()) std::memcpy(to, got.data(), got.size());
+        }
+        void sum(std::vector<std::uint64_t>& values) override {
+            all_.reduce(values, all_.total_, [](std::uint64_t x, std::uint64_t y) { return x + y; });
+        }
+        void least(std::vector<double>& values) override {
+            all_.reduce(values, all_.smallest_, [](double x, double y) { return std::min(x, y); });
+        }
+        // Not asked of a filing.
+        void send(TileResult) override { refuse(); }
+        void sent() override { refuse(); }
+        bool waiting() override { refuse(); }
+        TileResult receive() override { refuse(); }
+        std::vector<int> most(const std::vector<int>&) override { refuse(); }
+        void give_upsampling(int, const UpsampleShare&) override { refuse(); }
+        std::vector<double> take_upsampled(int) override { refuse(); }
+        UpsampleShare upsampling() override { refuse(); }
+        void send_upsampled(const std::vector<double>&) override { refuse(); }
+        void share(std::vector<double>&, std::vector<int>&) override { refuse(); }
+        void give_points(int, const Vec3&, const float*, std::size_t) override { refuse(); }
+        void take_points(Vec3&, const std::function<float*(std::size_t)>&) override { refuse(); }
+        void give_check_points(int, const Vec3&, const float*, std::size_t) override { refuse(); }
+        void give_check(int, const CheckShare&) override { refuse(); }
+        CheckShareFigures take_check(int) override { refuse(); }
+        CheckShare check_share() override { refuse(); }
+        void send_check(const CheckShareFigures&) override { refuse(); }
+
+    private:
+        [[noreturn]] static void refuse() { throw std::logic_error("not asked of a filing"); }
+        ThreadProcesses& all_;
+        int rank_;
+    };
+
+private:
+    std::deque<std::vector<char>>& box(int from, int to) { return boxes_[std::size_t(from * n_ + to)]; }
+    // Every process's values combined by op, once all have come, into each one's. Rounds
+    // take turns with two pools: a process slow to copy one round's result reads it
+    // while the next round fills the other.
+    template <class T, class Op>
+    void reduce(std::vector<T>& values, std::array<std::vector<T>, 2>& pools, Op op) {
+        std::unique_lock<std::mutex> lock(mutex_);
+        const std::size_t round = round_;
+        std::vector<T>& pool = pools[round % 2];
+        if (arrived_ == 0) pool = values;
+        else
+            for (std::size_t i = 0; i < values.size(); ++i) pool[i] = op(pool[i], values[i]);
+        if (++arrived_ == n_) {
+            arrived_ = 0;
+            ++round_;
+            changed_.notify_all();
+        } else {
+            changed_.wait(lock, [&] { return round_ != round; });
+        }
+        values = pool;
+    }
+    int n_;
+    std::vector<std::deque<std::vector<char>>> boxes_;
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    std::array<std::vector<std::uint64_t>, 2> total_;
+    std::array<std::vector<double>, 2> smallest_;
+    int arrived_ = 0;
+    std::size_t round_ = 0;
+};
+
+// The cloud the first of `processes` files with the others' help (each a thread).
+PointCloud filed_by(int processes, const PointCloud& alone) {
+    const PointTree& t = detail::tree_of(alone);
+    detail::PointArray<Vec3f> as_read(t.size());  // in input order, as a reader gives them
+    for (std::size_t k = 0; k < t.size(); ++k) as_read[t.input[k]] = t.xyz[k];
+    ThreadProcesses all(processes);
+    std::vector<std::unique_ptr<ThreadProcesses::One>> each;
+    for (int p = 0; p < processes; ++p) each.push_back(std::make_unique<ThreadProcesses::One>(all, p));
+    std::vector<std::thread> others;
+    for (int p = 1; p < processes; ++p) others.emplace_back([&each, p] { detail::file_for_root(*each[std::size_t(p)]); });
+    PointCloud filed = detail::cloud_filed_with(*each[0], std::move(as_read), t.origin);
+    for (std::thread& o : others) o.join();
+    return filed;
+}
+
+// The cloud the first of `processes` files where each reads its own part of the file.
+PointCloud read_in_parts_by(int processes, const std::string& path) {
+    ThreadProcesses all(processes);
+    std::vector<std::unique_ptr<ThreadProcesses::One>> each;
+    for (int p = 0; p < processes; ++p) each.push_back(std::make_unique<ThreadProcesses::One>(all, p));
+    std::vector<std::thread> others;
+    for (int p = 1; p < processes; ++p)
+        others.emplace_back([&each, &path, p] {
+            TileScheduler& mine = *each[std::size_t(p)];
+            const std::size_t n = detail::parts_to_read(&mine, path);
+            detail::file_part_for_root(mine, detail::read_my_part(mine, path, n, ""), n);
+        });
+    const std::size_t n = detail::parts_to_read(each[0].get(), path);
+    REQUIRE(n > 0);
+    PointCloud filed = detail::cloud_read_with(*each[0], detail::read_my_part(*each[0], path, n, ""), n);
+    for (std::thread& o : others) o.join();
+    return filed;
+}
+
+// What a tree holds that another could differ in: 0 when none.
+std::size_t tree_differences(const PointTree& a, const PointTree& b) {
+    std::size_t differ = a.size() != b.size() || a.nodes.size() != b.nodes.size() || a.origin != b.origin ||
+                         a.frame().figures() != b.frame().figures();
+    if (differ) return differ;
+    for (std::size_t k = 0; k < a.size(); ++k) differ += a.xyz[k] != b.xyz[k] || a.input[k] != b.input[k];
+    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+        const PointTree::Node &x = a.nodes[i], &y = b.nodes[i];
+        differ += x.begin != y.begin || x.end != y.end || x.child != y.child || x.children != y.children ||
+                  x.lo != y.lo || x.hi != y.hi;
+    }
+    return differ;
+}
+
 }  // namespace
+
+TEST_CASE("the points' tree filed by several processes is the one a process files alone, bit for bit") {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(0, 1);
+    std::vector<Cloud> clouds = awkward_clouds();
+    PointSet many;  // above the least the processes share (kSharedFilingPoints)
+    for (int i = 0; i < 150000; ++i) many.push_back({unit(rng), unit(rng), 0.25 * unit(rng)});
+    for (int i = 0; i < 30000; ++i) many.push_back({0.7, 0.1, 0.2});  // a cell far fuller than the rest
+    clouds.push_back({"150000 scattered points and 30000 copies of one", many});
+    clouds.push_back({"a noisy dense sphere", noisy_dense_sphere()});
+    for (const Cloud& c : clouds) {
+        const PointCloud alone(c.points);
+        const PointTree& a = detail::tree_of(alone);
+        for (int processes : {2, 3, 4}) {
+            CAPTURE(c.what);
+            CAPTURE(processes);
+            CHECK(tree_differences(a, detail::tree_of(filed_by(processes, alone))) == 0);
+        }
+    }
+}
+
+TEST_CASE("a binary PLY read in parts by several processes gives the tree one process reads and files") {
+    const TempDir dir("filing");
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> unit(0, 1);
+    PointSet points;
+    for (int i = 0; i < 120000; ++i) points.push_back({unit(rng), 2 * unit(rng), 0.5 * unit(rng)});
+    for (int i = 0; i < 20000; ++i) points.push_back({0.25, 0.5, 0.125});
+    // Float32 records (held as they are), and double ones far from the origin after another
+    // element's fixed-size items (an origin chosen from the first records; an offset).
+    const std::string floats = dir.file("floats.ply"), doubles = dir.file("doubles.ply");
+    write_points(points, floats);
+    {
+        std::ofstream out(doubles, std::ios::binary);
+        out << "ply\nformat binary_little_endian 1.0\nelement camera 3\nproperty float a\nproperty uchar b\n"
+            << "element vertex " << points.size() << "\nproperty double x\nproperty double y\nproperty double z\n"
+            << "property uchar k\nend_header\n";
+        const char camera[15] = {};
+        out.write(camera, sizeof camera);
+        for (const Vec3& p : points) {
+            const double xyz[3] = {p[0] + 6.5e5, p[1] - 5.2e6, p[2] + 300};
+            out.write(reinterpret_cast<const char*>(xyz), sizeof xyz);
+            out.put(7);
+        }
+    }
+    for (const std::string& path : {floats, doubles}) {
+        const PointCloud alone = read_point_cloud(path);
+        for (int processes : {2, 3}) {
+            CAPTURE(path);
+            CAPTURE(processes);
+            CHECK(tree_differences(detail::tree_of(alone), detail::tree_of(read_in_parts_by(processes, path))) == 0);
+        }
+    }
+    // Files read whole: text, a gzipped PLY, one cut short; and a file one process cannot
+    // see (the first then gives it its part).
+    write_points(PointSet(points.begin(), points.begin() + 100000), dir.file("text.xyz"));
+    CHECK(detail::points_in_parts(dir.file("text.xyz")) == 0);
+    CHECK(detail::points_in_parts(floats) == points.size());
+    CHECK(detail::points_in_parts(doubles) == points.size());
+    {
+        std::ifstream in(floats, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::ofstream(dir.file("cut.ply"), std::ios::binary) << bytes.substr(0, bytes.size() - 5);
+    }
+    CHECK(detail::points_in_parts(dir.file("cut.ply")) == 0);
+    CHECK(detail::parts_to_read(nullptr, floats) == 0);
+    ThreadProcesses two(2);
+    ThreadProcesses::One first(two, 0), second(two, 1);
+    std::size_t seen = 1;
+    std::thread other([&] { seen = detail::parts_to_read(&second, dir.file("absent.ply")); });
+    CHECK(detail::parts_to_read(&first, floats) == 0);
+    other.join();
+    CHECK(seen == 0);
+}
 
 TEST_CASE("PointTree: the nodes split their points in order and hold them in their boxes, threaded build included") {
     // Past 2^16 points the tree's lower levels are built by tasks and copied into place.

@@ -32,7 +32,9 @@ struct InputPoints {
     std::size_t triangles = 0;  // the mesh's, when the input was one
     double spacing = 0;         // the sampling's
 };
-InputPoints read_input(const std::string& path, const Parameters& params);
+// `others`: the processes of a run spread over them (ShellSettings::tiles_on), each in
+// serve_input meanwhile: they file the points' tree with this one (the same tree, sooner).
+InputPoints read_input(const std::string& path, const Parameters& params, TileScheduler* others = nullptr);
 
 // The shell's surface: the zero level set of result.phi, meshed the way snvr-cl does
 // (closed, manifold, outward), faired (fair_mesh), and, when the run kept a tube, lifted where the mesh dips
@@ -123,5 +125,9 @@ Shell make_shell(const PointSet& points, const ShellSettings& settings, const Pr
 // (reconstruct_tiles_of), then its share of the check (measure_check_share), sent to the
 // root; under the run's budget, its points' arrays beyond it in files as make_shell's.
 void serve_shell(const Parameters& params, TileScheduler& tiles_on);
+// Another process's part of the root's read_input(path, params, others): its share of
+// reading (where the file can be read in parts) and filing the points (nothing where the
+// root reads a mesh or few points); then serve_shell.
+void serve_input(const std::string& path, const Parameters& params, TileScheduler& tiles_on);
 
 }  // namespace snvr

@@ -1,9 +1,10 @@
 // Where the tiles of a tiled run (Parameters::tile_cells) run. Without a scheduler they
 // all run in this process, one after another. A scheduler spreads them over processes
-// (snvr-cl's MPI one, cli/processes_mpi.cpp): the root (rank 0) reads the points, makes
-// the plan and the global decisions, and gives each other process the plan, which
-// process runs which tile, and the points within reach of its own tiles (they never read
-// the input: reconstruct_tiles_of); each runs the tiles it owns (balanced by the points
+// (snvr-cl's MPI one, cli/processes_mpi.cpp): the points' tree is filed by all (each
+// reading its part of the input where it can, else given it: read_input, serve_input),
+// the root (rank 0) holding the whole tree; it makes the plan and the global decisions,
+// and gives each other process the plan, which process runs which tile, and the points
+// within reach of its own tiles (reconstruct_tiles_of); each runs the tiles it owns (balanced by the points
 // near them) and sends the results to the root, which puts the cores together and goes on
 // to mesh (or, Parameters::whole_field false, each sends its part of the surface and the
 // bricks near its core's faces, and the root makes the seams and welds); on the other
@@ -117,6 +118,14 @@ public:
     // At another process: its points from the root, put where room(floats) says (the caller's
     // own array, which a run under a budget may keep in a file).
     virtual void take_points(Vec3& origin, const std::function<float*(std::size_t floats)>& room) = 0;
+    // Plain bytes from this process to another, received in the order sent (the points'
+    // tree filed by all processes, lib/src/solver/shared_filing.hpp): sent before
+    // send_bytes returns; received into room(size), which gives where they go.
+    virtual void send_bytes(int process, const void* bytes, std::size_t size) = 0;
+    virtual void receive_bytes(int process, const std::function<void*(std::size_t size)>& room) = 0;
+    // Each of `values` summed over every process, or the least of them, on every process.
+    virtual void sum(std::vector<std::uint64_t>& values) = 0;
+    virtual void least(std::vector<double>& values) = 0;
     // The shell's check shared, once the tiles are done: at the root, each other process's
     // share (given to every one of them, empty when there is none: first its points, then
     // the rest, share.points unused, so that the root never holds both) and later what it

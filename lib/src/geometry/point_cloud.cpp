@@ -19,10 +19,7 @@
 namespace snvr {
 namespace {
 
-void check_size(std::size_t n) {
-    if (n >= std::size_t(std::numeric_limits<std::uint32_t>::max()))
-        throw ResourceError("a point cloud holds at most 4,294,967,294 points, not " + std::to_string(n));
-}
+void check_size(std::size_t n) { detail::require_point_count(n); }
 
 [[noreturn]] void non_finite(std::size_t i, const Vec3& p) {
     throw InputError("point " + std::to_string(i) + " has a non-finite coordinate (" + detail::format_number(p[0]) +
@@ -107,9 +104,9 @@ std::unique_ptr<detail::PointTree> file_array(const Real* xyz, std::size_t n) {
     });
 }
 
-// Float coordinates about an origin, checked and filed (in `frame` when given).
+// Float coordinates about an origin, checked, then filed by `file`.
 std::unique_ptr<detail::PointTree> file_coordinates(detail::PointArray<Vec3f> coordinates, const Vec3& origin,
-                                                    const detail::PointTree::Frame* frame) {
+                                                    const detail::TreeFiler& file) {
     check_size(coordinates.size());
     if (!finite(origin)) throw InputError("the points' origin is not finite");
     for (std::size_t i = 0; i < coordinates.size(); ++i) {
@@ -117,7 +114,7 @@ std::unique_ptr<detail::PointTree> file_coordinates(detail::PointArray<Vec3f> co
         if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
             non_finite(i, {origin[0] + c[0], origin[1] + c[1], origin[2] + c[2]});
     }
-    return std::make_unique<detail::PointTree>(std::move(coordinates), detail::PointArray<std::uint32_t>(), origin, frame);
+    return file(std::move(coordinates), origin);
 }
 
 }  // namespace
@@ -147,8 +144,19 @@ PointCloud::PointCloud(std::vector<Vec3f> coordinates, const Vec3& origin)
     : tree_(file_coordinates(detail::PointArray<Vec3f>(coordinates.begin(), coordinates.end()), origin, nullptr)) {}
 
 PointCloud detail::cloud_of(PointArray<Vec3f>&& coordinates, const Vec3& origin, const PointTree::Frame* frame) {
+    return cloud_filed(std::move(coordinates), origin, [frame](PointArray<Vec3f>&& xyz, const Vec3& at) {
+        return std::make_unique<PointTree>(std::move(xyz), PointArray<std::uint32_t>(), at, frame);
+    });
+}
+
+void detail::require_point_count(std::size_t n) {
+    if (n >= std::size_t(std::numeric_limits<std::uint32_t>::max()))
+        throw ResourceError("a point cloud holds at most 4,294,967,294 points, not " + std::to_string(n));
+}
+
+PointCloud detail::cloud_filed(PointArray<Vec3f>&& coordinates, const Vec3& origin, const TreeFiler& file) {
     PointCloud cloud;
-    CloudAccess::tree_of(cloud) = file_coordinates(std::move(coordinates), origin, frame);
+    CloudAccess::tree_of(cloud) = file_coordinates(std::move(coordinates), origin, file);
     return cloud;
 }
 

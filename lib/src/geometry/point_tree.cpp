@@ -120,73 +120,74 @@ std::uint64_t PointTree::Frame::key(const Vec3f& p) const {
     return k;
 }
 
-PointTree::PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> order, const Vec3& at,
-                     const Frame* frame)
-    : origin(at) {
-    settle_threads();  // every stage's first parallel region is here or after a read
-    const std::size_t n = coordinates.size();
-    if (n == 0) return;
-    if (frame) {
-        frame_ = *frame;
-        if (file_in_order(coordinates, order)) return;
-    } else {
-        Vec3f lo, hi;
-        float_box(coordinates, lo, hi);
-        const double extent = std::max({double(hi[0]) - lo[0], double(hi[1]) - lo[1], double(hi[2]) - lo[2]});
-        frame_ = {{lo[0], lo[1], lo[2]}, extent > 0 ? double(1u << kBits) / extent : 1.0};
-    }
+PointTree::Filing PointTree::filing_of(const PointArray<Vec3f>& coordinates, const Frame* frame) {
+    Vec3f lo{0, 0, 0}, hi{0, 0, 0};
+    if (!frame) float_box(coordinates, lo, hi);
+    Filing f = filing_for(lo, hi, coordinates.size(), spilled(coordinates.data()));
+    if (frame) f.frame = *frame;
+    return f;
+}
 
-    // Counting sort by a coarse cell (the top `bits` digits): about 8 points a cell, at
-    // most 2^21 cells. Each thread counts, then scatters, its own part of the input, so
-    // the sort is stable: within a cell the points keep their input order. Points in a
-    // file (spilled_memory.hpp) go to at most 4096 cells, so that the scatter writes a
-    // few pages at a time; the cells' sorts then do more, with the same order.
-    const int finest = spilled(coordinates.data()) ? 4 : 7;
-    const int bits = std::clamp(int(std::log2(std::max(1.0, double(n) / 8)) / 3), 1, finest);
-    const int shift = 3 * (kBits - bits);
-    const std::size_t cells = std::size_t(1) << (3 * bits);
+PointTree::Filing PointTree::filing_for(const Vec3f& lo, const Vec3f& hi, std::size_t n, bool in_files) {
+    const double extent = std::max({double(hi[0]) - lo[0], double(hi[1]) - lo[1], double(hi[2]) - lo[2]});
+    Filing f;
+    f.frame = {{lo[0], lo[1], lo[2]}, extent > 0 ? double(1u << kBits) / extent : 1.0};
+    // About 8 points a coarse cell, at most 2^21 cells. Points in a file
+    // (spilled_memory.hpp) go to at most 4096 cells, so that the scatter writes a few
+    // pages at a time; the cells' sorts then do more, with the same order.
+    const int finest = in_files ? 4 : 7;
+    f.bits = std::clamp(int(std::log2(std::max(1.0, double(n) / 8)) / 3), 1, finest);
+    return f;
+}
+
+void PointTree::box_of(const PointArray<Vec3f>& coordinates, Vec3f& lo, Vec3f& hi) { float_box(coordinates, lo, hi); }
+
+int PointTree::Filing::shift() const { return 3 * (kBits - bits); }
+
+std::uint32_t PointTree::Filing::cell(const Vec3f& p) const { return std::uint32_t(frame.key(p) >> shift()); }
+
+void PointTree::Filing::by_cell(const Vec3f* p, std::size_t n, std::uint32_t first_input, const std::uint32_t* order,
+                                Vec3f* xyz, std::uint32_t* input, std::uint32_t* cell_start) const {
+    // Each thread counts, then scatters, its own part, so that the sort is stable: within
+    // a cell the points keep their input order.
+    const std::size_t cells = this->cells();
     const int parts = n > (1u << 16) ? threads_here() : 1;
     std::vector<std::uint32_t> count(std::size_t(parts) * cells, 0);
     const auto part_begin = [&](int t) { return n * std::size_t(t) / std::size_t(parts); };
 #pragma omp parallel for num_threads(parts) schedule(static, 1)
     for (int t = 0; t < parts; ++t) {
         std::uint32_t* c = count.data() + std::size_t(t) * cells;
-        for (std::size_t i = part_begin(t); i < part_begin(t + 1); ++i) ++c[frame_.key(coordinates[i]) >> shift];
+        for (std::size_t i = part_begin(t); i < part_begin(t + 1); ++i) ++c[cell(p[i])];
     }
-    std::vector<std::uint32_t> cell_start(cells + 1, 0);
-    {
-        std::uint32_t at_slot = 0;
-        for (std::size_t c = 0; c < cells; ++c) {
-            cell_start[c] = at_slot;
-            for (int t = 0; t < parts; ++t) {
-                std::uint32_t& slot = count[std::size_t(t) * cells + c];
-                const std::uint32_t here = slot;
-                slot = at_slot;
-                at_slot += here;
-            }
+    std::uint32_t at_slot = 0;
+    for (std::size_t c = 0; c < cells; ++c) {
+        cell_start[c] = at_slot;
+        for (int t = 0; t < parts; ++t) {
+            std::uint32_t& slot = count[std::size_t(t) * cells + c];
+            const std::uint32_t here = slot;
+            slot = at_slot;
+            at_slot += here;
         }
-        cell_start[cells] = at_slot;
     }
-    xyz.resize(n);
-    input.resize(n);
+    cell_start[cells] = at_slot;
 #pragma omp parallel for num_threads(parts) schedule(static, 1)
     for (int t = 0; t < parts; ++t) {
         std::uint32_t* next = count.data() + std::size_t(t) * cells;
         for (std::size_t i = part_begin(t); i < part_begin(t + 1); ++i) {
-            const std::uint32_t to = next[frame_.key(coordinates[i]) >> shift]++;
-            xyz[to] = coordinates[i];
-            input[to] = order.empty() ? std::uint32_t(i) : order[i];
+            const std::uint32_t to = next[cell(p[i])]++;
+            xyz[to] = p[i];
+            input[to] = order ? order[i] : first_input + std::uint32_t(i);
         }
     }
-    std::vector<std::uint32_t>().swap(count);
-    PointArray<Vec3f>().swap(coordinates);
-    PointArray<std::uint32_t>().swap(order);
+}
 
-    // Each coarse cell by its points' full keys (ties in input order). Left unset until
-    // the threads fill it: zeroing it first took a tenth of the build, on one thread.
-    PointArray<std::uint64_t> keys(n);
+void PointTree::Filing::sort_cells(const std::uint32_t* cell_start, std::size_t cells, Vec3f* xyz, std::uint32_t* input,
+                                   std::uint64_t* keys) const {
+    // Each coarse cell by its points' full keys (ties in input order). `keys` is left unset
+    // until the threads fill it: zeroing it first took a tenth of the build, on one thread.
     const std::ptrdiff_t ncells = std::ptrdiff_t(cells);
-#pragma omp parallel if (std::ptrdiff_t(n) > kParallelCheapItems)
+    const int shift = this->shift();
+#pragma omp parallel if (std::ptrdiff_t(cell_start[cells] - cell_start[0]) > kParallelCheapItems)
     {
         std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted, spare;
         std::vector<Vec3f> p;
@@ -196,11 +197,11 @@ PointTree::PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> or
             const std::uint32_t b = cell_start[c], e = cell_start[c + 1];
             if (b == e) continue;
             sorted.clear();
-            for (std::uint32_t i = b; i < e; ++i) sorted.emplace_back(frame_.key(xyz[i]), i);
+            for (std::uint32_t i = b; i < e; ++i) sorted.emplace_back(frame.key(xyz[i]), i);
             if (!std::is_sorted(sorted.begin(), sorted.end())) {
                 sort_cell(sorted, spare, shift);
-                p.assign(xyz.begin() + b, xyz.begin() + e);
-                in.assign(input.begin() + b, input.begin() + e);
+                p.assign(xyz + b, xyz + e);
+                in.assign(input + b, input + e);
                 for (std::uint32_t i = b; i < e; ++i) {
                     xyz[i] = p[sorted[i - b].second - b];
                     input[i] = in[sorted[i - b].second - b];
@@ -209,7 +210,37 @@ PointTree::PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> or
             for (std::uint32_t i = b; i < e; ++i) keys[i] = sorted[i - b].first;
         }
     }
+}
+
+PointTree::PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> order, const Vec3& at,
+                     const Frame* frame)
+    : origin(at) {
+    settle_threads();  // every stage's first parallel region is here or after a read
+    const std::size_t n = coordinates.size();
+    if (n == 0) return;
+    if (frame) {
+        frame_ = *frame;
+        if (file_in_order(coordinates, order)) return;
+    }
+    const Filing filing = filing_of(coordinates, frame);
+    frame_ = filing.frame;
+    // A counting sort by the coarse cell, then each cell by its points' keys.
+    std::vector<std::uint32_t> cell_start(filing.cells() + 1);
+    xyz.resize(n);
+    input.resize(n);
+    filing.by_cell(coordinates.data(), n, 0, order.empty() ? nullptr : order.data(), xyz.data(), input.data(),
+                   cell_start.data());
+    PointArray<Vec3f>().swap(coordinates);
+    PointArray<std::uint32_t>().swap(order);
+    PointArray<std::uint64_t> keys(n);
+    filing.sort_cells(cell_start.data(), filing.cells(), xyz.data(), input.data(), keys.data());
     build_nodes(keys.data());
+}
+
+PointTree::PointTree(PointArray<Vec3f> sorted, PointArray<std::uint32_t> inputs, const Vec3& at, const Frame& frame,
+                     const std::uint64_t* keys)
+    : origin(at), xyz(std::move(sorted)), input(std::move(inputs)), frame_(frame) {
+    if (!xyz.empty()) build_nodes(keys);
 }
 
 bool PointTree::in_frame_order() const {

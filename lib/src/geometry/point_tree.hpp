@@ -9,6 +9,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -48,12 +49,41 @@ public:
         static Frame of(const double* f) { return {{f[0], f[1], f[2]}, f[3]}; }
     };
 
+    // How points are filed: a counting sort by a coarse cell (the top `bits` digits of
+    // their keys), then each cell by the full keys (ties in input order). The constructor
+    // does both; a filing shared among processes (shared_filing.hpp) does them by parts of
+    // the input and ranges of cells, which give the same tree.
+    struct Filing {
+        Frame frame;
+        int bits = 1;
+        int shift() const;  // a point's coarse cell: its key >> shift()
+        std::size_t cells() const { return std::size_t(1) << (3 * bits); }
+        std::uint32_t cell(const Vec3f& p) const;
+        // p[0..n) by coarse cell into xyz and input (each point's input index: order[i], or
+        // first_input + i where order is null), stable; cell_start (cells() + 1 of them):
+        // where each cell's points begin.
+        void by_cell(const Vec3f* p, std::size_t n, std::uint32_t first_input, const std::uint32_t* order, Vec3f* xyz,
+                     std::uint32_t* input, std::uint32_t* cell_start) const;
+        // Sorts each of `cells` cells (cell c: [cell_start[c], cell_start[c + 1]) of the
+        // arrays) by the points' keys, and puts the keys in `keys`.
+        void sort_cells(const std::uint32_t* cell_start, std::size_t cells, Vec3f* xyz, std::uint32_t* input,
+                        std::uint64_t* keys) const;
+    };
+    // The frame from the points' box (or the one given), the cells from their number.
+    static Filing filing_of(const PointArray<Vec3f>& coordinates, const Frame* frame = nullptr);
+    // The same from the box of n points (the finest cells fewer where they are in files).
+    static Filing filing_for(const Vec3f& lo, const Vec3f& hi, std::size_t n, bool in_files);
+    static void box_of(const PointArray<Vec3f>& coordinates, Vec3f& lo, Vec3f& hi);  // the float box
+
     PointTree() = default;
     // Takes the coordinates (about origin) and each one's input index; sorts and files them.
     // In `frame` when given (another tree's, whose box holds these points): points taken
     // from that tree in its order then come already sorted, and filing them sorts nothing.
     PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> input, const Vec3& origin,
               const Frame* frame = nullptr);
+    // Points filed already (by Filing's steps): in key order, their input indices and keys.
+    PointTree(PointArray<Vec3f> sorted, PointArray<std::uint32_t> input, const Vec3& origin, const Frame& frame,
+              const std::uint64_t* keys);
 
     Vec3 origin{0, 0, 0};
     PointArray<Vec3f> xyz;            // by tree order
@@ -178,6 +208,13 @@ std::size_t heap_bytes(const PointCloud& cloud);
 // Float coordinates about `origin`, as the readers make them, filed (the same errors as
 // the PointCloud constructor's); in `frame` as PointTree's constructor says.
 PointCloud cloud_of(PointArray<Vec3f>&& coordinates, const Vec3& origin, const PointTree::Frame* frame = nullptr);
+
+// Throws ResourceError where n points are more than a cloud holds (its indices are 32-bit).
+void require_point_count(std::size_t n);
+
+// The same, the tree filed by `file` (the coordinates checked first).
+using TreeFiler = std::function<std::unique_ptr<PointTree>(PointArray<Vec3f>&&, const Vec3& origin)>;
+PointCloud cloud_filed(PointArray<Vec3f>&& coordinates, const Vec3& origin, const TreeFiler& file);
 
 // Points sent from one process to another (x y z in turn, float coordinates about
 // `origin`) as a cloud; the flat copy is freed first (InputError if not whole points).

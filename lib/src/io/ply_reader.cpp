@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "io/float_origin.hpp"
+#include "io/formats.hpp"
 #include "io/input_source.hpp"
 #include "io/io_common.hpp"
 #include "io/parallel_lines.hpp"
@@ -152,9 +153,14 @@ FloatPoints read_fixed_vertices(const Element& vertex, std::size_t size, BinaryR
     const FixedVertex decode(vertex, swap);
     FloatPoints points;
     if (!exact_in_float(vertex)) points.origin = choose_origin(sample_records(source, records, decode, options.origin_sample));
-    const ConvertedRecords done = convert_records(source, records, decode, points.origin, points.xyz, options);
-    if (done.first_refused < records.count)
-        refuse_point(path, done.first_refused, record_point(source, records, decode, done.first_refused), points.origin);
+    // One part of them (the origin the whole file's), or all.
+    points.first = records.count * options.part / options.parts;
+    const std::size_t end = records.count * (options.part + 1) / options.parts;
+    const RecordSpan part{records.first + points.first * size, size, end - points.first};
+    const ConvertedRecords done = convert_records(source, part, decode, points.origin, points.xyz, options);
+    if (done.first_refused < part.count)
+        refuse_point(path, points.first + done.first_refused, record_point(source, part, decode, done.first_refused),
+                     points.origin);
     return points;
 }
 
@@ -200,6 +206,9 @@ bool lists_before_records(const Header& header) {
 
 FloatPoints read_binary(const Header& header, InputSource& source, const std::string& path,
                         const ParseOptions& options) {
+    std::size_t record = 0;
+    if (options.parts > 1 && (lists_before_records(header) || !fixed_item_size(header.elements[header.vertex], record)))
+        throw Error(path + ": its points cannot be read in parts");
     const bool file_little = header.encoding == Encoding::BinaryLittle;
     const bool swap = file_little != host_is_little_endian();
     const std::string_view data = lists_before_records(header) ? source.all() : std::string_view();
@@ -302,8 +311,28 @@ FloatPoints read_ascii(const Header& header, std::string_view data, const std::s
 
 }  // namespace
 
+std::size_t points_in_parts(const std::string& path) {
+    require_regular_file(path);
+    const Format* format = read_format(path);
+    if (format_name(path) != path || !format || format->read.points != &parse_ply) return 0;
+    InputSource source(path);
+    const Header header = ply::read_header(source, path);
+    if (header.encoding == Encoding::Ascii || lists_before_records(header)) return 0;
+    std::size_t before = 0, size = 0;  // the bytes of the elements before the vertices, of a vertex
+    for (std::size_t e = 0; e < header.vertex; ++e) {
+        fixed_item_size(header.elements[e], size);
+        before += std::size_t(header.elements[e].count) * size;
+    }
+    const Element& vertex = header.elements[header.vertex];
+    fixed_item_size(vertex, size);
+    const std::size_t data = source.size() - std::min(source.size(), header.data_offset);
+    if (size == 0 || before > data || (data - before) / size < vertex.count) return 0;  // read whole: its error
+    return std::size_t(vertex.count);
+}
+
 FloatPoints parse_ply(InputSource& source, const std::string& path, const ParseOptions& options) {
     const Header header = ply::read_header(source, path);
+    if (options.parts > 1 && header.encoding == Encoding::Ascii) throw Error(path + ": its points cannot be read in parts");
     return header.encoding == Encoding::Ascii ? read_ascii(header, source.all(), path, options)
                                               : read_binary(header, source, path, options);
 }

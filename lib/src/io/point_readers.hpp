@@ -37,6 +37,7 @@ class InputSource;
 struct FloatPoints {
     PointArray<std::array<float, 3>> xyz;  // beyond a budget, in a file (spilled_memory.hpp)
     Vec3 origin{0, 0, 0};
+    std::size_t first = 0;  // read in parts (ParseOptions::parts): the input index of xyz[0]
 };
 
 // How the parsers share out their work. The defaults suit real files; the tests use
@@ -46,7 +47,15 @@ struct ParseOptions {
     int threads = 0;                                 // 0: as many as OpenMP gives
     std::size_t origin_sample = 4096;                // first points the origin is chosen from
     std::size_t read_part = std::size_t(1) << 20;    // bytes of binary records a thread reads at a time
+    // Part `part` of `parts` equal runs of the points (one process's of several), where
+    // points_in_parts says the file can be read so; the origin is the whole file's.
+    std::size_t part = 0, parts = 1;
 };
+
+// The points of a file that can be read in parts, each part on its own (a plain binary
+// PLY whose vertex records have a fixed size, no lists before them, every record there);
+// 0 for any other file.
+std::size_t points_in_parts(const std::string& path);
 
 // Everything read_points promises (regular file, extension, .gz, messages naming file and place,
 // non-finite coordinates and empty sets refused, a file changed while read refused), as

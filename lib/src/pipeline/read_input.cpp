@@ -12,6 +12,7 @@
 #include "io/io_common.hpp"
 #include "io/point_readers.hpp"
 #include "process_limits.hpp"
+#include "solver/shared_filing.hpp"
 #include "spilled_memory.hpp"
 #include "snvr/error.hpp"
 #include "snvr/point_cloud.hpp"
@@ -39,10 +40,21 @@ void require_float_range(const Mesh& mesh, const std::string& path) {
                                  (std::isfinite(x) ? "lies beyond 32-bit float range" : "has a non-finite coordinate"));
 }
 
-// The file's points, or its mesh sampled at half the run's voxel.
-InputPoints read_or_sample(const std::string& path, const Parameters& params) {
+// The file's points (filed with the others where given), or its mesh sampled at half
+// the run's voxel.
+InputPoints read_or_sample(const std::string& path, const Parameters& params, TileScheduler* others) {
+    if (const std::size_t n = detail::parts_to_read(others, path)) {  // each process reads its own part
+        detail::FloatPoints part = detail::read_my_part(*others, path, n, params.temp_dir);
+        return {detail::cloud_read_with(*others, std::move(part), n), 0, 0};
+    }
     detail::PointsOrMesh content = detail::read_points_or_mesh(path, params.temp_dir);
-    if (!content.is_mesh) return {detail::cloud_of(std::move(content.points.xyz), content.points.origin), 0, 0};
+    if (!content.is_mesh) {
+        detail::PointArray<Vec3f>& xyz = content.points.xyz;
+        const Vec3& origin = content.points.origin;
+        return {others ? detail::cloud_filed_with(*others, std::move(xyz), origin) : detail::cloud_of(std::move(xyz), origin),
+                0, 0};
+    }
+    if (others) detail::no_shared_filing(*others);
     const Mesh& mesh = content.mesh;
     require_float_range(mesh, path);
     InputPoints in;
@@ -55,11 +67,11 @@ InputPoints read_or_sample(const std::string& path, const Parameters& params) {
 
 }  // namespace
 
-InputPoints read_input(const std::string& path, const Parameters& params) {
+InputPoints read_input(const std::string& path, const Parameters& params, TileScheduler* others) {
     // Under a budget, points beyond it are read into a file (make_shell's rule).
     const detail::SpillScope spill(params.max_memory.value_or(0), 0, params.temp_dir);
     try {
-        return read_or_sample(path, params);
+        return read_or_sample(path, params, others);
     } catch (const std::bad_alloc&) {
         const std::string limit = detail::memory_limit_text();
         throw ResourceError(path + ": out of memory reading the points" + (limit.empty() ? "" : " (" + limit + ")"));

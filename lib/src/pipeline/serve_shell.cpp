@@ -1,9 +1,11 @@
-// serve_shell (shell.hpp): what another process does in a make_shell spread over processes.
+// serve_shell and serve_input (shell.hpp): what another process does in a make_shell and a
+// read_input spread over processes.
 #include "process_limits.hpp"
 #include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shell.hpp"
 #include "snvr/tiles.hpp"
+#include "solver/shared_filing.hpp"
 #include "spilled_memory.hpp"
 
 namespace snvr {
@@ -15,6 +17,15 @@ void serve_shell(const Parameters& params, TileScheduler& tiles_on) {
     const detail::SpillScope spill(budget, 0, params.temp_dir);
     reconstruct_tiles_of(params, tiles_on);
     tiles_on.send_check(measure_check_share(tiles_on.check_share()));
+}
+
+void serve_input(const std::string& path, const Parameters& params, TileScheduler& tiles_on) {
+    const detail::SpillScope spill(params.max_memory.value_or(0), 0, params.temp_dir);
+    if (const std::size_t n = detail::parts_to_read(&tiles_on, path)) {
+        detail::file_part_for_root(tiles_on, detail::read_my_part(tiles_on, path, n, params.temp_dir), n);
+        return;
+    }
+    detail::file_for_root(tiles_on);
 }
 
 }  // namespace snvr

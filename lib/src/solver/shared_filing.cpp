@@ -1,0 +1,318 @@
+// The points' tree filed by every process (shared_filing.hpp).
+#include "solver/shared_filing.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "geometry/point_tree.hpp"
+#include "io/point_readers.hpp"
+#include "process_limits.hpp"
+#include "snvr/error.hpp"
+
+namespace snvr::detail {
+namespace {
+
+using Filing = PointTree::Filing;
+
+// What the first tells each other process: the points in all (0: none filed together),
+// the filing's cells, frame and origin, and the part of the input given.
+struct Header {
+    double n = 0, bits = 0, lo[3] = {0, 0, 0}, scale = 0, origin[3] = {0, 0, 0}, first = 0, count = 0;
+};
+
+template <class T>
+void send_array(TileScheduler& on, int to, const T* data, std::size_t n) {
+    on.send_bytes(to, data, n * sizeof(T));
+}
+// Received into `into`, resized to what came.
+template <class Array>
+void receive_array(TileScheduler& on, int from, Array& into) {
+    using T = typename Array::value_type;
+    on.receive_bytes(from, [&into](std::size_t bytes) -> void* {
+        if (bytes % sizeof(T)) throw Error("a filing's message is not whole");
+        into.resize(bytes / sizeof(T));
+        return into.data();
+    });
+}
+// Received into n elements at `at`, which must be what came.
+template <class T>
+void receive_into(TileScheduler& on, int from, T* at, std::size_t n) {
+    on.receive_bytes(from, [at, n](std::size_t bytes) -> void* {
+        if (bytes != n * sizeof(T)) throw Error("a filing's message is not the size agreed");
+        return at;
+    });
+}
+
+// Process p's part of the input: an equal run of it.
+std::size_t part_begin(std::size_t n, int p, int processes) { return n * std::size_t(p) / std::size_t(processes); }
+
+// A process's part sorted by coarse cell, and where each cell begins in it.
+struct SortedPart {
+    PointArray<Vec3f> xyz;
+    PointArray<std::uint32_t> input;
+    std::vector<std::uint32_t> cell_start;
+};
+
+// The cells each process files: ranges of about equal points, by the counts summed over
+// all (range q is cells [first[q], first[q + 1])); and where each cell begins in the tree.
+struct CellRanges {
+    std::vector<std::size_t> first;
+    std::vector<std::uint32_t> start;  // cells + 1 of them
+};
+CellRanges cell_ranges(TileScheduler& on, const SortedPart& part, std::size_t cells, std::size_t n) {
+    std::vector<std::uint64_t> counts(cells);
+    for (std::size_t c = 0; c < cells; ++c) counts[c] = part.cell_start[c + 1] - part.cell_start[c];
+    on.sum(counts);
+    CellRanges r;
+    r.start.assign(cells + 1, 0);
+    for (std::size_t c = 0; c < cells; ++c) r.start[c + 1] = r.start[c] + std::uint32_t(counts[c]);
+    if (r.start[cells] != n) throw Error("the processes' parts of the points do not add up");
+    const int processes = on.processes();
+    r.first.assign(std::size_t(processes) + 1, cells);
+    r.first[0] = 0;
+    for (int q = 1; q < processes; ++q)
+        r.first[std::size_t(q)] = std::size_t(
+            std::lower_bound(r.start.begin(), r.start.end() - 1, std::uint32_t(part_begin(n, q, processes))) - r.start.begin());
+    return r;
+}
+
+// This process's range of cells filled from every process's part (its own and those
+// received), each cell's points in process order, so in input order; then its cells
+// sorted by key. The range goes at the start of xyz, input and keys: on the first they
+// are the whole tree's arrays (its range comes first), on the others the range alone.
+void file_range(TileScheduler& on, const Filing& filing, SortedPart& mine, const CellRanges& ranges, PointArray<Vec3f>& xyz,
+                PointArray<std::uint32_t>& input, PointArray<std::uint64_t>& keys) {
+    const int me = on.rank(), processes = on.processes();
+    const std::size_t lo = ranges.first[std::size_t(me)], hi = ranges.first[std::size_t(me) + 1];
+    const std::uint32_t base = ranges.start[lo];
+    // What every process's part holds of this range: its cells' counts and points.
+    std::vector<std::vector<std::uint32_t>> counts(static_cast<std::size_t>(processes));
+    std::vector<SortedPart> parts(static_cast<std::size_t>(processes));
+    // Pairwise, the lower process sending first, so that no two wait on each other.
+    for (int q = 0; q < processes; ++q) {
+        if (q == me) continue;
+        const std::size_t qlo = ranges.first[std::size_t(q)], qhi = ranges.first[std::size_t(q) + 1];
+        const std::uint32_t b = mine.cell_start[qlo], e = mine.cell_start[qhi];
+        const auto give = [&] {
+            std::vector<std::uint32_t> c(qhi - qlo);
+            for (std::size_t k = qlo; k < qhi; ++k) c[k - qlo] = mine.cell_start[k + 1] - mine.cell_start[k];
+            send_array(on, q, c.data(), c.size());
+            send_array(on, q, mine.xyz.data() + b, e - b);
+            send_array(on, q, mine.input.data() + b, e - b);
+        };
+        const auto take = [&] {
+            SortedPart& got = parts[std::size_t(q)];
+            receive_array(on, q, counts[std::size_t(q)]);
+            if (counts[std::size_t(q)].size() != hi - lo) throw Error("a filing's counts are not the range's");
+            receive_array(on, q, got.xyz);
+            receive_array(on, q, got.input);
+            if (got.input.size() != got.xyz.size()) throw Error("a filing's points are not whole");
+        };
+        if (me < q) give(), take();
+        else take(), give();
+    }
+    {
+        std::vector<std::uint32_t>& own = counts[std::size_t(me)];
+        own.resize(hi - lo);
+        for (std::size_t k = lo; k < hi; ++k) own[k - lo] = mine.cell_start[k + 1] - mine.cell_start[k];
+    }
+    const std::size_t range = ranges.start[hi] - base;
+    if (xyz.size() < range) {
+        xyz.resize(range);
+        input.resize(range);
+    }
+    std::vector<std::size_t> next(static_cast<std::size_t>(processes), 0);
+    next[std::size_t(me)] = mine.cell_start[lo];
+    for (std::size_t c = lo; c < hi; ++c) {
+        std::size_t to = ranges.start[c] - base;
+        for (int p = 0; p < processes; ++p) {
+            const std::uint32_t k = counts[std::size_t(p)][c - lo];
+            if (k == 0) continue;
+            const SortedPart& from = p == me ? mine : parts[std::size_t(p)];
+            std::size_t& f = next[std::size_t(p)];
+            if (f + k > from.xyz.size()) throw Error("a filing's points are fewer than its counts");
+            std::copy_n(from.xyz.begin() + std::ptrdiff_t(f), k, xyz.begin() + std::ptrdiff_t(to));
+            std::copy_n(from.input.begin() + std::ptrdiff_t(f), k, input.begin() + std::ptrdiff_t(to));
+            f += k;
+            to += k;
+        }
+    }
+    mine = SortedPart();
+    parts.clear();
+    keys.resize(xyz.size());  // the whole tree's on the first
+    std::vector<std::uint32_t> start(hi - lo + 1);
+    for (std::size_t c = lo; c <= hi; ++c) start[c - lo] = ranges.start[c] - base;
+    filing.sort_cells(start.data(), hi - lo, xyz.data(), input.data(), keys.data());
+}
+
+// A part of the input sorted by coarse cell.
+SortedPart sorted_part(const Filing& filing, const Vec3f* p, std::size_t n, std::size_t first_input) {
+    SortedPart part;
+    part.xyz.resize(n);
+    part.input.resize(n);
+    part.cell_start.resize(filing.cells() + 1);
+    filing.by_cell(p, n, std::uint32_t(first_input), nullptr, part.xyz.data(), part.input.data(), part.cell_start.data());
+    return part;
+}
+
+// From each process's part sorted by cell on: the ranges filed, the first taking them
+// back in order into the tree; null on the others.
+std::unique_ptr<PointTree> file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, std::size_t n,
+                                      const Vec3& origin) {
+    require_point_count(n);
+    const CellRanges ranges = cell_ranges(on, mine, filing.cells(), n);
+    PointArray<Vec3f> xyz;
+    PointArray<std::uint32_t> input;
+    PointArray<std::uint64_t> keys;
+    if (on.rank() != 0) {
+        file_range(on, filing, mine, ranges, xyz, input, keys);
+        send_array(on, 0, xyz.data(), xyz.size());
+        send_array(on, 0, input.data(), input.size());
+        send_array(on, 0, keys.data(), keys.size());
+        return nullptr;
+    }
+    // The whole tree's arrays: this process's range first, then each other's in turn.
+    xyz.resize(n);
+    input.resize(n);
+    file_range(on, filing, mine, ranges, xyz, input, keys);
+    for (int q = 1; q < on.processes(); ++q) {
+        const std::size_t b = ranges.start[ranges.first[std::size_t(q)]];
+        const std::size_t e = ranges.start[ranges.first[std::size_t(q) + 1]];
+        receive_into(on, q, xyz.data() + b, e - b);
+        receive_into(on, q, input.data() + b, e - b);
+        receive_into(on, q, keys.data() + b, e - b);
+    }
+    return std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data());
+}
+
+// Every process, its part read from the file: the filing the whole input would have (its
+// box the least and greatest over the parts), agreed with the others, which must have
+// read the same file (the same count and origin).
+Filing agreed_filing(TileScheduler& on, const FloatPoints& part, std::size_t n) {
+    Vec3f lo, hi;
+    PointTree::box_of(part.xyz, lo, hi);
+    const double in_files = spilled(part.xyz.data()) ? 1 : 0;
+    std::vector<double> least{lo[0], lo[1], lo[2], -double(hi[0]), -double(hi[1]), -double(hi[2]), -in_files,
+                              double(n), -double(n), part.origin[0], -part.origin[0], part.origin[1], -part.origin[1],
+                              part.origin[2], -part.origin[2]};
+    on.least(least);
+    for (int k = 7; k < 15; k += 2)
+        if (least[std::size_t(k)] != -least[std::size_t(k) + 1])
+            throw Error("the processes read different points (the input changed while they read it?)");
+    return PointTree::filing_for({float(least[0]), float(least[1]), float(least[2])},
+                                 {float(-least[3]), float(-least[4]), float(-least[5])}, n, least[6] < 0);
+}
+
+std::array<double, 12> figures_of(const Header& h) {
+    return {h.n, h.bits, h.lo[0], h.lo[1], h.lo[2], h.scale, h.origin[0], h.origin[1], h.origin[2], h.first, h.count, 0};
+}
+
+}  // namespace
+
+void no_shared_filing(TileScheduler& on) {
+    const std::array<double, 12> none = figures_of(Header());
+    for (int p = 1; p < on.processes(); ++p) send_array(on, p, none.data(), none.size());
+}
+
+PointCloud cloud_filed_with(TileScheduler& on, PointArray<Vec3f>&& coordinates, const Vec3& origin) {
+    const int processes = on.processes();
+    if (processes < 2 || coordinates.size() < kSharedFilingPoints) {
+        no_shared_filing(on);
+        return cloud_of(std::move(coordinates), origin);
+    }
+    return cloud_filed(std::move(coordinates), origin, [&on, processes](PointArray<Vec3f>&& all, const Vec3& at) {
+        settle_threads();
+        const std::size_t n = all.size();
+        const Filing filing = PointTree::filing_of(all);
+        for (int p = 1; p < processes; ++p) {
+            Header h;
+            h.n = double(n);
+            h.bits = filing.bits;
+            std::copy(filing.frame.lo, filing.frame.lo + 3, h.lo);
+            h.scale = filing.frame.scale;
+            std::copy(at.begin(), at.end(), h.origin);
+            h.first = double(part_begin(n, p, processes));
+            h.count = double(part_begin(n, p + 1, processes) - part_begin(n, p, processes));
+            const std::array<double, 12> figures = figures_of(h);
+            send_array(on, p, figures.data(), figures.size());
+            send_array(on, p, all.data() + part_begin(n, p, processes), std::size_t(h.count));
+        }
+        SortedPart mine = sorted_part(filing, all.data(), part_begin(n, 1, processes), 0);
+        PointArray<Vec3f>().swap(all);
+        return file_parts(on, filing, std::move(mine), n, at);
+    });
+}
+
+void file_for_root(TileScheduler& on) {
+    settle_threads();
+    std::vector<double> figures;
+    receive_array(on, 0, figures);
+    if (figures.size() != 12) throw Error("the filing's figures from the first process are not whole");
+    const std::size_t n = std::size_t(figures[0]);
+    if (n == 0) return;
+    Filing filing;
+    filing.bits = int(figures[1]);
+    filing.frame = PointTree::Frame::of(&figures[2]);
+    const Vec3 origin{figures[6], figures[7], figures[8]};
+    PointArray<Vec3f> given;
+    receive_array(on, 0, given);
+    if (given.size() != std::size_t(figures[10])) throw Error("the first process's points for filing are not whole");
+    SortedPart mine = sorted_part(filing, given.data(), given.size(), std::size_t(figures[9]));
+    PointArray<Vec3f>().swap(given);
+    file_parts(on, filing, std::move(mine), n, origin);
+}
+
+std::size_t parts_to_read(TileScheduler* on, const std::string& path) {
+    if (!on || on->processes() < 2) return 0;
+    // Every process must see the same file so: one that cannot (not there, not readable)
+    // has the first give it its part instead (its own errors come from the first's read).
+    std::size_t n = 0;
+    try {
+        n = points_in_parts(path);
+    } catch (const std::exception&) {
+        n = 0;
+    }
+    std::vector<double> least{double(n), -double(n)};
+    on->least(least);
+    return least[0] == -least[1] && n >= kSharedFilingPoints ? n : 0;
+}
+
+FloatPoints read_my_part(TileScheduler& on, const std::string& path, std::size_t n, const std::string& temp_folder) {
+    ParseOptions options;
+    options.part = std::size_t(on.rank());
+    options.parts = std::size_t(on.processes());
+    FloatPoints part = read_float_points(path, options, temp_folder);
+    if (part.first != n * options.part / options.parts || part.first + part.xyz.size() != n * (options.part + 1) / options.parts)
+        throw Error(path + ": the part read is not this process's (the input changed while it was read?)");
+    return part;
+}
+
+PointCloud cloud_read_with(TileScheduler& on, FloatPoints&& part, std::size_t n) {
+    return cloud_filed(std::move(part.xyz), part.origin, [&on, n](PointArray<Vec3f>&& mine, const Vec3& at) {
+        settle_threads();
+        FloatPoints checked;
+        checked.xyz = std::move(mine);
+        checked.origin = at;
+        const Filing filing = agreed_filing(on, checked, n);
+        SortedPart sorted = sorted_part(filing, checked.xyz.data(), checked.xyz.size(), 0);
+        PointArray<Vec3f>().swap(checked.xyz);
+        return file_parts(on, filing, std::move(sorted), n, at);
+    });
+}
+
+void file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n) {
+    settle_threads();
+    const Filing filing = agreed_filing(on, part, n);
+    SortedPart sorted = sorted_part(filing, part.xyz.data(), part.xyz.size(), part.first);
+    PointArray<Vec3f>().swap(part.xyz);
+    file_parts(on, filing, std::move(sorted), n, part.origin);
+}
+
+}  // namespace snvr::detail

@@ -1,0 +1,40 @@
+// The points' tree filed by every process of a run spread over processes (tiles.hpp),
+// while the first holds the points as read: it gives each other process an equal part of
+// the input in order; each sorts its part by coarse cell (PointTree::Filing), the parts
+// go to the processes whose ranges of cells they fall in (ranges of equal points, from
+// the counts summed over all), each sorts its range's cells by the full keys, and the
+// first takes the ranges back in order and builds the nodes. A cell's points come
+// together in input order and are sorted as one process would sort them: the tree is the
+// one PointTree's constructor makes, bit for bit. This is how the points come to be
+// spread by ranges of their Morton order, the tiles' runs.
+#pragma once
+#include <string>
+
+#include "io/point_readers.hpp"
+#include "snvr/point_cloud.hpp"
+#include "snvr/tiles.hpp"
+#include "spilled_memory.hpp"
+
+namespace snvr::detail {
+
+// Fewer points than this are filed by the first alone (the messages would cost more).
+constexpr std::size_t kSharedFilingPoints = std::size_t(1) << 16;
+
+// At the first: its points as read (float coordinates about `origin`, checked finite),
+// filed with the others' help (alone where they are few, the others told so).
+PointCloud cloud_filed_with(TileScheduler& on, PointArray<Vec3f>&& coordinates, const Vec3& origin);
+// At the first, where it files nothing with the others (a mesh read, points from elsewhere).
+void no_shared_filing(TileScheduler& on);
+// At another process: its part of the first's filing, if any.
+void file_for_root(TileScheduler& on);
+
+// Where every process can read its own part of the input (io's points_in_parts), none
+// is sent: each reads its part (read_my_part), the filing's box is agreed over the parts,
+// and the filing goes on as above. parts_to_read, which every process calls at once:
+// the input's points where every one of them can read it so (and they are several), else 0.
+std::size_t parts_to_read(TileScheduler* on, const std::string& path);
+FloatPoints read_my_part(TileScheduler& on, const std::string& path, std::size_t n, const std::string& temp_folder);
+PointCloud cloud_read_with(TileScheduler& on, FloatPoints&& part, std::size_t n);  // at the first
+void file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n);      // at the others
+
+}  // namespace snvr::detail
