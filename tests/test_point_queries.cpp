@@ -10,6 +10,7 @@
 #include <condition_variable>
 #include <cstring>
 #include <deque>
+#include <functional>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "geometry/neighbour_counts.hpp"
+#include "geometry/outliers.hpp"
 #include "geometry/point_samples.hpp"
 #include "geometry/point_tree.hpp"
 #include "geometry/stray_points.hpp"
@@ -224,8 +226,10 @@ private:
     std::size_t round_ = 0;
 };
 
-// The cloud the first of `processes` files with the others' help (each a thread).
-PointCloud filed_by(int processes, const PointCloud& alone) {
+// The cloud the first of `processes` files with the others' help (each a thread); then
+// `then` on it, the others answering the sparse rule's counts where it asks them.
+PointCloud filed_by(int processes, const PointCloud& alone,
+                    const std::function<void(PointCloud&, const detail::ShortOf&)>& then = {}) {
     const PointTree& t = detail::tree_of(alone);
     detail::PointArray<Vec3f> as_read(t.size());  // in input order, as a reader gives them
     for (std::size_t k = 0; k < t.size(); ++k) as_read[t.input[k]] = t.xyz[k];
@@ -235,6 +239,10 @@ PointCloud filed_by(int processes, const PointCloud& alone) {
     std::vector<std::thread> others;
     for (int p = 1; p < processes; ++p) others.emplace_back([&each, p] { detail::file_for_root(*each[std::size_t(p)]); });
     PointCloud filed = detail::cloud_filed_with(*each[0], std::move(as_read), t.origin);
+    {
+        detail::SparseCountsShared counts(each[0].get(), filed);
+        if (then) then(filed, counts.short_of());
+    }
     for (std::thread& o : others) o.join();
     return filed;
 }
@@ -254,6 +262,7 @@ PointCloud read_in_parts_by(int processes, const std::string& path) {
     const std::size_t n = detail::parts_to_read(each[0].get(), path);
     REQUIRE(n > 0);
     PointCloud filed = detail::cloud_read_with(*each[0], detail::read_my_part(*each[0], path, n, ""), n);
+    { const detail::SparseCountsShared unasked(each[0].get(), filed); }
     for (std::thread& o : others) o.join();
     return filed;
 }
@@ -290,6 +299,51 @@ TEST_CASE("the points' tree filed by several processes is the one a process file
             CAPTURE(c.what);
             CAPTURE(processes);
             CHECK(tree_differences(a, detail::tree_of(filed_by(processes, alone))) == 0);
+        }
+    }
+}
+
+TEST_CASE("the sparse outlier rule counted by the processes that filed the points: the points it drops alone") {
+    // A dense sphere with uniform strays (some of them near the ranges' edges), scaled
+    // after filing as make_shell scales to millimetres.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> unit(-0.2, 1.2);
+    PointSet points = noisy_dense_sphere();
+    for (int i = 0; i < 3000; ++i) points.push_back({unit(rng), unit(rng), unit(rng)});
+    const OutlierSettings settings;
+    const auto lengths = [](const PointCloud&) { return detail::RunLengths{0.004, 0.01}; };
+    PointCloud alone(points);
+    alone.scale(25.4);
+    double link = 0;
+    std::size_t clusters = 0;
+    const auto dropped_alone = detail::remove_outliers(alone, settings, lengths, link, clusters);
+    REQUIRE(dropped_alone.size() > 1000);
+    for (int processes : {2, 3}) {
+        CAPTURE(processes);
+        std::vector<std::pair<std::size_t, Vec3>> dropped;
+        const PointCloud filed = filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::ShortOf& short_of) {
+            REQUIRE(short_of);
+            cloud.scale(25.4);
+            double l = 0;
+            std::size_t c = 0;
+            dropped = detail::remove_outliers(cloud, settings, lengths, l, c, short_of);
+        });
+        CHECK(dropped == dropped_alone);
+        CHECK(tree_differences(detail::tree_of(alone), detail::tree_of(filed)) == 0);
+        // The rule's own answer, at reaches where many points fall short (the strays, the
+        // sphere's thinner places), every point's flag.
+        PointCloud scaled(points);
+        scaled.scale(25.4);
+        for (const double reach : {0.02, 0.05}) {
+            const double r2 = reach * reach * 25.4 * 25.4;
+            const std::vector<std::uint8_t> want = detail::points_short_of(detail::tree_of(scaled), r2, 9);
+            std::vector<std::uint8_t> got;
+            filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::ShortOf& short_of) {
+                cloud.scale(25.4);
+                got = short_of(detail::tree_of(cloud), r2, 9);
+            });
+            CHECK(std::count(want.begin(), want.end(), 1) > 1000);
+            CHECK(got == want);
         }
     }
 }

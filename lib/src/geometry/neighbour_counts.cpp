@@ -5,13 +5,14 @@
 
 namespace snvr::detail {
 
-std::vector<std::uint8_t> points_short_of(const PointTree& t, double r2, std::size_t need) {
+std::vector<std::uint8_t> points_short_of(const PointTree& t, double r2, std::size_t need, std::size_t below) {
     std::vector<std::uint8_t> short_of(t.size(), 0);
     if (t.size() == 0) return short_of;
     constexpr std::uint32_t kBlock = 128;
     std::vector<const PointTree::Node*> blocks;
     t.for_each_leaf(
         [&](const PointTree::Node& n) {
+            if (n.begin >= below) return false;
             if (n.count() > kBlock) return true;
             blocks.push_back(&n);
             return false;

@@ -14,6 +14,9 @@ namespace snvr::detail {
 // node of the tree (up to 128 points) whose box is within reach across clears all its
 // points at once; else a point's neighbours are counted in its leaf, then in that node,
 // in float with room for rounding, and only the few left open ask the tree.
-std::vector<std::uint8_t> points_short_of(const PointTree& tree, double r2, std::size_t need);
+// Only the points of the blocks that begin below `below` (tree order) are counted; the
+// rest are left 0 (another process counts them, shared_filing.hpp).
+std::vector<std::uint8_t> points_short_of(const PointTree& tree, double r2, std::size_t need,
+                                          std::size_t below = std::size_t(-1));
 
 }  // namespace snvr::detail

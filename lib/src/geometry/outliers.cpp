@@ -48,7 +48,7 @@ double root_bound_sq(double r) {
 // farther than reach_factor times the median of that distance (fewer than neighbours + 1
 // points within that reach). Empty when the median is 0 (most points at one place:
 // nothing stands out).
-std::vector<std::uint8_t> sparse_points(const PointTree& t, const OutlierSettings& s) {
+std::vector<std::uint8_t> sparse_points(const PointTree& t, const OutlierSettings& s, const detail::ShortOf& short_of) {
     const std::vector<std::uint32_t> sample = detail::strided_sample(t, s.median_sample);
     std::vector<double> reach(sample.size());
     const std::ptrdiff_t ns = std::ptrdiff_t(sample.size());
@@ -60,7 +60,7 @@ std::vector<std::uint8_t> sparse_points(const PointTree& t, const OutlierSetting
     // distance r2 or less; with fewer points in all, every one of them.
     const double r2 = root_bound_sq(s.reach_factor * typical);
     const std::size_t need = std::min(s.neighbours + 1, t.size());
-    return detail::points_short_of(t, r2, need);
+    return short_of ? short_of(t, r2, need) : detail::points_short_of(t, r2, need);
 }
 
 // Moves the flagged points (by cloud order) into `out` (input index, world point) and
@@ -166,14 +166,14 @@ void OutlierSettings::validate() const {
 
 std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cloud, const OutlierSettings& s,
                                                                   const RunLengthsOf& lengths_of, double& link,
-                                                                  std::size_t& clusters) {
+                                                                  std::size_t& clusters, const ShortOf& short_of) {
     s.validate();
     std::vector<std::pair<std::size_t, Vec3>> out;
     link = 0;
     clusters = 0;
     const std::size_t total = cloud.size();
     if (total < 2) return out;
-    const std::vector<std::uint8_t> sparse = sparse_points(detail::tree_of(cloud), s);
+    const std::vector<std::uint8_t> sparse = sparse_points(detail::tree_of(cloud), s, short_of);
     if (sparse.empty()) return out;
     take(cloud, sparse, out);
     std::optional<RunLengths> plan;  // of the points kept, while none is dropped

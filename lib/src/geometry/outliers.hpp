@@ -10,12 +10,17 @@
 
 namespace snvr::detail {
 
+class PointTree;
+
 // The lengths the rules take from the run planned for a set of points.
 struct RunLengths {
     double voxel = 0;   // h: the stray rule's scale
     double offset = 0;  // l: clusters apart by over 2 l are the shell's loose beads
 };
 using RunLengthsOf = std::function<RunLengths(const PointCloud&)>;
+// The sparse rule's question of every point (points_short_of's), where others may answer
+// part of it (shared_filing.hpp); null: this process alone.
+using ShortOf = std::function<std::vector<std::uint8_t>(const PointTree& tree, double r2, std::size_t need)>;
 
 // The rules of OutlierSettings on the cloud, in place; the outliers by input index,
 // ascending, with their world points. `link` is the clusters' last link (2 l; 0 when none
@@ -23,6 +28,6 @@ using RunLengthsOf = std::function<RunLengths(const PointCloud&)>;
 // them (else 0). lengths_of is asked again whenever points were dropped since.
 std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, const OutlierSettings& settings,
                                                           const RunLengthsOf& lengths_of, double& link,
-                                                          std::size_t& clusters);
+                                                          std::size_t& clusters, const ShortOf& short_of = nullptr);
 
 }  // namespace snvr::detail

@@ -268,6 +268,7 @@ bool PointTree::file_in_order(PointArray<Vec3f>& coordinates, PointArray<std::ui
 }
 
 void PointTree::keep_only(const std::vector<std::uint8_t>& flags) {
+    shared_end = 0;
     // Every node's ends, a bit at each place (n + 1 of them), and where each falls among
     // the points kept, by its rank among the bits: linear, where sorting the ends took
     // 2 s of the 50 M-point city block's outlier rules.
@@ -457,6 +458,7 @@ void PointTree::tighten_boxes(bool parallel, const std::vector<std::uint8_t>* on
 }
 
 void PointTree::scale(double factor) {
+    if (shared_end) scaled_since.push_back(factor);
     origin = {origin[0] * factor, origin[1] * factor, origin[2] * factor};
     const float f = float(factor);
     // Rounding is monotone: the scaled boxes are still the tight boxes of the scaled points.

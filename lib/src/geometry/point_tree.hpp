@@ -89,6 +89,11 @@ public:
     PointArray<Vec3f> xyz;            // by tree order
     PointArray<std::uint32_t> input;  // input index of each
     PointArray<Node> nodes;           // nodes[0] is the root (none when there are no points)
+    // Filed with other processes (shared_filing.hpp): the end of this one's own range of
+    // the order (the others keep theirs, for the sparse outlier rule), and the factors
+    // the points were scaled by since; 0 where filed alone or changed since (keep_only).
+    std::size_t shared_end = 0;
+    std::vector<double> scaled_since;
 
     std::size_t size() const { return xyz.size(); }
     Vec3 point(std::size_t k) const {

@@ -1,9 +1,12 @@
 // drop_outliers and split_outliers (shell.hpp): the outlier rules measured by
-// the run the parameters plan for the points kept so far (its voxel and offset).
+// the run the parameters plan for the points kept so far (its voxel and offset); the
+// sparse rule's counts shared with other processes where they filed the points too
+// (detail::drop_outliers_shared, outlier_policy.hpp).
 #include <cstdint>
 #include <vector>
 
 #include "geometry/outliers.hpp"
+#include "pipeline/outlier_policy.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shell.hpp"
@@ -25,8 +28,13 @@ detail::RunLengthsOf planned_by(const Parameters& params) {
 }  // namespace
 
 DroppedOutliers drop_outliers(PointCloud& points, const Parameters& params, const OutlierSettings& s) {
+    return detail::drop_outliers_shared(points, params, s, nullptr);
+}
+
+DroppedOutliers detail::drop_outliers_shared(PointCloud& points, const Parameters& params, const OutlierSettings& s,
+                                             const ShortOf& short_of) {
     DroppedOutliers d;
-    for (const auto& o : detail::remove_outliers(points, s, planned_by(params), d.link, d.clusters)) {
+    for (const auto& o : detail::remove_outliers(points, s, planned_by(params), d.link, d.clusters, short_of)) {
         d.points.push_back(o.second);
         d.input_indices.push_back(o.first);
     }

@@ -12,11 +12,13 @@
 #include "geometry/point_tree.hpp"
 #include "geometry/vec3_math.hpp"
 #include "io/formats.hpp"
+#include "pipeline/outlier_policy.hpp"
 #include "pipeline/shared_check.hpp"
 #include "pipeline/shell_mesh.hpp"
 #include "process_limits.hpp"
 #include "spilled_memory.hpp"
 #include "solver/memory_budget.hpp"
+#include "solver/shared_filing.hpp"
 #include "snvr/error.hpp"
 #include "snvr/mesh_io.hpp"
 #include "snvr/point_cloud.hpp"
@@ -108,7 +110,12 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     settings.pieces.min_volume *= to_mm * to_mm * to_mm;
 
     enter("outliers");
-    if (settings.drop_outliers) shell.outliers = drop_outliers(points, settings.params, settings.outliers);
+    {
+        // Where the other processes filed the points too, they count part of the sparse rule.
+        detail::SparseCountsShared shared(settings.tiles_on.get(), points);
+        if (settings.drop_outliers)
+            shell.outliers = detail::drop_outliers_shared(points, settings.params, settings.outliers, shared.short_of());
+    }
     if (centre) {
         shell.shift = round_centre(points);
         points.translate({-shell.shift[0], -shell.shift[1], -shell.shift[2]});

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/neighbour_counts.hpp"
 #include "geometry/point_tree.hpp"
 #include "io/point_readers.hpp"
 #include "process_limits.hpp"
@@ -163,9 +164,13 @@ SortedPart sorted_part(const Filing& filing, const Vec3f* p, std::size_t n, std:
 }
 
 // From each process's part sorted by cell on: the ranges filed, the first taking them
-// back in order into the tree; null on the others.
-std::unique_ptr<PointTree> file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, std::size_t n,
-                                      const Vec3& origin) {
+// back in order into the tree (`begin` 0); each other keeping its own range as a tree of
+// its own (for the sparse outlier rule), `begin` its place in the first's.
+struct FiledRange {
+    std::unique_ptr<PointTree> tree;
+    std::size_t begin = 0;
+};
+FiledRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, std::size_t n, const Vec3& origin) {
     require_point_count(n);
     const CellRanges ranges = cell_ranges(on, mine, filing.cells(), n);
     PointArray<Vec3f> xyz;
@@ -176,7 +181,10 @@ std::unique_ptr<PointTree> file_parts(TileScheduler& on, const Filing& filing, S
         send_array(on, 0, xyz.data(), xyz.size());
         send_array(on, 0, input.data(), input.size());
         send_array(on, 0, keys.data(), keys.size());
-        return nullptr;
+        FiledRange kept{std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()),
+                        ranges.start[ranges.first[std::size_t(on.rank())]]};
+        kept.tree->shared_end = kept.tree->size();
+        return kept;
     }
     // The whole tree's arrays: this process's range first, then each other's in turn.
     xyz.resize(n);
@@ -189,7 +197,27 @@ std::unique_ptr<PointTree> file_parts(TileScheduler& on, const Filing& filing, S
         receive_into(on, q, input.data() + b, e - b);
         receive_into(on, q, keys.data() + b, e - b);
     }
-    return std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data());
+    FiledRange whole{std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), 0};
+    whole.tree->shared_end = ranges.start[ranges.first[1]];
+    return whole;
+}
+
+// Another process, its range kept: the first's sparse outlier rule asks it which of its
+// points have fewer than `need` points within the reach among its range (the first
+// decides those over the whole cloud; the rest have as many there, so in the whole too),
+// with the points scaled as the first's were since; or that there is nothing to ask.
+void answer_sparse_rule(TileScheduler& on, FiledRange& range) {
+    std::vector<double> asked;
+    receive_array(on, 0, asked);
+    if (asked.size() < 2 || !(asked[0] >= 0)) return;
+    PointTree& t = *range.tree;
+    for (std::size_t k = 2; k < asked.size(); ++k) t.scale(asked[k]);
+    const std::vector<std::uint8_t> few = points_short_of(t, asked[0], std::size_t(asked[1]));
+    std::vector<std::uint32_t> places;
+    for (std::size_t k = 0; k < few.size(); ++k)
+        if (few[k]) places.push_back(std::uint32_t(range.begin + k));
+    range.tree.reset();
+    send_array(on, 0, places.data(), places.size());
 }
 
 // Every process, its part read from the file: the filing the whole input would have (its
@@ -246,7 +274,7 @@ PointCloud cloud_filed_with(TileScheduler& on, PointArray<Vec3f>&& coordinates, 
         }
         SortedPart mine = sorted_part(filing, all.data(), part_begin(n, 1, processes), 0);
         PointArray<Vec3f>().swap(all);
-        return file_parts(on, filing, std::move(mine), n, at);
+        return std::move(file_parts(on, filing, std::move(mine), n, at).tree);
     });
 }
 
@@ -266,7 +294,8 @@ void file_for_root(TileScheduler& on) {
     if (given.size() != std::size_t(figures[10])) throw Error("the first process's points for filing are not whole");
     SortedPart mine = sorted_part(filing, given.data(), given.size(), std::size_t(figures[9]));
     PointArray<Vec3f>().swap(given);
-    file_parts(on, filing, std::move(mine), n, origin);
+    FiledRange kept = file_parts(on, filing, std::move(mine), n, origin);
+    answer_sparse_rule(on, kept);
 }
 
 std::size_t parts_to_read(TileScheduler* on, const std::string& path) {
@@ -303,7 +332,7 @@ PointCloud cloud_read_with(TileScheduler& on, FloatPoints&& part, std::size_t n)
         const Filing filing = agreed_filing(on, checked, n);
         SortedPart sorted = sorted_part(filing, checked.xyz.data(), checked.xyz.size(), 0);
         PointArray<Vec3f>().swap(checked.xyz);
-        return file_parts(on, filing, std::move(sorted), n, at);
+        return std::move(file_parts(on, filing, std::move(sorted), n, at).tree);
     });
 }
 
@@ -312,7 +341,43 @@ void file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n) {
     const Filing filing = agreed_filing(on, part, n);
     SortedPart sorted = sorted_part(filing, part.xyz.data(), part.xyz.size(), part.first);
     PointArray<Vec3f>().swap(part.xyz);
-    file_parts(on, filing, std::move(sorted), n, part.origin);
+    FiledRange kept = file_parts(on, filing, std::move(sorted), n, part.origin);
+    answer_sparse_rule(on, kept);
+}
+
+SparseCountsShared::SparseCountsShared(TileScheduler* on, const PointCloud& points)
+    : on_(on && tree_of(points).shared_end ? on : nullptr) {}
+
+SparseCountsShared::~SparseCountsShared() {
+    if (!on_ || asked_) return;
+    const std::vector<double> none{-1, 0};
+    for (int p = 1; p < on_->processes(); ++p) send_array(*on_, p, none.data(), none.size());
+}
+
+ShortOf SparseCountsShared::short_of() {
+    if (!on_) return nullptr;
+    return [this](const PointTree& t, double r2, std::size_t need) {
+        if (asked_ || !t.shared_end) return points_short_of(t, r2, need);  // once, on the points filed together
+        asked_ = true;
+        std::vector<double> ask{r2, double(need)};
+        ask.insert(ask.end(), t.scaled_since.begin(), t.scaled_since.end());
+        for (int p = 1; p < on_->processes(); ++p) send_array(*on_, p, ask.data(), ask.size());
+        std::vector<std::uint8_t> few = points_short_of(t, r2, need, t.shared_end);
+        for (int p = 1; p < on_->processes(); ++p) {
+            std::vector<std::uint32_t> places;
+            receive_array(*on_, p, places);
+            const std::ptrdiff_t m = std::ptrdiff_t(places.size());
+#pragma omp parallel for schedule(dynamic, 256)
+            for (std::ptrdiff_t i = 0; i < m; ++i) {
+                const std::uint32_t k = places[std::size_t(i)];
+                if (k >= t.size()) continue;  // checked below, outside the threads
+                few[k] = t.count_within(t.point(k), r2, need) < need;
+            }
+            for (const std::uint32_t k : places)
+                if (k >= t.size()) throw Error("process " + std::to_string(p) + " named a point the cloud does not have");
+        }
+        return few;
+    };
 }
 
 }  // namespace snvr::detail

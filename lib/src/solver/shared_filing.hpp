@@ -10,6 +10,7 @@
 #pragma once
 #include <string>
 
+#include "geometry/outliers.hpp"
 #include "io/point_readers.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/tiles.hpp"
@@ -36,5 +37,25 @@ std::size_t parts_to_read(TileScheduler* on, const std::string& path);
 FloatPoints read_my_part(TileScheduler& on, const std::string& path, std::size_t n, const std::string& temp_folder);
 PointCloud cloud_read_with(TileScheduler& on, FloatPoints&& part, std::size_t n);  // at the first
 void file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n);      // at the others
+
+// The others keep their ranges after filing (file_for_root and file_part_for_root return
+// once this is done): the first's sparse outlier rule asks each which of its range's
+// points have too few neighbours within it, counts the rest of its own, and decides the
+// points named over the whole cloud: the rule's answer, the same (its questions a point
+// outside this process's range stood at the cost of the whole tree's search before).
+// At the first, for points filed with the others (else inert): short_of() for the rule,
+// asked at most once; going out of scope unasked, it tells the others so.
+class SparseCountsShared {
+public:
+    SparseCountsShared(TileScheduler* on, const PointCloud& points);
+    ~SparseCountsShared();
+    SparseCountsShared(const SparseCountsShared&) = delete;
+    SparseCountsShared& operator=(const SparseCountsShared&) = delete;
+    ShortOf short_of();  // null where inert
+
+private:
+    TileScheduler* on_;
+    bool asked_ = false;
+};
 
 }  // namespace snvr::detail

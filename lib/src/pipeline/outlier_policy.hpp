@@ -1,0 +1,12 @@
+// drop_outliers (shell.hpp) with the sparse rule's counts answered in part by other
+// processes (solver/shared_filing.hpp's SparseCountsShared); null: by this one alone.
+#pragma once
+#include "geometry/outliers.hpp"
+#include "snvr/shell.hpp"
+
+namespace snvr::detail {
+
+DroppedOutliers drop_outliers_shared(PointCloud& points, const Parameters& params, const OutlierSettings& settings,
+                                     const ShortOf& short_of);
+
+}  // namespace snvr::detail
