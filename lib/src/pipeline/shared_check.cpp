@@ -31,26 +31,25 @@ int cell_of(double x, double origin, double h, int n) {
 // The check's work in walls (one vertex's wall: 0.47-0.9 us on one thread, the city block's
 // and the bunny's; writing the mesh meanwhile is reckoned at 0.8 us a wall). The first
 // process's own part, done while the others measure: the grid and the edges and topology
-// 0.7 a vertex (0.46 us on the bunny at 512, 0.68 on the city block: with 0.6 and no cost
-// for the others' filing of their shares, it finished 0.1-0.2 s before the other on the
-// bunny and 2.8 s after it on the city block). Another process first files its share's
-// triangles: an eighth of a wall more for each wall it measures (the bunny: 0.3 s for
-// 1.4 M walls, 1.0 s for 3.3 M on the city block). The points' depths go by groups of
+// 1.0 a vertex (0.46 us on the bunny at 512, 0.68 on the city block, and its sampled
+// groups' frames on a dense scan: at 0.7 the 50 M-point city block's first finished 1.9-
+// 2.6 s after the other, at 1.0 0.8-1.9 s; at 0.6 with no cost for the others' filing of
+// their shares, the bunny's 0.1-0.2 s before the other). Another process first files its
+// share's triangles: an eighth of a wall more for each wall it measures (the bunny: 0.3 s
+// for 1.4 M walls, 1.0 s for 3.3 M on the city block). The points' depths go by groups of
 // neighbours, about 7.5 us a group whatever its points (9 walls; the 50 M-point city block
 // at 1024, 30 points a group at 250 ns, and the 200 M-point one, 91 at 90 ns). A point
 // given to another process costs the first 25 ns (gathered and sent) and the other about
-// 100 ns more than measuring it here (filed again: 93-111 ns a point on the 200 M-point
-// block; in the first's order and frame 66 ns on the 50 M-point one, the cost kept), so that a dense scan's depths mostly stay (its points cost about as much to send
-// as to measure) and a sparse one's go. (With 12 walls a group and 0.2 a point sent, the
-// first finished 2.9 s after the other on the 50 M-point block; with 0.08 a point sent,
-// the 200 M-point block's other process was given 91 M points to file and its check took
-// 24.3 s where it took 18.9.)
+// 64 ns more than measuring it here (filed in the first's order and frame, each key made
+// once), so that a dense scan's depths mostly stay and a sparse one's go: the 200 M-point
+// block's other process is given 84 M points and ends with the first (before each key was
+// made once, at 0.08 it was given 91 M and its check took 24.3 s where 18.9; at 0.13, 68 M).
 constexpr double kWallSeconds = 0.8e-6;
-constexpr double kFirstWorkAVertex = 0.7;
+constexpr double kFirstWorkAVertex = 1.0;
 constexpr double kShareAWall = 0.12;
 constexpr double kWorkAGroup = 9;
 constexpr double kGiveAPoint = 0.03;
-constexpr double kSendAPoint = 0.13;
+constexpr double kSendAPoint = 0.08;
 
 // What a tile holds of the check's work: its vertices' walls, and its points' groups.
 struct TileWork {
