@@ -19,8 +19,6 @@
 namespace snvr {
 namespace {
 
-void check_size(std::size_t n) { detail::require_point_count(n); }
-
 [[noreturn]] void non_finite(std::size_t i, const Vec3& p) {
     throw InputError("point " + std::to_string(i) + " has a non-finite coordinate (" + detail::format_number(p[0]) +
                      " " + detail::format_number(p[1]) + " " + detail::format_number(p[2]) + ")");
@@ -75,7 +73,7 @@ Vec3 choose_origin(std::size_t n, const At& at) {
 // The tree of n points, point i being at(i) in world units.
 template <class At>
 std::unique_ptr<detail::PointTree> file_points(std::size_t n, const At& at) {
-    check_size(n);
+    detail::require_point_count(n);
     const std::ptrdiff_t count = std::ptrdiff_t(n);
     std::ptrdiff_t first_bad = count;  // the first non-finite point, named as the serial scan would
 #pragma omp parallel for reduction(min : first_bad) schedule(static) if (count > detail::kParallelCheapItems)
@@ -107,7 +105,7 @@ std::unique_ptr<detail::PointTree> file_array(const Real* xyz, std::size_t n) {
 // Float coordinates about an origin, checked, then filed by `file`.
 std::unique_ptr<detail::PointTree> file_coordinates(detail::PointArray<Vec3f> coordinates, const Vec3& origin,
                                                     const detail::TreeFiler& file) {
-    check_size(coordinates.size());
+    detail::require_point_count(coordinates.size());
     if (!finite(origin)) throw InputError("the points' origin is not finite");
     for (std::size_t i = 0; i < coordinates.size(); ++i) {
         const Vec3f& c = coordinates[i];

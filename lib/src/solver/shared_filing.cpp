@@ -22,11 +22,10 @@ namespace {
 
 using Filing = PointTree::Filing;
 
-// What the first tells each other process: the points in all (0: none filed together),
-// the filing's cells, frame and origin, and the part of the input given.
-struct Header {
-    double n = 0, bits = 0, lo[3] = {0, 0, 0}, scale = 0, origin[3] = {0, 0, 0}, first = 0, count = 0;
-};
+// What the first tells each other process, in this order: the points in all (0: none
+// filed together), the filing's cell bits, its frame (low corner, scale), the origin, and
+// the part of the input given (its first index, its count).
+using Figures = std::array<double, 11>;
 
 template <class T>
 void send_array(TileScheduler& on, int to, const T* data, std::size_t n) {
@@ -223,13 +222,12 @@ void answer_sparse_rule(TileScheduler& on, FiledRange& range) {
 // Every process, its part read from the file: the filing the whole input would have (its
 // box the least and greatest over the parts), agreed with the others, which must have
 // read the same file (the same count and origin).
-Filing agreed_filing(TileScheduler& on, const FloatPoints& part, std::size_t n) {
+Filing agreed_filing(TileScheduler& on, const PointArray<Vec3f>& part, const Vec3& origin, std::size_t n) {
     Vec3f lo, hi;
-    PointTree::box_of(part.xyz, lo, hi);
-    const double in_files = spilled(part.xyz.data()) ? 1 : 0;
+    PointTree::box_of(part, lo, hi);
+    const double in_files = spilled(part.data()) ? 1 : 0;
     std::vector<double> least{lo[0], lo[1], lo[2], -double(hi[0]), -double(hi[1]), -double(hi[2]), -in_files,
-                              double(n), -double(n), part.origin[0], -part.origin[0], part.origin[1], -part.origin[1],
-                              part.origin[2], -part.origin[2]};
+                              double(n), -double(n), origin[0], -origin[0], origin[1], -origin[1], origin[2], -origin[2]};
     on.least(least);
     for (int k = 7; k < 15; k += 2)
         if (least[std::size_t(k)] != -least[std::size_t(k) + 1])
@@ -238,14 +236,10 @@ Filing agreed_filing(TileScheduler& on, const FloatPoints& part, std::size_t n) 
                                  {float(-least[3]), float(-least[4]), float(-least[5])}, n, least[6] < 0);
 }
 
-std::array<double, 12> figures_of(const Header& h) {
-    return {h.n, h.bits, h.lo[0], h.lo[1], h.lo[2], h.scale, h.origin[0], h.origin[1], h.origin[2], h.first, h.count, 0};
-}
-
 }  // namespace
 
 void no_shared_filing(TileScheduler& on) {
-    const std::array<double, 12> none = figures_of(Header());
+    const Figures none{};
     for (int p = 1; p < on.processes(); ++p) send_array(on, p, none.data(), none.size());
 }
 
@@ -260,17 +254,12 @@ PointCloud cloud_filed_with(TileScheduler& on, PointArray<Vec3f>&& coordinates, 
         const std::size_t n = all.size();
         const Filing filing = PointTree::filing_of(all);
         for (int p = 1; p < processes; ++p) {
-            Header h;
-            h.n = double(n);
-            h.bits = filing.bits;
-            std::copy(filing.frame.lo, filing.frame.lo + 3, h.lo);
-            h.scale = filing.frame.scale;
-            std::copy(at.begin(), at.end(), h.origin);
-            h.first = double(part_begin(n, p, processes));
-            h.count = double(part_begin(n, p + 1, processes) - part_begin(n, p, processes));
-            const std::array<double, 12> figures = figures_of(h);
+            const std::size_t first = part_begin(n, p, processes), count = part_begin(n, p + 1, processes) - first;
+            const Figures figures{double(n),  double(filing.bits), filing.frame.lo[0], filing.frame.lo[1],
+                                  filing.frame.lo[2], filing.frame.scale, at[0], at[1], at[2], double(first),
+                                  double(count)};
             send_array(on, p, figures.data(), figures.size());
-            send_array(on, p, all.data() + part_begin(n, p, processes), std::size_t(h.count));
+            send_array(on, p, all.data() + first, count);
         }
         SortedPart mine = sorted_part(filing, all.data(), part_begin(n, 1, processes), 0);
         PointArray<Vec3f>().swap(all);
@@ -282,7 +271,7 @@ void file_for_root(TileScheduler& on) {
     settle_threads();
     std::vector<double> figures;
     receive_array(on, 0, figures);
-    if (figures.size() != 12) throw Error("the filing's figures from the first process are not whole");
+    if (figures.size() != Figures().size()) throw Error("the filing's figures from the first process are not whole");
     const std::size_t n = std::size_t(figures[0]);
     if (n == 0) return;
     Filing filing;
@@ -326,19 +315,16 @@ FloatPoints read_my_part(TileScheduler& on, const std::string& path, std::size_t
 PointCloud cloud_read_with(TileScheduler& on, FloatPoints&& part, std::size_t n) {
     return cloud_filed(std::move(part.xyz), part.origin, [&on, n](PointArray<Vec3f>&& mine, const Vec3& at) {
         settle_threads();
-        FloatPoints checked;
-        checked.xyz = std::move(mine);
-        checked.origin = at;
-        const Filing filing = agreed_filing(on, checked, n);
-        SortedPart sorted = sorted_part(filing, checked.xyz.data(), checked.xyz.size(), 0);
-        PointArray<Vec3f>().swap(checked.xyz);
+        const Filing filing = agreed_filing(on, mine, at, n);
+        SortedPart sorted = sorted_part(filing, mine.data(), mine.size(), 0);
+        PointArray<Vec3f>().swap(mine);
         return std::move(file_parts(on, filing, std::move(sorted), n, at).tree);
     });
 }
 
 void file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n) {
     settle_threads();
-    const Filing filing = agreed_filing(on, part, n);
+    const Filing filing = agreed_filing(on, part.xyz, part.origin, n);
     SortedPart sorted = sorted_part(filing, part.xyz.data(), part.xyz.size(), part.first);
     PointArray<Vec3f>().swap(part.xyz);
     FiledRange kept = file_parts(on, filing, std::move(sorted), n, part.origin);
