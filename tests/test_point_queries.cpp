@@ -240,7 +240,7 @@ PointCloud filed_by(int processes, const PointCloud& alone,
     for (int p = 1; p < processes; ++p) others.emplace_back([&each, p] { detail::file_for_root(*each[std::size_t(p)]); });
     PointCloud filed = detail::cloud_filed_with(*each[0], std::move(as_read), t.origin);
     {
-        detail::SparseCountsShared counts(each[0].get(), filed);
+        detail::NeighbourCountsShared counts(each[0].get(), filed);
         if (then) then(filed, counts.short_of());
     }
     for (std::thread& o : others) o.join();
@@ -262,7 +262,7 @@ PointCloud read_in_parts_by(int processes, const std::string& path) {
     const std::size_t n = detail::parts_to_read(each[0].get(), path);
     REQUIRE(n > 0);
     PointCloud filed = detail::cloud_read_with(*each[0], detail::read_my_part(*each[0], path, n, ""), n);
-    { const detail::SparseCountsShared unasked(each[0].get(), filed); }
+    { const detail::NeighbourCountsShared unasked(each[0].get(), filed); }
     for (std::thread& o : others) o.join();
     return filed;
 }
@@ -303,7 +303,7 @@ TEST_CASE("the points' tree filed by several processes is the one a process file
     }
 }
 
-TEST_CASE("the sparse outlier rule counted by the processes that filed the points: the points it drops alone") {
+TEST_CASE("the outlier rules counted by the processes that filed the points: the points they drop alone") {
     // A dense sphere with uniform strays (some of them near the ranges' edges), scaled
     // after filing as make_shell scales to millimetres.
     std::mt19937 rng(3);
@@ -345,6 +345,36 @@ TEST_CASE("the sparse outlier rule counted by the processes that filed the point
             CHECK(std::count(want.begin(), want.end(), 1) > 1000);
             CHECK(got == want);
         }
+    }
+}
+
+TEST_CASE("the rules' counts asked again after points were dropped: the whole cloud's answer, every flag") {
+    // The others drop what the first dropped between two questions (by input index), and
+    // answer by their ranges as they are then; sabotaged (the drops not told), the second
+    // answer differs.
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> unit(-0.2, 1.2);
+    PointSet points = noisy_dense_sphere();
+    for (int i = 0; i < 3000; ++i) points.push_back({unit(rng), unit(rng), unit(rng)});
+    for (int processes : {2, 3}) {
+        CAPTURE(processes);
+        filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::ShortOf& short_of) {
+            REQUIRE(short_of);
+            cloud.scale(25.4);
+            const double r2 = 0.02 * 0.02 * 25.4 * 25.4;
+            const std::vector<std::uint8_t> first = short_of(detail::tree_of(cloud), r2, 9);
+            CHECK(first == detail::points_short_of(detail::tree_of(cloud), r2, 9));
+            // Drop every fifth point, near every range's edge too: more fall short.
+            std::vector<std::uint8_t> keep(cloud.size());
+            for (std::size_t k = 0; k < keep.size(); ++k) keep[k] = k % 5 != 0;
+            cloud.keep(keep);
+            for (const auto& [r, need] : {std::pair<double, std::size_t>{r2, 9}, {r2 / 4, 9}}) {
+                const std::vector<std::uint8_t> want = detail::points_short_of(detail::tree_of(cloud), r, need);
+                CAPTURE(need);
+                CHECK(std::count(want.begin(), want.end(), 1) > 1000);
+                CHECK(short_of(detail::tree_of(cloud), r, need) == want);
+            }
+        });
     }
 }
 
@@ -627,6 +657,28 @@ TEST_CASE("stray points: one or two points above a flat surface go, a small feat
         std::size_t others = 0;
         CHECK(strays_in(shapes::by_name(shape, 0.01), {}, &others) == 0);
         CHECK(others == 0);
+    }
+}
+
+TEST_CASE("stray points whose lonely points the processes that filed them counted: the rule's answer, every flag") {
+    // A flat square of 90,000 points (above the least the processes share) and strays two
+    // to four spacings off it, near the ranges' edges too.
+    const double spacing = 0.002;
+    PointSet points = square(spacing, 0.0, 3);
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<double> across(0.25, 0.75), off(2, 4);
+    for (int i = 0; i < 300; ++i)
+        points.push_back({across(rng), across(rng), 0.5 + (i % 2 ? 1 : -1) * off(rng) * spacing});
+    const std::vector<std::uint8_t> want = detail::stray_points(detail::tree_of(PointCloud(points)));
+    CHECK(std::count(want.begin(), want.end(), 1) > 200);
+    for (int processes : {2, 3}) {
+        CAPTURE(processes);
+        std::vector<std::uint8_t> got;
+        filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::ShortOf& short_of) {
+            REQUIRE(short_of);
+            got = detail::stray_points(detail::tree_of(cloud), {}, short_of);
+        });
+        CHECK(got == want);
     }
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "geometry/point_tree.hpp"
@@ -18,5 +19,9 @@ namespace snvr::detail {
 // rest are left 0 (another process counts them, shared_filing.hpp).
 std::vector<std::uint8_t> points_short_of(const PointTree& tree, double r2, std::size_t need,
                                           std::size_t below = std::size_t(-1));
+
+// The outlier rules' question of every point (points_short_of's), where others may answer
+// part of it (solver/shared_filing.hpp); null: this process alone.
+using ShortOf = std::function<std::vector<std::uint8_t>(const PointTree& tree, double r2, std::size_t need)>;
 
 }  // namespace snvr::detail

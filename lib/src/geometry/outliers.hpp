@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/neighbour_counts.hpp"
 #include "snvr/point_cloud.hpp"
 
 namespace snvr::detail {
@@ -18,9 +19,6 @@ struct RunLengths {
     double offset = 0;  // l: clusters apart by over 2 l are the shell's loose beads
 };
 using RunLengthsOf = std::function<RunLengths(const PointCloud&)>;
-// The sparse rule's question of every point (points_short_of's), where others may answer
-// part of it (shared_filing.hpp); null: this process alone.
-using ShortOf = std::function<std::vector<std::uint8_t>(const PointTree& tree, double r2, std::size_t need)>;
 
 // The rules of OutlierSettings on the cloud, in place; the outliers by input index,
 // ascending, with their world points. `link` is the clusters' last link (2 l; 0 when none

@@ -268,7 +268,12 @@ bool PointTree::file_in_order(PointArray<Vec3f>& coordinates, PointArray<std::ui
 }
 
 void PointTree::keep_only(const std::vector<std::uint8_t>& flags) {
-    shared_end = 0;
+    if (tell_dropped) {
+        std::vector<std::uint32_t> dropped;
+        for (std::size_t k = 0; k < flags.size(); ++k)
+            if (!flags[k]) dropped.push_back(input[k]);
+        tell_dropped(dropped);
+    }
     // Every node's ends, a bit at each place (n + 1 of them), and where each falls among
     // the points kept, by its rank among the bits: linear, where sorting the ends took
     // 2 s of the 50 M-point city block's outlier rules.
@@ -281,14 +286,18 @@ void PointTree::keep_only(const std::vector<std::uint8_t>& flags) {
     const auto is_end = [&](std::size_t at) { return (ends[at / 64] >> (at % 64) & 1) != 0; };
     std::vector<std::uint32_t> moved(before.back());
     std::uint32_t to = 0, c = 0;
+    // The shared ranges' bounds move as the points before them go.
+    std::size_t range = 0;
     for (std::uint32_t k = 0; k < std::uint32_t(n); ++k) {
         if (is_end(k)) moved[c++] = to;
+        for (; range < shared_ranges.size() && shared_ranges[range] == k; ++range) shared_ranges[range] = to;
         if (!flags[k]) continue;
         xyz[to] = xyz[k];
         input[to] = input[k];
         ++to;
     }
     if (is_end(n)) moved[c] = to;
+    for (; range < shared_ranges.size(); ++range) shared_ranges[range] = to;
     // Shrunk only after a large drop: a new array beside the old one would hold every
     // point twice for a moment (the outlier rules drop a few).
     const bool shrink = to < xyz.size() / 8 * 7;
@@ -458,7 +467,7 @@ void PointTree::tighten_boxes(bool parallel, const std::vector<std::uint8_t>* on
 }
 
 void PointTree::scale(double factor) {
-    if (shared_end) scaled_since.push_back(factor);
+    if (!shared_ranges.empty()) scaled_since.push_back(factor);
     origin = {origin[0] * factor, origin[1] * factor, origin[2] * factor};
     const float f = float(factor);
     // Rounding is monotone: the scaled boxes are still the tight boxes of the scaled points.

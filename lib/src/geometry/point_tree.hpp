@@ -89,11 +89,15 @@ public:
     PointArray<Vec3f> xyz;            // by tree order
     PointArray<std::uint32_t> input;  // input index of each
     PointArray<Node> nodes;           // nodes[0] is the root (none when there are no points)
-    // Filed with other processes (shared_filing.hpp): the end of this one's own range of
-    // the order (the others keep theirs, for the sparse outlier rule), and the factors
-    // the points were scaled by since; 0 where filed alone or changed since (keep_only).
-    std::size_t shared_end = 0;
+    // Filed with other processes (shared_filing.hpp), which keep their ranges of the order
+    // for the outlier rules' counts: where each process's range begins, and the end (empty
+    // where filed alone), kept as points are dropped (keep_only); the factors the points
+    // were scaled by since; and whom to tell the input indices of the points keep_only
+    // drops, before it drops them (so that the others drop them meanwhile).
+    std::vector<std::size_t> shared_ranges;
     std::vector<double> scaled_since;
+    std::function<void(const std::vector<std::uint32_t>&)> tell_dropped;
+    std::size_t shared_end() const { return shared_ranges.size() > 1 ? shared_ranges[1] : 0; }
 
     std::size_t size() const { return xyz.size(); }
     Vec3 point(std::size_t k) const {

@@ -75,7 +75,7 @@ bool stands_off(const PointTree& t, std::uint32_t k, const StraySettings& s, con
 
 }  // namespace
 
-std::vector<std::uint8_t> stray_points(const PointTree& t, const StraySettings& s) {
+std::vector<std::uint8_t> stray_points(const PointTree& t, const StraySettings& s, const ShortOf& short_of) {
     const std::size_t n = t.size();
     if (n < s.neighbours + 2) return {};
     // The typical distance to a point's nearest neighbour, over an even sample.
@@ -91,7 +91,8 @@ std::vector<std::uint8_t> stray_points(const PointTree& t, const StraySettings& 
     // (points_short_of's flags are count_within's verdicts, point for point): each lonely
     // point's neighbours are looked up, not counted again.
     const double lonely = std::max(s.lonely_factor * typical, s.least_lonely);
-    const std::vector<std::uint8_t> alone = points_short_of(t, lonely * lonely, s.company + 1);
+    const std::vector<std::uint8_t> alone =
+        short_of ? short_of(t, lonely * lonely, s.company + 1) : points_short_of(t, lonely * lonely, s.company + 1);
     const auto lonely_point = [&](std::uint32_t k) { return alone[k] != 0; };
     std::vector<std::uint8_t> stray(n, 0);
     bool any = false;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "geometry/neighbour_counts.hpp"
 #include "geometry/point_tree.hpp"
 
 namespace snvr::detail {
@@ -34,6 +35,8 @@ struct StraySettings {
 // distance) and the point sits clearly above it. Points on an edge, a corner or thin
 // detail have no flat neighbourhood to stand off; points in a sparse but flat part lie
 // in their neighbours' plane. Empty when no point stands off.
-std::vector<std::uint8_t> stray_points(const PointTree& tree, const StraySettings& settings = {});
+// The lonely points are asked of short_of where given.
+std::vector<std::uint8_t> stray_points(const PointTree& tree, const StraySettings& settings = {},
+                                       const ShortOf& short_of = nullptr);
 
 }  // namespace snvr::detail

@@ -1,5 +1,5 @@
-// drop_outliers (shell.hpp) with the sparse rule's counts answered in part by other
-// processes (solver/shared_filing.hpp's SparseCountsShared); null: by this one alone.
+// drop_outliers (shell.hpp) with the rules' neighbour counts answered in part by other
+// processes (solver/shared_filing.hpp's NeighbourCountsShared); null: by this one alone.
 #pragma once
 #include "geometry/outliers.hpp"
 #include "snvr/shell.hpp"

@@ -168,6 +168,7 @@ SortedPart sorted_part(const Filing& filing, const Vec3f* p, std::size_t n, std:
 struct FiledRange {
     std::unique_ptr<PointTree> tree;
     std::size_t begin = 0;
+    std::size_t whole = 0;  // the points filed by all
 };
 FiledRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, std::size_t n, const Vec3& origin) {
     require_point_count(n);
@@ -180,10 +181,8 @@ FiledRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, 
         send_array(on, 0, xyz.data(), xyz.size());
         send_array(on, 0, input.data(), input.size());
         send_array(on, 0, keys.data(), keys.size());
-        FiledRange kept{std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()),
-                        ranges.start[ranges.first[std::size_t(on.rank())]]};
-        kept.tree->shared_end = kept.tree->size();
-        return kept;
+        return {std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()),
+                ranges.start[ranges.first[std::size_t(on.rank())]], n};
     }
     // The whole tree's arrays: this process's range first, then each other's in turn.
     xyz.resize(n);
@@ -196,27 +195,48 @@ FiledRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, 
         receive_into(on, q, input.data() + b, e - b);
         receive_into(on, q, keys.data() + b, e - b);
     }
-    FiledRange whole{std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), 0};
-    whole.tree->shared_end = ranges.start[ranges.first[1]];
+    FiledRange whole{std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), 0, n};
+    for (int q = 0; q <= on.processes(); ++q) whole.tree->shared_ranges.push_back(ranges.start[ranges.first[std::size_t(q)]]);
     return whole;
 }
 
-// Another process, its range kept: the first's sparse outlier rule asks it which of its
-// points have fewer than `need` points within the reach among its range (the first
+// Another process, its range kept: the first's outlier rules ask it, in turn, which of
+// its points have fewer than `need` points within a reach among its range (the first
 // decides those over the whole cloud; the rest have as many there, so in the whole too),
-// with the points scaled as the first's were since; or that there is nothing to ask.
-void answer_sparse_rule(TileScheduler& on, FiledRange& range) {
-    std::vector<double> asked;
-    receive_array(on, 0, asked);
-    if (asked.size() < 2 || !(asked[0] >= 0)) return;
-    PointTree& t = *range.tree;
-    for (std::size_t k = 2; k < asked.size(); ++k) t.scale(asked[k]);
-    const std::vector<std::uint8_t> few = points_short_of(t, asked[0], std::size_t(asked[1]));
-    std::vector<std::uint32_t> places;
-    for (std::size_t k = 0; k < few.size(); ++k)
-        if (few[k]) places.push_back(std::uint32_t(range.begin + k));
+// with the points scaled as the first's were since; between the questions the first
+// tells it the points it drops, which it drops too, so that its range stays the first's;
+// until it says there is nothing more. The places named are within the range as it is.
+constexpr double kCountsDone = -1, kCountsDropped = -2;
+void answer_counts(TileScheduler& on, FiledRange& range) {
+    std::vector<std::uint64_t> gone;  // a bit an input index: dropped by the first
+    std::size_t scaled = 0;           // factors applied
+    for (;;) {
+        std::vector<double> asked;
+        receive_array(on, 0, asked);
+        if (asked.size() < 2 || asked[0] == kCountsDone) break;
+        PointTree& t = *range.tree;
+        if (asked[0] == kCountsDropped) {
+            std::vector<std::uint32_t> dropped;
+            receive_array(on, 0, dropped);
+            if (gone.empty()) gone.assign(range.whole / 64 + 1, 0);
+            for (const std::uint32_t i : dropped) {
+                if (i >= range.whole) throw Error("the first process dropped a point the cloud does not have");
+                gone[i / 64] |= std::uint64_t(1) << (i % 64);
+            }
+            std::vector<std::uint8_t> keep(t.size());
+            for (std::size_t k = 0; k < t.size(); ++k) keep[k] = !(gone[t.input[k] / 64] >> (t.input[k] % 64) & 1);
+            if (std::find(keep.begin(), keep.end(), 0) != keep.end()) t.keep_only(keep);
+            continue;
+        }
+        if (!(asked[0] >= 0)) throw Error("the first process asked the neighbours' counts at no reach");
+        for (std::size_t k = 2 + scaled; k < asked.size(); ++k, ++scaled) t.scale(asked[k]);
+        const std::vector<std::uint8_t> few = points_short_of(t, asked[0], std::size_t(asked[1]));
+        std::vector<std::uint32_t> places;
+        for (std::size_t k = 0; k < few.size(); ++k)
+            if (few[k]) places.push_back(std::uint32_t(k));
+        send_array(on, 0, places.data(), places.size());
+    }
     range.tree.reset();
-    send_array(on, 0, places.data(), places.size());
 }
 
 // Every process, its part read from the file: the filing the whole input would have (its
@@ -284,7 +304,7 @@ void file_for_root(TileScheduler& on) {
     SortedPart mine = sorted_part(filing, given.data(), given.size(), std::size_t(figures[9]));
     PointArray<Vec3f>().swap(given);
     FiledRange kept = file_parts(on, filing, std::move(mine), n, origin);
-    answer_sparse_rule(on, kept);
+    answer_counts(on, kept);
 }
 
 std::size_t parts_to_read(TileScheduler* on, const std::string& path) {
@@ -328,39 +348,53 @@ void file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n) {
     SortedPart sorted = sorted_part(filing, part.xyz.data(), part.xyz.size(), part.first);
     PointArray<Vec3f>().swap(part.xyz);
     FiledRange kept = file_parts(on, filing, std::move(sorted), n, part.origin);
-    answer_sparse_rule(on, kept);
+    answer_counts(on, kept);
 }
 
-SparseCountsShared::SparseCountsShared(TileScheduler* on, const PointCloud& points)
-    : on_(on && tree_of(points).shared_end ? on : nullptr) {}
-
-SparseCountsShared::~SparseCountsShared() {
-    if (!on_ || asked_) return;
-    const std::vector<double> none{-1, 0};
-    for (int p = 1; p < on_->processes(); ++p) send_array(*on_, p, none.data(), none.size());
+NeighbourCountsShared::NeighbourCountsShared(TileScheduler* on, PointCloud& points)
+    : on_(on && !tree_of(points).shared_ranges.empty() ? on : nullptr), tree_(CloudAccess::tree_of(points).get()) {
+    if (!on_) return;
+    tree_->tell_dropped = [on](const std::vector<std::uint32_t>& dropped) {
+        const std::vector<double> told{kCountsDropped, 0};
+        for (int p = 1; p < on->processes(); ++p) {
+            send_array(*on, p, told.data(), told.size());
+            send_array(*on, p, dropped.data(), dropped.size());
+        }
+    };
 }
 
-ShortOf SparseCountsShared::short_of() {
+NeighbourCountsShared::~NeighbourCountsShared() {
+    if (!on_) return;
+    // The others' ranges are gone: what follows is this process's alone.
+    tree_->tell_dropped = nullptr;
+    tree_->shared_ranges.clear();
+    tree_->scaled_since.clear();
+    const std::vector<double> done{kCountsDone, 0};
+    for (int p = 1; p < on_->processes(); ++p) send_array(*on_, p, done.data(), done.size());
+}
+
+ShortOf NeighbourCountsShared::short_of() {
     if (!on_) return nullptr;
     return [this](const PointTree& t, double r2, std::size_t need) {
-        if (asked_ || !t.shared_end) return points_short_of(t, r2, need);  // once, on the points filed together
-        asked_ = true;
+        if (&t != tree_ || t.shared_ranges.size() != std::size_t(on_->processes()) + 1)
+            return points_short_of(t, r2, need);  // not the points filed together
         std::vector<double> ask{r2, double(need)};
         ask.insert(ask.end(), t.scaled_since.begin(), t.scaled_since.end());
         for (int p = 1; p < on_->processes(); ++p) send_array(*on_, p, ask.data(), ask.size());
-        std::vector<std::uint8_t> few = points_short_of(t, r2, need, t.shared_end);
+        std::vector<std::uint8_t> few = points_short_of(t, r2, need, t.shared_end());
         for (int p = 1; p < on_->processes(); ++p) {
             std::vector<std::uint32_t> places;
             receive_array(*on_, p, places);
+            const std::size_t begin = t.shared_ranges[std::size_t(p)], end = t.shared_ranges[std::size_t(p) + 1];
             const std::ptrdiff_t m = std::ptrdiff_t(places.size());
 #pragma omp parallel for schedule(dynamic, 256)
             for (std::ptrdiff_t i = 0; i < m; ++i) {
-                const std::uint32_t k = places[std::size_t(i)];
-                if (k >= t.size()) continue;  // checked below, outside the threads
+                const std::size_t k = begin + places[std::size_t(i)];
+                if (k >= end) continue;  // checked below, outside the threads
                 few[k] = t.count_within(t.point(k), r2, need) < need;
             }
             for (const std::uint32_t k : places)
-                if (k >= t.size()) throw Error("process " + std::to_string(p) + " named a point the cloud does not have");
+                if (begin + k >= end) throw Error("process " + std::to_string(p) + " named a point its range does not have");
         }
         return few;
     };

@@ -39,23 +39,26 @@ PointCloud cloud_read_with(TileScheduler& on, FloatPoints&& part, std::size_t n)
 void file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n);      // at the others
 
 // The others keep their ranges after filing (file_for_root and file_part_for_root return
-// once this is done): the first's sparse outlier rule asks each which of its range's
-// points have too few neighbours within it, counts the rest of its own, and decides the
-// points named over the whole cloud: the rule's answer, the same (its questions a point
-// outside this process's range stood at the cost of the whole tree's search before).
-// At the first, for points filed with the others (else inert): short_of() for the rule,
-// asked at most once; going out of scope unasked, it tells the others so.
-class SparseCountsShared {
+// once this is done): the first's outlier rules (the sparse rule, the strays' lonely
+// points) ask each which of its range's points have too few neighbours within it, count
+// the rest of their own, and decide the points named over the whole cloud: the rules'
+// answers, the same (their questions a point outside this process's range stood at the
+// cost of the whole tree's search before). The others drop the points the first drops
+// (told as it drops them: PointTree::tell_dropped), so that their ranges stay its.
+// At the first, for points filed with the others (else inert): short_of() for the rules,
+// asked as often as they like; going out of scope, it tells the others there is no more,
+// and the points are this process's alone from then on.
+class NeighbourCountsShared {
 public:
-    SparseCountsShared(TileScheduler* on, const PointCloud& points);
-    ~SparseCountsShared();
-    SparseCountsShared(const SparseCountsShared&) = delete;
-    SparseCountsShared& operator=(const SparseCountsShared&) = delete;
+    NeighbourCountsShared(TileScheduler* on, PointCloud& points);
+    ~NeighbourCountsShared();
+    NeighbourCountsShared(const NeighbourCountsShared&) = delete;
+    NeighbourCountsShared& operator=(const NeighbourCountsShared&) = delete;
     ShortOf short_of();  // null where inert
 
 private:
     TileScheduler* on_;
-    bool asked_ = false;
+    PointTree* tree_;
 };
 
 }  // namespace snvr::detail
