@@ -463,14 +463,18 @@ TEST_CASE("PointCloud::keep prunes the tree: its shape sound, its boxes tight, i
         std::size_t kept = 0;
         for (std::uint8_t& f : flags) kept += f = unit(rng) >= drop;
         const std::vector<std::uint32_t> inputs_before(detail::tree_of(cloud).input.begin(), detail::tree_of(cloud).input.end());
+        const std::vector<Vec3f> xyz_before(detail::tree_of(cloud).xyz.begin(), detail::tree_of(cloud).xyz.end());
         cloud.keep(flags);
         const PointTree& t = detail::tree_of(cloud);
         REQUIRE(t.size() == kept);
         CHECK(tree_faults(t, kept, false) == 0);
-        // The points kept, in their order, each with its input place.
+        // The points kept, in their order, each with its coordinates and input place.
         std::size_t at = 0, wrong = 0;
         for (std::size_t k = 0; k < flags.size(); ++k)
-            if (flags[k]) wrong += t.input[at++] != inputs_before[k];
+            if (flags[k]) {
+                wrong += t.input[at] != inputs_before[k] || t.xyz[at] != xyz_before[k];
+                ++at;
+            }
         CHECK(wrong == 0);
         for (int q = 0; q < 200; ++q) {
             const Vec3 p{unit(rng), unit(rng), unit(rng)};
@@ -682,7 +686,7 @@ TEST_CASE("stray points whose lonely points the processes that filed them counte
     }
 }
 
-TEST_CASE("strided_sample: the points of ranks floor(s n / samples) by input index, whatever the tree's order") {
+TEST_CASE("strided_sample: the points of ranks floor(s n / samples) by input index, whatever the tree's order, in it") {
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> unit(0, 1);
     std::uniform_int_distribution<std::uint32_t> step(1, 200);
@@ -704,7 +708,14 @@ TEST_CASE("strided_sample: the points of ranks floor(s n / samples) by input ind
                 const std::vector<std::uint32_t> got = detail::strided_sample(t, samples);
                 const std::size_t m = std::min(samples, n);
                 REQUIRE(got.size() == m);
-                for (std::size_t s = 0; s < m; ++s) CHECK(t.input[got[s]] == by_rank[s * n / m]);
+                CHECK(std::is_sorted(got.begin(), got.end()));  // in the tree's order
+                std::vector<std::uint32_t> inputs, want;
+                for (std::size_t s = 0; s < m; ++s) {
+                    inputs.push_back(t.input[got[s]]);
+                    want.push_back(by_rank[s * n / m]);
+                }
+                std::sort(inputs.begin(), inputs.end());
+                CHECK(inputs == want);
             }
         }
 }

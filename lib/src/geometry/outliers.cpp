@@ -128,15 +128,30 @@ std::vector<std::uint32_t> far_clusters(const PointCloud& cloud, const detail::P
     for (std::size_t r = 0; r < root.size(); ++r)
         if (root[r] == r && r != largest && double(members[r]) < s.far_cluster_share * double(total)) small[std::uint32_t(r)];
     if (small.empty()) return {};
+    // The largest cluster's box by leaves where a leaf's points are all its (the leaf's
+    // tight box is theirs: most of a scan's leaves), point by point elsewhere.
     Box main;
-    for (std::size_t k = 0; k < root.size(); ++k) {
-        if (root[k] == largest) {
-            main.add(cloud[k]);
-        } else {
-            const auto at = small.find(root[k]);
-            if (at != small.end()) at->second.add(cloud[k]);
+    const PointTree& tree = detail::tree_of(cloud);
+    const auto world = [&tree](const Vec3f& x) {
+        return Vec3{tree.origin[0] + double(x[0]), tree.origin[1] + double(x[1]), tree.origin[2] + double(x[2])};
+    };
+    tree.for_each_leaf([](const PointTree::Node&) { return true; }, [&](const PointTree::Node& leaf) {
+        std::uint32_t k = leaf.begin;
+        while (k < leaf.end && root[k] == largest) ++k;
+        if (k == leaf.end) {
+            main.add(world(leaf.lo));
+            main.add(world(leaf.hi));
+            return;
         }
-    }
+        for (k = leaf.begin; k < leaf.end; ++k) {
+            if (root[k] == largest) {
+                main.add(cloud[k]);
+            } else {
+                const auto at = small.find(root[k]);
+                if (at != small.end()) at->second.add(cloud[k]);
+            }
+        }
+    });
     const double reach = s.far_cluster_distance * main.b.longest();
     std::vector<std::uint32_t> far;
     std::size_t dropped = 0;

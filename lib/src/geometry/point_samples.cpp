@@ -56,6 +56,8 @@ std::vector<std::uint32_t> strided_sample(const PointTree& tree, std::size_t sam
         if (i > top || !(chosen[i / 64] >> (i % 64) & 1)) continue;
         out[std::size_t(std::lower_bound(picked.begin(), picked.end(), i) - picked.begin())] = std::uint32_t(k);
     }
+    // In the tree's order: searches from them in turn then walk nearby nodes.
+    std::sort(out.begin(), out.end());
     return out;
 }
 
