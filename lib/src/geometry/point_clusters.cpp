@@ -41,6 +41,7 @@ public:
         }
     }
     void set(std::uint32_t n, std::uint32_t p) const { __atomic_store_n(&parent_[n], p, __ATOMIC_RELAXED); }
+    std::uint32_t parent(std::uint32_t n) const { return load(n); }
 
 private:
     std::uint32_t load(std::uint32_t n) const { return __atomic_load_n(&parent_[n], __ATOMIC_RELAXED); }
@@ -87,8 +88,19 @@ public:
             }
 #pragma omp for schedule(dynamic, 16)
             for (std::ptrdiff_t i = 0; i < nu; ++i) link_unit(units_[std::size_t(i)]);
+            // Each point's root, runs of points in turn, each run in ascending order: a
+            // parent is never above its child, so a parent within the run has its root
+            // already and a look finds it (a walk of the forest for every point took 0.36 s
+            // of the 50 M-point city block's 0.99); one below the run is walked.
+            constexpr std::ptrdiff_t kRun = 1 << 16;
 #pragma omp for schedule(static)
-            for (std::ptrdiff_t k = 0; k < n; ++k) forest_.set(std::uint32_t(k), forest_.find(std::uint32_t(k)));
+            for (std::ptrdiff_t run = 0; run < (n + kRun - 1) / kRun; ++run) {
+                const std::uint32_t first = std::uint32_t(run * kRun);
+                for (std::uint32_t k = first; k < std::uint32_t(std::min(n, (run + 1) * kRun)); ++k) {
+                    const std::uint32_t p = forest_.parent(k);
+                    forest_.set(k, p == k ? p : p >= first ? forest_.parent(p) : forest_.find(p));
+                }
+            }
         }
         return std::move(parent_);
     }
