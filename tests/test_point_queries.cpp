@@ -364,6 +364,10 @@ TEST_CASE("the rules' counts asked again after points were dropped: the whole cl
             const double r2 = 0.02 * 0.02 * 25.4 * 25.4;
             const std::vector<std::uint8_t> first = short_of(detail::tree_of(cloud), r2, 9);
             CHECK(first == detail::points_short_of(detail::tree_of(cloud), r2, 9));
+            {  // a copy is this process's alone: what it drops the others keep
+                PointCloud copy = cloud;
+                copy.keep(std::vector<std::uint8_t>(copy.size(), 0));
+            }
             // Drop every fifth point, near every range's edge too: more fall short.
             std::vector<std::uint8_t> keep(cloud.size());
             for (std::size_t k = 0; k < keep.size(); ++k) keep[k] = k % 5 != 0;

@@ -166,9 +166,15 @@ PointCloud detail::cloud_of_flat(std::vector<float>&& xyz, const Vec3& origin, c
     return cloud_of(std::move(points), origin, frame);
 }
 
-PointCloud::PointCloud(const PointCloud& other) : tree_(std::make_unique<detail::PointTree>(*other.tree_)) {}
+// A copy is filed by this process alone: the others' ranges are the original's.
+PointCloud::PointCloud(const PointCloud& other) : tree_(std::make_unique<detail::PointTree>(*other.tree_)) {
+    tree_->filed_alone();
+}
 PointCloud& PointCloud::operator=(const PointCloud& other) {
-    if (this != &other) tree_ = std::make_unique<detail::PointTree>(*other.tree_);
+    if (this != &other) {
+        tree_ = std::make_unique<detail::PointTree>(*other.tree_);
+        tree_->filed_alone();
+    }
     return *this;
 }
 PointCloud::PointCloud(PointCloud&& other) noexcept : tree_(std::move(other.tree_)) {

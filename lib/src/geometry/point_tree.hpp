@@ -98,6 +98,11 @@ public:
     std::vector<double> scaled_since;
     std::function<void(const std::vector<std::uint32_t>&)> tell_dropped;
     std::size_t shared_end() const { return shared_ranges.size() > 1 ? shared_ranges[1] : 0; }
+    void filed_alone() {
+        shared_ranges.clear();
+        scaled_since.clear();
+        tell_dropped = nullptr;
+    }
 
     std::size_t size() const { return xyz.size(); }
     Vec3 point(std::size_t k) const {

@@ -366,9 +366,7 @@ NeighbourCountsShared::NeighbourCountsShared(TileScheduler* on, PointCloud& poin
 NeighbourCountsShared::~NeighbourCountsShared() {
     if (!on_) return;
     // The others' ranges are gone: what follows is this process's alone.
-    tree_->tell_dropped = nullptr;
-    tree_->shared_ranges.clear();
-    tree_->scaled_since.clear();
+    tree_->filed_alone();
     const std::vector<double> done{kCountsDone, 0};
     for (int p = 1; p < on_->processes(); ++p) send_array(*on_, p, done.data(), done.size());
 }
