@@ -132,15 +132,12 @@ std::vector<std::uint32_t> far_clusters(const PointCloud& cloud, const detail::P
     // tight box is theirs: most of a scan's leaves), point by point elsewhere.
     Box main;
     const PointTree& tree = detail::tree_of(cloud);
-    const auto world = [&tree](const Vec3f& x) {
-        return Vec3{tree.origin[0] + double(x[0]), tree.origin[1] + double(x[1]), tree.origin[2] + double(x[2])};
-    };
     tree.for_each_leaf([](const PointTree::Node&) { return true; }, [&](const PointTree::Node& leaf) {
         std::uint32_t k = leaf.begin;
         while (k < leaf.end && root[k] == largest) ++k;
         if (k == leaf.end) {
-            main.add(world(leaf.lo));
-            main.add(world(leaf.hi));
+            main.add(tree.lo(leaf));
+            main.add(tree.hi(leaf));
             return;
         }
         for (k = leaf.begin; k < leaf.end; ++k) {

@@ -163,11 +163,10 @@ SortedPart sorted_part(const Filing& filing, const Vec3f* p, std::size_t n, std:
 }
 
 // From each process's part sorted by cell on: the ranges filed, the first taking them
-// back in order into the tree (`begin` 0); each other keeping its own range as a tree of
-// its own (for the sparse outlier rule), `begin` its place in the first's.
+// back in order into the tree (its ranges' bounds in PointTree::shared_ranges); each
+// other keeping its own range as a tree of its own (for the outlier rules' counts).
 struct FiledRange {
     std::unique_ptr<PointTree> tree;
-    std::size_t begin = 0;
     std::size_t whole = 0;  // the points filed by all
 };
 FiledRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, std::size_t n, const Vec3& origin) {
@@ -181,8 +180,7 @@ FiledRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, 
         send_array(on, 0, xyz.data(), xyz.size());
         send_array(on, 0, input.data(), input.size());
         send_array(on, 0, keys.data(), keys.size());
-        return {std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()),
-                ranges.start[ranges.first[std::size_t(on.rank())]], n};
+        return {std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), n};
     }
     // The whole tree's arrays: this process's range first, then each other's in turn.
     xyz.resize(n);
@@ -195,7 +193,7 @@ FiledRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, 
         receive_into(on, q, input.data() + b, e - b);
         receive_into(on, q, keys.data() + b, e - b);
     }
-    FiledRange whole{std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), 0, n};
+    FiledRange whole{std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), n};
     for (int q = 0; q <= on.processes(); ++q) whole.tree->shared_ranges.push_back(ranges.start[ranges.first[std::size_t(q)]]);
     return whole;
 }
