@@ -382,6 +382,30 @@ TEST_CASE("the rules' counts asked again after points were dropped: the whole cl
     }
 }
 
+TEST_CASE("the processes' ranges stay after the rules' counts (for the check) and are given up at a drop no one hears") {
+    const PointSet points = noisy_dense_sphere();
+    for (int processes : {2, 3}) {
+        CAPTURE(processes);
+        PointCloud filed = filed_by(processes, PointCloud(points));
+        const detail::PointTree& t = detail::tree_of(filed);
+        REQUIRE(t.shared_ranges.size() == std::size_t(processes) + 1);
+        const double n = double(t.size());
+        for (int p = 0; p < processes; ++p)  // about equal
+            CHECK(double(t.shared_ranges[std::size_t(p) + 1] - t.shared_ranges[std::size_t(p)]) / n ==
+                  doctest::Approx(1.0 / processes).epsilon(0.05));
+        CHECK(t.shared_ranges.back() == t.size());
+        filed.scale(2);
+        CHECK(t.scaled_since == std::vector<double>{2});
+        std::vector<std::uint8_t> keep(filed.size(), 1);
+        filed.keep(keep);
+        CHECK(t.shared_ranges.size() == std::size_t(processes) + 1);
+        keep[7] = 0;  // the others are not told any more: their ranges are not these points
+        filed.keep(keep);
+        CHECK(t.shared_ranges.empty());
+        CHECK(t.scaled_since.empty());
+    }
+}
+
 TEST_CASE("a binary PLY read in parts by several processes gives the tree one process reads and files") {
     const TempDir dir("filing");
     std::mt19937 rng(9);

@@ -12,18 +12,23 @@
 // (Result::tiles.worker). Before the plan goes out, a sparse scan's points added on the
 // surface are shared too (UpsampleShare). make_shell's check is then shared too: each other process
 // measures the walls and points' depths the root gives it (CheckShare,
-// measure_check_share).
+// measure_check_share): the depths of its own range of the points filed by all, which it
+// keeps from the filing on (points_kept), or else of the points the root sends it.
 #pragma once
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "snvr/field.hpp"
 #include "snvr/geometry.hpp"
 
 namespace snvr {
+namespace detail {
+struct KeptRange;  // lib/src/solver/shared_filing.hpp
+}
 
 // A tile's own part of the surface (lib/src/solver/tile_surface.hpp): the dual mesh its
 // core alone decides, each vertex and triangle with its key in the whole grid.
@@ -36,9 +41,11 @@ struct TileSurface {
 };
 
 // A share of the shell's check that another process takes (lib/src/check/check_share.cpp):
-// the triangles near its tiles (in the shell's order), the vertices among them whose walls
-// it measures (those in its tiles' cores), and the points whose depths it measures (those
-// of its tiles, but the ones the root samples for the percentile). The share holds every
+// the triangles near what it measures (in the shell's order), the vertices among them
+// whose walls it measures, and the points whose depths it measures: where it kept its
+// range of the points filed by all (lib/src/solver/shared_filing.hpp), groups of its
+// range's own points (`range_groups`); and points given (`points`: some of the rest,
+// dealt by tile). Never the groups the root samples for the percentile. The share holds every
 // triangle within `reach` of those vertices and points: a wall met within it, or a point's
 // nearest triangle within it, is the whole shell's; the rest come back for the root.
 struct CheckShare {
@@ -47,17 +54,23 @@ struct CheckShare {
     std::vector<std::uint32_t> measured;  // of `vertices`
     double epsilon = 0;                   // the least distance a hit counts at (the shell's)
     double reach = 0;
-    Vec3 origin{0, 0, 0};       // the points: float coordinates about it, x y z in turn
-    std::vector<float> points;
+    Vec3 origin{0, 0, 0};       // the points (given or kept): float coordinates about it
+    std::vector<float> points;  // x y z in turn
     double voxel = 0;           // the run's (the points are measured in groups of its size)
     // The Morton frame (its low corner, then cells a unit) of the root's tree, whose order
     // the points keep: filed in it they need no sorting. A scale of 0: none.
     std::array<double, 4> points_frame{0, 0, 0, 0};
+    // The kept range's groups, [begin, end) of its order; its size as the root has it; and
+    // every scale factor the root's points took since they were filed (the range takes
+    // those it has not).
+    std::vector<std::array<std::uint32_t, 2>> range_groups;
+    std::uint64_t range_size = 0;
+    std::vector<double> range_scaled;
 };
 
 // What a share measured: each measured vertex's wall (CheckShare::measured's order; NaN
 // beyond the reach), and its points' figures, but for the points it could not decide
-// (indices into CheckShare::points).
+// (places in the kept range, then range_size + indices into CheckShare::points).
 struct CheckShareFigures {
     std::vector<double> walls;
     std::uint64_t points_inside = 0;
@@ -91,6 +104,9 @@ struct TileResult {
 class TileScheduler {
 public:
     virtual ~TileScheduler() = default;
+    // At another process: its range of the points filed by all, kept by serve_input for
+    // serve_shell's check (null: none).
+    std::shared_ptr<detail::KeptRange> points_kept;
     virtual int processes() const = 0;
     virtual int rank() const = 0;  // 0: the root
     // A worker's result to the root (sent on while the worker goes on: it keeps the

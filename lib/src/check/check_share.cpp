@@ -1,9 +1,11 @@
 // measure_check_share (quality.hpp): another process's share of a tiled run's check,
 // measured on the triangles the root gave it, as the whole shell would measure it where
 // those triangles decide.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -16,13 +18,38 @@
 #include "snvr/error.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/quality.hpp"
+#include "solver/shared_filing.hpp"
 
 namespace snvr {
 
 namespace {
 
+// The figures of the groups of a range kept by this process (its places named where
+// undecided), once its points are where the root's are: scaled as they were since filed,
+// about the root's origin now.
+void measure_kept(const CheckShare& share, const Mesh& m, const TriangleGrid& grid, detail::KeptRange* kept,
+                  CheckShareFigures& out) {
+    if (!kept || !kept->tree || kept->tree->size() != share.range_size)
+        throw Error("the points this process kept are not its range of the first's (" +
+                    std::to_string(kept && kept->tree ? kept->tree->size() : 0) + " where the first has " +
+                    std::to_string(share.range_size) + ")");
+    detail::PointTree& tree = *kept->tree;
+    for (; kept->scaled < share.range_scaled.size(); ++kept->scaled) tree.scale(share.range_scaled[kept->scaled]);
+    tree.origin = share.origin;
+    detail::PointDepths::Part part;
+    part.complete_within = share.reach;
+    detail::PointDepths depths(m, grid, tree, share.voxel, share.range_groups, part);
+    depths.bound(0, depths.groups());
+    depths.settle(0, depths.groups(), depths.shallowest());
+    const detail::PointDepths::Figures f = depths.figures();
+    out.points_inside += f.inside;
+    out.depth_min = std::min(out.depth_min, f.depth_min);
+    out.unresolved.insert(out.unresolved.end(), f.unresolved.begin(), f.unresolved.end());
+}
+
 // The share's points' figures; those whose search or side would leave its triangles
-// (a ray's crossings, a nearest triangle beyond the reach) are named instead.
+// (a ray's crossings, a nearest triangle beyond the reach) are named instead (after its
+// range's places).
 void measure_points(CheckShare& share, const Mesh& m, const TriangleGrid& grid, CheckShareFigures& out) {
     if (share.points.empty()) return;
     const auto frame = detail::PointTree::Frame::of(share.points_frame.data());
@@ -35,15 +62,16 @@ void measure_points(CheckShare& share, const Mesh& m, const TriangleGrid& grid, 
     depths.bound(0, depths.groups());
     depths.settle(0, depths.groups(), depths.shallowest());
     const detail::PointDepths::Figures f = depths.figures();
-    out.points_inside = f.inside;
-    out.depth_min = f.depth_min;
-    out.unresolved.reserve(f.unresolved.size());
-    for (std::uint32_t k : f.unresolved) out.unresolved.push_back(std::uint32_t(cloud.input_index(k)));
+    out.points_inside += f.inside;
+    out.depth_min = std::min(out.depth_min, f.depth_min);
+    for (std::uint32_t k : f.unresolved) out.unresolved.push_back(std::uint32_t(share.range_size + cloud.input_index(k)));
 }
 
 }  // namespace
 
-CheckShareFigures measure_check_share(CheckShare share) {
+CheckShareFigures measure_check_share(CheckShare share) { return detail::measure_check_share(std::move(share), nullptr); }
+
+CheckShareFigures detail::measure_check_share(CheckShare share, KeptRange* kept) {
     Mesh m;  // the share's own: it was given by value
     m.vertices = std::move(share.vertices);
     m.triangles = std::move(share.triangles);
@@ -57,7 +85,9 @@ CheckShareFigures measure_check_share(CheckShare share) {
     out.walls.assign(share.measured.size(), std::numeric_limits<double>::infinity());
     out.depth_min = std::numeric_limits<double>::infinity();
     if (m.triangles.empty()) {  // nothing near: no wall met, and the points' nearest lie beyond
-        for (std::size_t k = 0; k < share.points.size() / 3; ++k) out.unresolved.push_back(std::uint32_t(k));
+        for (const auto& g : share.range_groups)
+            for (std::uint32_t k = g[0]; k < g[1]; ++k) out.unresolved.push_back(k);
+        for (std::size_t k = 0; k < share.points.size() / 3; ++k) out.unresolved.push_back(std::uint32_t(share.range_size + k));
         return out;
     }
     const TriangleGrid grid(m);
@@ -72,6 +102,7 @@ CheckShareFigures measure_check_share(CheckShare share) {
         const double t = grid.first_hit(m.vertices[v], {-n[0], -n[1], -n[2]}, share.epsilon, v).t;
         out.walls[std::size_t(k)] = t <= share.reach ? t : std::numeric_limits<double>::quiet_NaN();
     }
+    if (!share.range_groups.empty()) measure_kept(share, m, grid, kept, out);
     measure_points(share, m, grid, out);
     return out;
 }

@@ -451,12 +451,44 @@ std::vector<PointDepths::Span> PointDepths::group_spans(const PointTree& points,
     return spans;
 }
 
+PointDepths::Span PointDepths::span_of(const PointTree& points, std::uint32_t begin, std::uint32_t end) {
+    if (!(begin < end && end <= points.size())) throw std::logic_error("PointDepths: a group beyond the points");
+    Span s;
+    s.begin = begin;
+    s.end = end;
+    s.lo = s.hi = points.point(begin);
+    for (std::uint32_t k = begin + 1; k < end; ++k) {
+        const Vec3 p = points.point(k);
+        for (int a = 0; a < 3; ++a) {
+            s.lo[a] = std::min(s.lo[a], p[a]);
+            s.hi[a] = std::max(s.hi[a], p[a]);
+        }
+    }
+    return s;
+}
+
+namespace {
+std::vector<PointDepths::Span> spans_of(const PointTree& points, const std::vector<std::array<std::uint32_t, 2>>& runs) {
+    std::vector<PointDepths::Span> spans(runs.size());
+    for (std::size_t g = 0; g < runs.size(); ++g) spans[g] = PointDepths::span_of(points, runs[g][0], runs[g][1]);
+    return spans;
+}
+}  // namespace
+
 PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
                          bool every_point, bool by_rays, const std::vector<std::uint8_t>* skip, const Part* part)
+    : PointDepths(mesh, grid, points, voxel, group_spans(points, voxel, every_point), every_point, by_rays, skip, part) {}
+
+PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
+                         const std::vector<std::array<std::uint32_t, 2>>& groups, const Part& part)
+    : PointDepths(mesh, grid, points, voxel, spans_of(points, groups), false, false, nullptr, &part) {}
+
+PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
+                         const std::vector<Span>& spans, bool every_point, bool by_rays,
+                         const std::vector<std::uint8_t>* skip, const Part* part)
     : mesh_(mesh), grid_(grid), points_(points), every_point_(every_point), by_rays_(by_rays),
       complete_within_(part ? part->complete_within : kInf), jump_(kJumpVoxels * voxel),
       run_most_(kRunVoxels * voxel) {
-    const std::vector<Span> spans = group_spans(points, voxel, every_point);
     if (skip && skip->size() != spans.size()) throw std::logic_error("PointDepths: one flag a group");
     groups_.resize(spans.size());
     for (std::size_t g = 0; g < spans.size(); ++g) {

@@ -1,6 +1,7 @@
 // How deep each point lies below a closed mesh's surface, and which points lie inside
 // (point_depths.cpp).
 #pragma once
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -44,6 +45,10 @@ public:
     // measured elsewhere, or null. part: the points and mesh are a part, or null.
     PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel, bool every_point,
                 bool by_rays, const std::vector<std::uint8_t>* skip = nullptr, const Part* part = nullptr);
+    // A part over groups given as runs [begin, end) of the points' order (another
+    // process's kept range, CheckShare::range_groups), their boxes made here.
+    PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
+                const std::vector<std::array<std::uint32_t, 2>>& groups, const Part& part);
     ~PointDepths();
 
     // The groups as the class makes them: points [begin, end) of the tree, their box, and
@@ -54,6 +59,8 @@ public:
         bool sampled = false;
     };
     static std::vector<Span> group_spans(const PointTree& points, double voxel, bool every_point);
+    // Points [begin, end) as a group (their box, as group_spans makes it from the leaves').
+    static Span span_of(const PointTree& points, std::uint32_t begin, std::uint32_t end);
 
     std::size_t groups() const { return groups_.size(); }
     // The first pass over groups [first, last) (disjoint ranges from several threads).
@@ -79,6 +86,9 @@ public:
     Depth depth_of(const Vec3& p) const;
 
 private:
+    PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
+                const std::vector<Span>& spans, bool every_point, bool by_rays, const std::vector<std::uint8_t>* skip,
+                const Part* part);
     // Points [begin, end) of the tree, within the box [lo, hi], and what is known of them.
     struct Group {
         std::uint32_t begin = 0, end = 0;

@@ -49,4 +49,9 @@ struct CheckElsewhere {
 MeshQuality measure_sharing(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
                             const CheckElsewhere& elsewhere);
 
+struct KeptRange;  // solver/shared_filing.hpp
+// measure_check_share at another process, where it may have kept its range of the points
+// filed by all (null: none), for a share that names groups of it.
+CheckShareFigures measure_check_share(CheckShare share, KeptRange* kept);
+
 }  // namespace snvr::detail

@@ -280,6 +280,8 @@ void PointTree::keep_only(const std::vector<std::uint8_t>& flags) {
         std::vector<std::uint32_t> inputs(dropped.size());
         for (std::size_t i = 0; i < dropped.size(); ++i) inputs[i] = input[dropped[i]];
         tell_dropped(inputs);
+    } else if (!dropped.empty()) {
+        filed_alone();  // no one told: the others' ranges are not these points any more
     }
     for (std::size_t i = 0; i < dropped.size(); ++i) {
         const std::size_t from = dropped[i] + 1, end = i + 1 < dropped.size() ? dropped[i + 1] : n;

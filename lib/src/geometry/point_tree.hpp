@@ -90,10 +90,11 @@ public:
     PointArray<std::uint32_t> input;  // input index of each
     PointArray<Node> nodes;           // nodes[0] is the root (none when there are no points)
     // Filed with other processes (shared_filing.hpp), which keep their ranges of the order
-    // for the outlier rules' counts: where each process's range begins, and the end (empty
-    // where filed alone), kept as points are dropped (keep_only); the factors the points
-    // were scaled by since; and whom to tell the input indices of the points keep_only
-    // drops, before it drops them (so that the others drop them meanwhile).
+    // for the outlier rules' counts and the check's depths: where each process's range
+    // begins, and the end (empty where filed alone), kept as points are dropped
+    // (keep_only); the factors the points were scaled by since; and whom to tell the input
+    // indices of the points keep_only drops, before it drops them (so that the others drop
+    // them meanwhile; where no one is told, the ranges are given up: filed_alone).
     std::vector<std::size_t> shared_ranges;
     std::vector<double> scaled_since;
     std::function<void(const std::vector<std::uint32_t>&)> tell_dropped;

@@ -1,5 +1,6 @@
 // serve_shell and serve_input (shell.hpp): what another process does in a make_shell and a
 // read_input spread over processes.
+#include "check/walls.hpp"
 #include "process_limits.hpp"
 #include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"
@@ -11,21 +12,23 @@
 namespace snvr {
 
 void serve_shell(const Parameters& params, TileScheduler& tiles_on) {
-    // One budget over both parts: the check's points are filed after the tiles' are gone.
+    // One budget over both parts (its range of the points, kept for the check's depths
+    // since the filing, is in files where they go over it).
     const std::size_t budget = params.max_memory.value_or(0);
     const detail::BudgetScope within(budget, 0);
     const detail::SpillScope spill(budget, 0, params.temp_dir);
     reconstruct_tiles_of(params, tiles_on);
-    tiles_on.send_check(measure_check_share(tiles_on.check_share()));
+    const std::shared_ptr<detail::KeptRange> kept = std::move(tiles_on.points_kept);
+    tiles_on.send_check(detail::measure_check_share(tiles_on.check_share(), kept.get()));
 }
 
 void serve_input(const std::string& path, const Parameters& params, TileScheduler& tiles_on) {
     const detail::SpillScope spill(params.max_memory.value_or(0), 0, params.temp_dir);
     if (const std::size_t n = detail::parts_to_read(&tiles_on, path)) {
-        detail::file_part_for_root(tiles_on, detail::read_my_part(tiles_on, path, n, params.temp_dir), n);
+        tiles_on.points_kept = detail::file_part_for_root(tiles_on, detail::read_my_part(tiles_on, path, n, params.temp_dir), n);
         return;
     }
-    detail::file_for_root(tiles_on);
+    tiles_on.points_kept = detail::file_for_root(tiles_on);
 }
 
 }  // namespace snvr

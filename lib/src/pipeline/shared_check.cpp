@@ -50,6 +50,10 @@ constexpr double kShareAWall = 0.12;
 constexpr double kWorkAGroup = 9;
 constexpr double kGiveAPoint = 0.03;
 constexpr double kSendAPoint = 0.08;
+// A group another process measures in its own range of the points (kept since the
+// filing: neither sent nor filed again) costs it this much of kWorkAGroup (the 50 M-point
+// city block at 1024 on two processes: 6.5 us a group there, 9.4 at the first).
+constexpr double kRangeGroupShare = 0.7;
 
 // What a tile holds of the check's work: its vertices' walls, and its points' groups.
 struct TileWork {
@@ -60,20 +64,20 @@ struct TileWork {
 };
 
 // Who measures the walls and the depths in each tile: the walls of the tiles another
-// process ran, that process (it has their triangles' neighbourhood at hand); the rest, the
-// most work first, whoever would be done first with it (the depths costing more where
-// their points must be sent), the first process's own part of the check counted as its
-// work. (The first's tiles' walls dealt in turn instead, the others waited for it: the
-// bunny at 512 on two processes, its check 1.75 s; a tile's depths always with its runner,
-// the dense city block's took longer than the first measuring them all.)
+// process is near (`near`: it ran them, or holds most of their points), that process
+// (their triangles are in its share already); the rest, the most work first, whoever
+// would be done first with it (the depths costing more where their points must be sent),
+// each process's work so far (`work`: the first's own part of the check; the points'
+// depths each measures in its own range) counted. (The first's tiles' walls dealt in turn
+// instead, the others waited for it: the bunny at 512 on two processes, its check 1.75 s;
+// a tile's depths always with its runner, the dense city block's took longer than the
+// first measuring them all.)
 struct Measurers {
     std::vector<int> walls, depths;
 };
-Measurers check_measurers(const std::vector<int>& owners, const std::vector<TileWork>& in, double first_work,
-                          int processes) {
+Measurers check_measurers(const std::vector<int>& near, const std::vector<TileWork>& in, std::vector<double> work) {
     Measurers by{std::vector<int>(in.size(), 0), std::vector<int>(in.size(), 0)};
-    std::vector<double> work(std::size_t(processes), 0);
-    work[0] = first_work;
+    const int processes = int(work.size());
     struct Item {
         std::size_t tile;
         bool depths;
@@ -81,7 +85,7 @@ Measurers check_measurers(const std::vector<int>& owners, const std::vector<Tile
     };
     std::vector<Item> dealt;
     for (std::size_t t = 0; t < in.size(); ++t) {
-        const int p = t < owners.size() ? owners[t] : 0;
+        const int p = t < near.size() ? near[t] : 0;
         if (p > 0 && p < processes) {
             by.walls[t] = p;
             work[std::size_t(p)] += in[t].walls_measured(true);
@@ -221,40 +225,80 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     if (!surface) spans = PointDepths::group_spans(tree, d.h, false);
     constexpr std::uint32_t kHere = std::numeric_limits<std::uint32_t>::max();  // measured here
     std::vector<std::uint32_t> group_tile(spans.size());  // freed once dealt
-    double first_work = kFirstWorkAVertex * double(nv) + meanwhile_seconds / kWallSeconds;
+    std::vector<double> work(std::size_t(processes), 0);
+    work[0] = kFirstWorkAVertex * double(nv) + meanwhile_seconds / kWallSeconds;
+    // Where the others kept their ranges of the points filed by all, each measures the
+    // groups within its range where they are (none sent, none filed again); the rest (the
+    // first's range's, and all where there are no ranges) are dealt by tile, their points
+    // sent to whoever measures them elsewhere.
+    const std::vector<std::size_t>& bounds = tree.shared_ranges;
+    const bool by_ranges = bounds.size() == std::size_t(processes) + 1;
+    std::vector<std::uint8_t> group_range(by_ranges ? spans.size() : 0);  // its range's process (0: dealt)
+    std::vector<std::uint32_t> range_groups(by_ranges ? tiles * std::size_t(processes) : 0);  // a tile's, by range
     for (std::size_t g = 0; g < spans.size(); ++g) {
         const PointDepths::Span& s = spans[g];
         if (s.sampled || 0.5 * norm(sub(s.hi, s.lo)) > d.h) {
-            first_work += kWorkAGroup;
+            work[0] += kWorkAGroup;
             group_tile[g] = kHere;
             continue;
         }
         Vec3 centre;
         for (std::size_t a = 0; a < 3; ++a) centre[a] = 0.5 * (s.lo[a] + s.hi[a]);
         group_tile[g] = tile_at(centre);
+        if (by_ranges) {  // the process whose range holds the whole group (the first where it spans a bound)
+            const std::size_t p = std::size_t(std::upper_bound(bounds.begin(), bounds.end(), std::size_t(s.begin)) -
+                                              bounds.begin()) - 1;
+            const std::size_t q = p < std::size_t(processes) && s.end <= bounds[p + 1] ? p : 0;
+            ++range_groups[group_tile[g] * std::size_t(processes) + q];
+            if (q > 0) {
+                group_range[g] = std::uint8_t(q);
+                work[q] += kRangeGroupShare * kWorkAGroup;
+                continue;
+            }
+        }
         ++work_in[group_tile[g]].groups;
         work_in[group_tile[g]].points += s.end - s.begin;
     }
-    const Measurers measurer = check_measurers(run.tiles.owners, work_in, first_work, processes);
+    // A tile's walls are nearest the process that ran it, or that holds most of its points.
+    std::vector<int> walls_near = run.tiles.owners;
+    if (by_ranges) {
+        walls_near.assign(tiles, 0);
+        for (std::size_t t = 0; t < tiles; ++t)
+            for (int p = 1; p < processes; ++p)
+                if (range_groups[t * std::size_t(processes) + std::size_t(p)] >
+                    range_groups[t * std::size_t(processes) + std::size_t(walls_near[t])])
+                    walls_near[t] = p;
+    }
+    const Measurers measurer = check_measurers(walls_near, work_in, work);
     // A wall thicker than this, or a point's nearest triangle farther, the first process
     // measures: the shells' walls are about twice the offset, a point inside lies within it.
     const double reach = 4 * run.offset + 2 * d.h;
     CheckElsewhere elsewhere;
     elsewhere.vertex.assign(nv, 0);
     for (std::size_t v = 0; v < nv; ++v) elsewhere.vertex[v] = measurer.walls[tile_of[v]] != 0;
+    const auto depths_by = [&](std::size_t g) -> std::size_t {
+        if (group_tile[g] == kHere) return 0;
+        return by_ranges && group_range[g] ? group_range[g] : std::size_t(measurer.depths[group_tile[g]]);
+    };
     if (!spans.empty()) {
         elsewhere.groups.assign(spans.size(), 0);
-        for (std::size_t g = 0; g < spans.size(); ++g)
-            elsewhere.groups[g] = group_tile[g] != kHere && measurer.depths[group_tile[g]] != 0;
+        for (std::size_t g = 0; g < spans.size(); ++g) elsewhere.groups[g] = depths_by(g) != 0;
     }
-    // What each other process measures: its vertices (by the shell's numbers) and its
-    // groups' points.
+    // What each other process measures: its vertices (by the shell's numbers), its range's
+    // groups and the groups' points given it; and the tiles where it measures something.
     std::vector<std::vector<std::uint32_t>> measured(static_cast<std::size_t>(processes));
-    std::vector<PointsGiven> given(static_cast<std::size_t>(processes));
+    std::vector<PointsGiven> given(static_cast<std::size_t>(processes)), ranged(static_cast<std::size_t>(processes));
+    std::vector<std::uint64_t> tile_bits(tiles);  // bit p: process p measures something there
+    for (std::size_t t = 0; t < tiles; ++t)
+        tile_bits[t] = std::uint64_t(1) << measurer.walls[t] | std::uint64_t(1) << measurer.depths[t];
     for (std::size_t g = 0; g < spans.size(); ++g)
-        if (elsewhere.groups[g]) given[std::size_t(measurer.depths[group_tile[g]])].add(spans[g].begin, spans[g].end);
+        if (elsewhere.groups[g]) {
+            (by_ranges && group_range[g] ? ranged : given)[depths_by(g)].add(spans[g].begin, spans[g].end);
+            tile_bits[group_tile[g]] |= std::uint64_t(1) << depths_by(g);
+        }
     std::vector<PointDepths::Span>().swap(spans);
     std::vector<std::uint32_t>().swap(group_tile);
+    std::vector<std::uint8_t>().swap(group_range);
     {  // what builds the shares, freed before the first measures its own part
         // A triangle within the reach of a point or vertex in a tile has a corner within the
         // reach and its longest edge of the tile; a point's group and its run reach 3 voxels
@@ -266,21 +310,27 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
                 const Vec3& b = mesh.vertices[t[std::size_t((c + 1) % 3)]];
                 for (std::size_t k = 0; k < 3; ++k) longest_edge = std::max(longest_edge, std::fabs(a[k] - b[k]));
             }
-        std::vector<std::uint64_t> tile_bits(tiles);  // bit p: process p measures something there
-        for (std::size_t t = 0; t < tiles; ++t)
-            tile_bits[t] = std::uint64_t(1) << measurer.walls[t] | std::uint64_t(1) << measurer.depths[t];
         const std::vector<std::uint64_t> near = processes_near(mesh, d, core, reach + longest_edge + 3 * d.h, tile_bits);
         const double eps = wall_epsilon(mesh);
         std::vector<std::uint32_t> local(nv);
         for (int p = 1; p < processes; ++p) {
+            facts.check_points += given[std::size_t(p)].count() + ranged[std::size_t(p)].count();
             {  // its points first, freed before the rest is made
                 const PointArray<float> xyz = given[std::size_t(p)].coordinates(tree);
-                facts.check_points += xyz.size() / 3;
                 facts.check_bytes += xyz.size() * sizeof(float);
                 on.give_check_points(p, tree.origin, xyz.data(), xyz.size());
             }
             const auto walls_here = [&](std::uint32_t v) { return measurer.walls[tile_of[v]] == p; };
             CheckShare share = mesh_share(mesh, near, p, walls_here, local, measured[std::size_t(p)]);
+            if (by_ranges) {  // the points of its range's groups are its own already, where the first's are
+                const std::size_t b = bounds[std::size_t(p)];
+                share.range_groups.reserve(ranged[std::size_t(p)].runs.size());
+                for (const auto& r : ranged[std::size_t(p)].runs)
+                    share.range_groups.push_back({std::uint32_t(r[0] - b), std::uint32_t(r[1] - b)});
+                share.range_size = bounds[std::size_t(p) + 1] - b;
+                share.range_scaled = tree.scaled_since;
+                facts.check_bytes += share.range_groups.size() * sizeof(share.range_groups[0]);
+            }
             share.epsilon = eps;
             share.reach = reach;
             share.voxel = d.h;
@@ -310,9 +360,12 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             depths.inside += got.points_inside;
             depths.depth_min = std::min(depths.depth_min, got.depth_min);
             facts.check_points_back += got.unresolved.size();
+            // Places in its range first, then the points given it.
+            const std::size_t b = by_ranges ? bounds[std::size_t(p)] : 0;
+            const std::size_t in_range = by_ranges ? bounds[std::size_t(p) + 1] - b : 0;
             for (std::uint32_t i : got.unresolved) {
-                if (i >= points_given.count()) throw Error("the points from " + from + " name one it was not given");
-                depths.unresolved.push_back(points_given.at(i));
+                if (i >= in_range + points_given.count()) throw Error("the points from " + from + " name one it does not have");
+                depths.unresolved.push_back(i < in_range ? std::uint32_t(b + i) : points_given.at(i - in_range));
             }
         }
     };

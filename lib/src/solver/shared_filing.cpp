@@ -164,12 +164,9 @@ SortedPart sorted_part(const Filing& filing, const Vec3f* p, std::size_t n, std:
 
 // From each process's part sorted by cell on: the ranges filed, the first taking them
 // back in order into the tree (its ranges' bounds in PointTree::shared_ranges); each
-// other keeping its own range as a tree of its own (for the outlier rules' counts).
-struct FiledRange {
-    std::unique_ptr<PointTree> tree;
-    std::size_t whole = 0;  // the points filed by all
-};
-FiledRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, std::size_t n, const Vec3& origin) {
+// other keeping its own range as a tree of its own (for the outlier rules' counts and
+// the check's depths).
+KeptRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, std::size_t n, const Vec3& origin) {
     require_point_count(n);
     const CellRanges ranges = cell_ranges(on, mine, filing.cells(), n);
     PointArray<Vec3f> xyz;
@@ -180,7 +177,7 @@ FiledRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, 
         send_array(on, 0, xyz.data(), xyz.size());
         send_array(on, 0, input.data(), input.size());
         send_array(on, 0, keys.data(), keys.size());
-        return {std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), n};
+        return {std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), n, 0};
     }
     // The whole tree's arrays: this process's range first, then each other's in turn.
     xyz.resize(n);
@@ -193,7 +190,7 @@ FiledRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, 
         receive_into(on, q, input.data() + b, e - b);
         receive_into(on, q, keys.data() + b, e - b);
     }
-    FiledRange whole{std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), n};
+    KeptRange whole{std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), n, 0};
     for (int q = 0; q <= on.processes(); ++q) whole.tree->shared_ranges.push_back(ranges.start[ranges.first[std::size_t(q)]]);
     return whole;
 }
@@ -203,11 +200,11 @@ FiledRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, 
 // decides those over the whole cloud; the rest have as many there, so in the whole too),
 // with the points scaled as the first's were since; between the questions the first
 // tells it the points it drops, which it drops too, so that its range stays the first's;
-// until it says there is nothing more. The places named are within the range as it is.
+// until it says there is nothing more. The places named are within the range as it is,
+// which is kept for the check (the first drops no point after its outlier rules).
 constexpr double kCountsDone = -1, kCountsDropped = -2;
-void answer_counts(TileScheduler& on, FiledRange& range) {
+void answer_counts(TileScheduler& on, KeptRange& range) {
     std::vector<std::uint64_t> gone;  // a bit an input index: dropped by the first
-    std::size_t scaled = 0;           // factors applied
     for (;;) {
         std::vector<double> asked;
         receive_array(on, 0, asked);
@@ -227,14 +224,13 @@ void answer_counts(TileScheduler& on, FiledRange& range) {
             continue;
         }
         if (!(asked[0] >= 0)) throw Error("the first process asked the neighbours' counts at no reach");
-        for (std::size_t k = 2 + scaled; k < asked.size(); ++k, ++scaled) t.scale(asked[k]);
+        for (std::size_t k = 2 + range.scaled; k < asked.size(); ++k, ++range.scaled) t.scale(asked[k]);
         const std::vector<std::uint8_t> few = points_short_of(t, asked[0], std::size_t(asked[1]));
         std::vector<std::uint32_t> places;
         for (std::size_t k = 0; k < few.size(); ++k)
             if (few[k]) places.push_back(std::uint32_t(k));
         send_array(on, 0, places.data(), places.size());
     }
-    range.tree.reset();
 }
 
 // Every process, its part read from the file: the filing the whole input would have (its
@@ -285,13 +281,13 @@ PointCloud cloud_filed_with(TileScheduler& on, PointArray<Vec3f>&& coordinates, 
     });
 }
 
-void file_for_root(TileScheduler& on) {
+std::shared_ptr<KeptRange> file_for_root(TileScheduler& on) {
     settle_threads();
     std::vector<double> figures;
     receive_array(on, 0, figures);
     if (figures.size() != Figures().size()) throw Error("the filing's figures from the first process are not whole");
     const std::size_t n = std::size_t(figures[0]);
-    if (n == 0) return;
+    if (n == 0) return nullptr;
     Filing filing;
     filing.bits = int(figures[1]);
     filing.frame = PointTree::Frame::of(&figures[2]);
@@ -301,8 +297,9 @@ void file_for_root(TileScheduler& on) {
     if (given.size() != std::size_t(figures[10])) throw Error("the first process's points for filing are not whole");
     SortedPart mine = sorted_part(filing, given.data(), given.size(), std::size_t(figures[9]));
     PointArray<Vec3f>().swap(given);
-    FiledRange kept = file_parts(on, filing, std::move(mine), n, origin);
-    answer_counts(on, kept);
+    auto kept = std::make_shared<KeptRange>(file_parts(on, filing, std::move(mine), n, origin));
+    answer_counts(on, *kept);
+    return kept;
 }
 
 std::size_t parts_to_read(TileScheduler* on, const std::string& path) {
@@ -340,13 +337,14 @@ PointCloud cloud_read_with(TileScheduler& on, FloatPoints&& part, std::size_t n)
     });
 }
 
-void file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n) {
+std::shared_ptr<KeptRange> file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n) {
     settle_threads();
     const Filing filing = agreed_filing(on, part.xyz, part.origin, n);
     SortedPart sorted = sorted_part(filing, part.xyz.data(), part.xyz.size(), part.first);
     PointArray<Vec3f>().swap(part.xyz);
-    FiledRange kept = file_parts(on, filing, std::move(sorted), n, part.origin);
-    answer_counts(on, kept);
+    auto kept = std::make_shared<KeptRange>(file_parts(on, filing, std::move(sorted), n, part.origin));
+    answer_counts(on, *kept);
+    return kept;
 }
 
 NeighbourCountsShared::NeighbourCountsShared(TileScheduler* on, PointCloud& points)
@@ -363,8 +361,8 @@ NeighbourCountsShared::NeighbourCountsShared(TileScheduler* on, PointCloud& poin
 
 NeighbourCountsShared::~NeighbourCountsShared() {
     if (!on_) return;
-    // The others' ranges are gone: what follows is this process's alone.
-    tree_->filed_alone();
+    // The others keep their ranges for the check; a point dropped from here on gives them up.
+    tree_->tell_dropped = nullptr;
     const std::vector<double> done{kCountsDone, 0};
     for (int p = 1; p < on_->processes(); ++p) send_array(*on_, p, done.data(), done.size());
 }

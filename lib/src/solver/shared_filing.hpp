@@ -8,9 +8,11 @@
 // one PointTree's constructor makes, bit for bit. This is how the points come to be
 // spread by ranges of their Morton order, the tiles' runs.
 #pragma once
+#include <memory>
 #include <string>
 
 #include "geometry/outliers.hpp"
+#include "geometry/point_tree.hpp"
 #include "io/point_readers.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/tiles.hpp"
@@ -26,8 +28,18 @@ constexpr std::size_t kSharedFilingPoints = std::size_t(1) << 16;
 PointCloud cloud_filed_with(TileScheduler& on, PointArray<Vec3f>&& coordinates, const Vec3& origin);
 // At the first, where it files nothing with the others (a mesh read, points from elsewhere).
 void no_shared_filing(TileScheduler& on);
-// At another process: its part of the first's filing, if any.
-void file_for_root(TileScheduler& on);
+// At another process: its range of the points filed by all, in the first's order and
+// frame, kept from the filing to the check (which measures its points' depths where they
+// are: check_share.cpp); `whole`: the points filed by all; `scaled`: how many of the
+// first's scale factors (PointTree::scaled_since) it has applied.
+struct KeptRange {
+    std::unique_ptr<PointTree> tree;
+    std::size_t whole = 0;
+    std::size_t scaled = 0;
+};
+// At another process: its part of the first's filing, if any (null: none); it returns
+// once the outlier rules' counts are done.
+std::shared_ptr<KeptRange> file_for_root(TileScheduler& on);
 
 // Where every process can read its own part of the input (io's points_in_parts), none
 // is sent: each reads its part (read_my_part), the filing's box is agreed over the parts,
@@ -36,18 +48,18 @@ void file_for_root(TileScheduler& on);
 std::size_t parts_to_read(TileScheduler* on, const std::string& path);
 FloatPoints read_my_part(TileScheduler& on, const std::string& path, std::size_t n, const std::string& temp_folder);
 PointCloud cloud_read_with(TileScheduler& on, FloatPoints&& part, std::size_t n);  // at the first
-void file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n);      // at the others
+std::shared_ptr<KeptRange> file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n);  // at the others
 
 // The others keep their ranges after filing (file_for_root and file_part_for_root return
-// once this is done): the first's outlier rules (the sparse rule, the strays' lonely
+// once the counts are done; the ranges then stay for the check): the first's outlier rules (the sparse rule, the strays' lonely
 // points) ask each which of its range's points have too few neighbours within it, count
 // the rest of their own, and decide the points named over the whole cloud: the rules'
 // answers, the same (their questions a point outside this process's range stood at the
 // cost of the whole tree's search before). The others drop the points the first drops
 // (told as it drops them: PointTree::tell_dropped), so that their ranges stay its.
 // At the first, for points filed with the others (else inert): short_of() for the rules,
-// asked as often as they like; going out of scope, it tells the others there is no more,
-// and the points are this process's alone from then on.
+// asked as often as they like; going out of scope, it tells the others there is no more.
+// The ranges stay (PointTree::shared_ranges) while no point is dropped.
 class NeighbourCountsShared {
 public:
     NeighbourCountsShared(TileScheduler* on, PointCloud& points);
