@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "geometry/neighbour_counts.hpp"
+#include "geometry/point_clusters.hpp"
 #include "geometry/outliers.hpp"
 #include "geometry/point_samples.hpp"
 #include "geometry/point_tree.hpp"
@@ -229,7 +230,7 @@ private:
 // The cloud the first of `processes` files with the others' help (each a thread); then
 // `then` on it, the others answering the sparse rule's counts where it asks them.
 PointCloud filed_by(int processes, const PointCloud& alone,
-                    const std::function<void(PointCloud&, const detail::ShortOf&)>& then = {}) {
+                    const std::function<void(PointCloud&, const detail::RuleQuestions&)>& then = {}) {
     const PointTree& t = detail::tree_of(alone);
     detail::PointArray<Vec3f> as_read(t.size());  // in input order, as a reader gives them
     for (std::size_t k = 0; k < t.size(); ++k) as_read[t.input[k]] = t.xyz[k];
@@ -241,7 +242,7 @@ PointCloud filed_by(int processes, const PointCloud& alone,
     PointCloud filed = detail::cloud_filed_with(*each[0], std::move(as_read), t.origin);
     {
         detail::NeighbourCountsShared counts(each[0].get(), filed);
-        if (then) then(filed, counts.short_of());
+        if (then) then(filed, {counts.short_of(), counts.roots_of()});
     }
     for (std::thread& o : others) o.join();
     return filed;
@@ -321,12 +322,13 @@ TEST_CASE("the outlier rules counted by the processes that filed the points: the
     for (int processes : {2, 3}) {
         CAPTURE(processes);
         std::vector<std::pair<std::size_t, Vec3>> dropped;
-        const PointCloud filed = filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::ShortOf& short_of) {
-            REQUIRE(short_of);
+        const PointCloud filed = filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::RuleQuestions& asked) {
+            REQUIRE(asked.short_of);
+            REQUIRE(asked.roots_of);
             cloud.scale(25.4);
             double l = 0;
             std::size_t c = 0;
-            dropped = detail::remove_outliers(cloud, settings, lengths, l, c, short_of);
+            dropped = detail::remove_outliers(cloud, settings, lengths, l, c, asked);
         });
         CHECK(dropped == dropped_alone);
         CHECK(tree_differences(detail::tree_of(alone), detail::tree_of(filed)) == 0);
@@ -338,9 +340,9 @@ TEST_CASE("the outlier rules counted by the processes that filed the points: the
             const double r2 = reach * reach * 25.4 * 25.4;
             const std::vector<std::uint8_t> want = detail::points_short_of(detail::tree_of(scaled), r2, 9);
             std::vector<std::uint8_t> got;
-            filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::ShortOf& short_of) {
+            filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::RuleQuestions& asked) {
                 cloud.scale(25.4);
-                got = short_of(detail::tree_of(cloud), r2, 9);
+                got = asked.short_of(detail::tree_of(cloud), r2, 9);
             });
             CHECK(std::count(want.begin(), want.end(), 1) > 1000);
             CHECK(got == want);
@@ -358,8 +360,9 @@ TEST_CASE("the rules' counts asked again after points were dropped: the whole cl
     for (int i = 0; i < 3000; ++i) points.push_back({unit(rng), unit(rng), unit(rng)});
     for (int processes : {2, 3}) {
         CAPTURE(processes);
-        filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::ShortOf& short_of) {
-            REQUIRE(short_of);
+        filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::RuleQuestions& asked) {
+            REQUIRE(asked.short_of);
+            const detail::ShortOf& short_of = asked.short_of;
             cloud.scale(25.4);
             const double r2 = 0.02 * 0.02 * 25.4 * 25.4;
             const std::vector<std::uint8_t> first = short_of(detail::tree_of(cloud), r2, 9);
@@ -380,6 +383,45 @@ TEST_CASE("the rules' counts asked again after points were dropped: the whole cl
             }
         });
     }
+}
+
+TEST_CASE("the clusters linked by the processes that filed the points: every root a process finds alone") {
+    // Each other links its range's own pairs, the first every other pair (across ranges):
+    // every root the same, at links where clusters span the ranges' edges and where most
+    // points stand apart; again after points were dropped (the ranges as they are then),
+    // and on a grid of points whose whole nodes (finer than the link) lie across the
+    // ranges' bounds.
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> unit(-0.2, 1.2);
+    PointSet sphere = noisy_dense_sphere();
+    for (int i = 0; i < 3000; ++i) sphere.push_back({unit(rng), unit(rng), unit(rng)});
+    PointSet grid;
+    for (int i = 0; i < 60; ++i)
+        for (int j = 0; j < 60; ++j)
+            for (int k = 0; k < 40; ++k) grid.push_back({0.01 * i, 0.01 * j, 0.01 * k});
+    for (const PointSet* points : {&sphere, &grid})
+        for (int processes : {2, 3}) {
+            CAPTURE(processes);
+            CAPTURE(points->size());
+            filed_by(processes, PointCloud(*points), [&](PointCloud& cloud, const detail::RuleQuestions& asked) {
+                REQUIRE(asked.roots_of);
+                cloud.scale(2);
+                for (const double link : {0.0, 0.004, 0.012, 0.03, 0.5}) {
+                    CAPTURE(link);
+                    const detail::PointTree& t = detail::tree_of(cloud);
+                    CHECK(asked.roots_of(t, 2 * link) == detail::cluster_roots(t, 2 * link));
+                }
+                std::vector<std::uint8_t> keep(cloud.size());
+                for (std::size_t k = 0; k < keep.size(); ++k) keep[k] = k % 7 != 3;
+                cloud.keep(keep);
+                const detail::PointTree& t = detail::tree_of(cloud);
+                const detail::PointArray<std::uint32_t> alone = detail::cluster_roots(t, 0.025);
+                std::size_t roots = 0;
+                for (std::uint32_t k = 0; k < alone.size(); ++k) roots += alone[k] == k;
+                if (points == &sphere) CHECK(roots > 1000);  // the strays (the grid is one cluster)
+                CHECK(asked.roots_of(t, 0.025) == alone);
+            });
+        }
 }
 
 TEST_CASE("the processes' ranges stay after the rules' counts (for the check) and are given up at a drop no one hears") {
@@ -706,9 +748,9 @@ TEST_CASE("stray points whose lonely points the processes that filed them counte
     for (int processes : {2, 3}) {
         CAPTURE(processes);
         std::vector<std::uint8_t> got;
-        filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::ShortOf& short_of) {
-            REQUIRE(short_of);
-            got = detail::stray_points(detail::tree_of(cloud), {}, short_of);
+        filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::RuleQuestions& asked) {
+            REQUIRE(asked.short_of);
+            got = detail::stray_points(detail::tree_of(cloud), {}, asked.short_of);
         });
         CHECK(got == want);
     }

@@ -182,14 +182,14 @@ void OutlierSettings::validate() const {
 
 std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cloud, const OutlierSettings& s,
                                                                   const RunLengthsOf& lengths_of, double& link,
-                                                                  std::size_t& clusters, const ShortOf& short_of) {
+                                                                  std::size_t& clusters, const RuleQuestions& asked) {
     s.validate();
     std::vector<std::pair<std::size_t, Vec3>> out;
     link = 0;
     clusters = 0;
     const std::size_t total = cloud.size();
     if (total < 2) return out;
-    const std::vector<std::uint8_t> sparse = sparse_points(detail::tree_of(cloud), s, short_of);
+    const std::vector<std::uint8_t> sparse = sparse_points(detail::tree_of(cloud), s, asked.short_of);
     if (sparse.empty()) return out;
     take(cloud, sparse, out);
     std::optional<RunLengths> plan;  // of the points kept, while none is dropped
@@ -198,7 +198,7 @@ std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cl
         plan = lengths_of(cloud);
         detail::StraySettings strays;
         strays.least_lonely = 0.5 * plan->voxel;
-        const std::vector<std::uint8_t> stray = detail::stray_points(detail::tree_of(cloud), strays, short_of);
+        const std::vector<std::uint8_t> stray = detail::stray_points(detail::tree_of(cloud), strays, asked.short_of);
         if (!stray.empty() && take(cloud, stray, out)) plan.reset();
     }
     // Among the rest, what the shell would carry as loose beads: clusters that the
@@ -215,7 +215,9 @@ std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cl
         if (!plan) plan = lengths_of(cloud);
         const double next_link = 2 * plan->offset;
         plan.reset();
-        if (root.empty() || next_link != link) root = detail::cluster_roots(detail::tree_of(cloud), next_link);
+        if (root.empty() || next_link != link)
+            root = asked.roots_of ? asked.roots_of(detail::tree_of(cloud), next_link)
+                                  : detail::cluster_roots(detail::tree_of(cloud), next_link);
         link = next_link;
         std::vector<std::uint8_t> small(cloud.size());
         std::size_t roots = 0, dropped_roots = 0;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geometry/neighbour_counts.hpp"
+#include "geometry/point_clusters.hpp"
 #include "snvr/point_cloud.hpp"
 
 namespace snvr::detail {
@@ -24,8 +25,14 @@ using RunLengthsOf = std::function<RunLengths(const PointCloud&)>;
 // ascending, with their world points. `link` is the clusters' last link (2 l; 0 when none
 // was looked for), `clusters` the kept points' clusters at it when the last round counted
 // them (else 0). lengths_of is asked again whenever points were dropped since.
+// The rules' questions of every point that other processes may answer in part
+// (solver/shared_filing.hpp); each null: this process alone.
+struct RuleQuestions {
+    ShortOf short_of;  // neighbours within a reach
+    RootsOf roots_of;  // clusters at a link
+};
 std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, const OutlierSettings& settings,
                                                           const RunLengthsOf& lengths_of, double& link,
-                                                          std::size_t& clusters, const ShortOf& short_of = nullptr);
+                                                          std::size_t& clusters, const RuleQuestions& asked = {});
 
 }  // namespace snvr::detail

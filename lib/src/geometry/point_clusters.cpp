@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "parallel_sizes.hpp"
+#include "snvr/error.hpp"
 #include "snvr/point_cloud.hpp"
 
 namespace snvr::detail {
@@ -65,16 +67,23 @@ double gap_sq(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi
 // handful of pairs for each pair of neighbouring whole nodes.
 class Linker {
 public:
-    Linker(const PointTree& tree, double link) : t_(tree), link_sq_(link * link), parent_(tree.size()), forest_(parent_) {
+    // bounds: where other processes link their own ranges of the tree (cluster_roots'),
+    // or null.
+    Linker(const PointTree& tree, double link, const std::vector<std::size_t>* bounds = nullptr)
+        : t_(tree), link_sq_(link * link), parent_(tree.size()), forest_(parent_), bounds_(bounds) {
         const std::ptrdiff_t n = std::ptrdiff_t(parent_.size());
 #pragma omp parallel for schedule(static) if (n > kParallelCheapItems)
         for (std::ptrdiff_t k = 0; k < n; ++k) parent_[std::size_t(k)] = std::uint32_t(k);
     }
 
     // Each point's cluster as its least index. Both threads link the units: the unions
-    // commute, so the roots are the same.
-    PointArray<std::uint32_t> roots() {
-        if (t_.nodes.empty() || !(link_sq_ > 0)) return parent_;
+    // commute, so the roots are the same. With other processes' ranges, `theirs` is asked
+    // for each one's own roots once this process has linked the rest.
+    PointArray<std::uint32_t> roots(const std::function<PointArray<std::uint32_t>(int)>& theirs = nullptr) {
+        if (t_.nodes.empty() || !(link_sq_ > 0)) {
+            if (bounds_) take_theirs(theirs);  // each other's answer is taken, whatever it is
+            return parent_;
+        }
         collect(0);
         const std::ptrdiff_t nu = std::ptrdiff_t(units_.size()), n = std::ptrdiff_t(parent_.size());
 #pragma omp parallel if (n > kParallelCheapItems)
@@ -82,17 +91,21 @@ public:
 #pragma omp for schedule(dynamic, 64)
             for (std::ptrdiff_t i = 0; i < nu; ++i) {
                 const Unit& u = units_[std::size_t(i)];
-                if (u.whole)
+                if (u.whole && !others_range(t_.nodes[u.node]))
                     for (std::uint32_t k = t_.nodes[u.node].begin + 1; k < t_.nodes[u.node].end; ++k)
                         parent_[k] = t_.nodes[u.node].begin;
             }
 #pragma omp for schedule(dynamic, 16)
             for (std::ptrdiff_t i = 0; i < nu; ++i) link_unit(units_[std::size_t(i)]);
-            // Each point's root, runs of points in turn, each run in ascending order: a
-            // parent is never above its child, so a parent within the run has its root
-            // already and a look finds it (a walk of the forest for every point took 0.36 s
-            // of the 50 M-point city block's 0.99); one below the run is walked.
-            constexpr std::ptrdiff_t kRun = 1 << 16;
+        }
+        if (bounds_) take_theirs(theirs);
+        // Each point's root, runs of points in turn, each run in ascending order: a parent
+        // is never above its child, so a parent within the run has its root already and a
+        // look finds it (a walk of the forest for every point took 0.36 s of the 50 M-point
+        // city block's 0.99); one below the run is walked.
+        constexpr std::ptrdiff_t kRun = 1 << 16;
+#pragma omp parallel if (n > kParallelCheapItems)
+        {
 #pragma omp for schedule(static)
             for (std::ptrdiff_t run = 0; run < (n + kRun - 1) / kRun; ++run) {
                 const std::uint32_t first = std::uint32_t(run * kRun);
@@ -116,6 +129,10 @@ private:
 
     void collect(std::uint32_t i) {
         const Node& n = t_.nodes[i];
+        // The last other's range has no pair after it but its own, which that process
+        // links: none of its units is looked at here (units are never nested, so a unit
+        // across its bound cannot follow one within it).
+        if (bounds_ && bounds_->size() > 2 && others_range(n) == int(bounds_->size()) - 2) return;
         if (is_whole(n)) {
             units_.push_back({i, true});
             return;
@@ -133,27 +150,59 @@ private:
         return PointTree::dist_sq(t_.point(a), t_.point(b)) < link_sq_;
     }
 
-    // Links the points of a leaf unit among themselves, then unit u with every unit after it.
+    // The other process whose own range holds node n whole (0: none, or no others).
+    int others_range(const Node& n) const {
+        if (!bounds_) return 0;
+        const std::vector<std::size_t>& b = *bounds_;
+        const std::size_t p = std::size_t(std::upper_bound(b.begin(), b.end(), std::size_t(n.begin)) - b.begin()) - 1;
+        return p > 0 && p + 1 < b.size() && n.end <= b[p + 1] ? int(p) : 0;
+    }
+
+    // Each other process's range linked there: each point hangs under its range's root
+    // (its least linked place there, below it) where nothing here has hung it under
+    // another (a pair across ranges), else joins it; in ascending order, so that a root
+    // below is where it goes by then.
+    void take_theirs(const std::function<PointArray<std::uint32_t>(int)>& theirs) {
+        const std::vector<std::size_t>& b = *bounds_;
+        for (std::size_t p = 1; p + 1 < b.size(); ++p) {
+            const PointArray<std::uint32_t> local = theirs(int(p));
+            if (local.size() != b[p + 1] - b[p]) throw Error("a process's clusters are not its range's");
+            for (std::size_t i = 0; i < local.size(); ++i) {
+                if (local[i] >= i) {  // its range's root (anything else is no least place)
+                    if (local[i] > i) throw Error("a process's cluster root lies above its point");
+                    continue;
+                }
+                const std::uint32_t k = std::uint32_t(b[p] + i), r = std::uint32_t(b[p] + local[i]);
+                if (forest_.parent(k) == k) forest_.set(k, forest_.find(r));
+                else unite(k, r);
+            }
+        }
+    }
+
+    // Links the points of a leaf unit among themselves, then unit u with every unit after it
+    // (but those of the same other process's range, which it links).
     void link_unit(const Unit& u) {
         const Node& a = t_.nodes[u.node];
-        if (!u.whole)
+        if (!u.whole && !others_range(a))
             for (std::uint32_t i = a.begin; i < a.end; ++i)
                 for (std::uint32_t j = i + 1; j < a.end; ++j)
                     if (linked(i, j)) unite(i, j);
-        neighbours(u, 0);
+        neighbours(u, 0, others_range(a));
     }
 
     // Walks the tree from node i to the units after u within the link of it (a unit is the
-    // first whole node or leaf on a path from the root).
-    void neighbours(const Unit& u, std::uint32_t i) {
+    // first whole node or leaf on a path from the root), but within u's other process's
+    // range (`range`, 0: none).
+    void neighbours(const Unit& u, std::uint32_t i, int range) {
         const Node& a = t_.nodes[u.node];
         const Node& n = t_.nodes[i];
         if (n.end <= a.end || gap(a, n) >= link_sq_) return;  // nothing after u, or too far
+        if (range && others_range(n) == range) return;
         if (is_whole(n) || n.leaf()) {
             join(u, {i, is_whole(n)});
             return;
         }
-        for (std::uint32_t c = 0; c < n.children; ++c) neighbours(u, n.child + c);
+        for (std::uint32_t c = 0; c < n.children; ++c) neighbours(u, n.child + c, range);
     }
 
     // Links unit u with unit v.
@@ -218,6 +267,7 @@ private:
     double link_sq_;
     PointArray<std::uint32_t> parent_;
     Forest forest_;
+    const std::vector<std::size_t>* bounds_;
     std::vector<Unit> units_;
 };
 
@@ -225,6 +275,13 @@ private:
 
 PointArray<std::uint32_t> cluster_roots(const PointTree& tree, double link_distance) {
     return Linker(tree, link_distance).roots();
+}
+
+PointArray<std::uint32_t> cluster_roots(const PointTree& tree, double link_distance, const std::vector<std::size_t>& bounds,
+                                        const std::function<PointArray<std::uint32_t>(int)>& theirs) {
+    if (bounds.empty() || bounds.back() != tree.size()) throw Error("cluster_roots: the ranges are not the tree's");
+    if (bounds.size() < 3) return cluster_roots(tree, link_distance);  // no others
+    return Linker(tree, link_distance, &bounds).roots(theirs);
 }
 
 }  // namespace snvr::detail

@@ -28,13 +28,13 @@ detail::RunLengthsOf planned_by(const Parameters& params) {
 }  // namespace
 
 DroppedOutliers drop_outliers(PointCloud& points, const Parameters& params, const OutlierSettings& s) {
-    return detail::drop_outliers_shared(points, params, s, nullptr);
+    return detail::drop_outliers_shared(points, params, s, {});
 }
 
 DroppedOutliers detail::drop_outliers_shared(PointCloud& points, const Parameters& params, const OutlierSettings& s,
-                                             const ShortOf& short_of) {
+                                             const RuleQuestions& asked) {
     DroppedOutliers d;
-    for (const auto& o : detail::remove_outliers(points, s, planned_by(params), d.link, d.clusters, short_of)) {
+    for (const auto& o : detail::remove_outliers(points, s, planned_by(params), d.link, d.clusters, asked)) {
         d.points.push_back(o.second);
         d.input_indices.push_back(o.first);
     }

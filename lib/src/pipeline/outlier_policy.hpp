@@ -1,5 +1,6 @@
-// drop_outliers (shell.hpp) with the rules' neighbour counts answered in part by other
-// processes (solver/shared_filing.hpp's NeighbourCountsShared); null: by this one alone.
+// drop_outliers (shell.hpp) with the rules' neighbour counts and clusters answered in
+// part by other processes (solver/shared_filing.hpp's NeighbourCountsShared); each
+// question null: by this one alone.
 #pragma once
 #include "geometry/outliers.hpp"
 #include "snvr/shell.hpp"
@@ -7,6 +8,6 @@
 namespace snvr::detail {
 
 DroppedOutliers drop_outliers_shared(PointCloud& points, const Parameters& params, const OutlierSettings& settings,
-                                     const ShortOf& short_of);
+                                     const RuleQuestions& asked);
 
 }  // namespace snvr::detail

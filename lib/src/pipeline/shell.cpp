@@ -114,7 +114,8 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
         // Where the other processes filed the points too, they count part of the rules.
         detail::NeighbourCountsShared shared(settings.tiles_on.get(), points);
         if (settings.drop_outliers)
-            shell.outliers = detail::drop_outliers_shared(points, settings.params, settings.outliers, shared.short_of());
+            shell.outliers = detail::drop_outliers_shared(points, settings.params, settings.outliers,
+                                                          {shared.short_of(), shared.roots_of()});
     }
     if (centre) {
         shell.shift = round_centre(points);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geometry/neighbour_counts.hpp"
+#include "geometry/point_clusters.hpp"
 #include "geometry/point_tree.hpp"
 #include "io/point_readers.hpp"
 #include "process_limits.hpp"
@@ -198,11 +199,12 @@ KeptRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, s
 // Another process, its range kept: the first's outlier rules ask it, in turn, which of
 // its points have fewer than `need` points within a reach among its range (the first
 // decides those over the whole cloud; the rest have as many there, so in the whole too),
-// with the points scaled as the first's were since; between the questions the first
+// or its range's own clusters at a link (the first links the rest: cluster_roots), with
+// the points scaled as the first's were since; between the questions the first
 // tells it the points it drops, which it drops too, so that its range stays the first's;
 // until it says there is nothing more. The places named are within the range as it is,
 // which is kept for the check (the first drops no point after its outlier rules).
-constexpr double kCountsDone = -1, kCountsDropped = -2;
+constexpr double kCountsDone = -1, kCountsDropped = -2, kLinkAsked = -3;
 void answer_counts(TileScheduler& on, KeptRange& range) {
     std::vector<std::uint64_t> gone;  // a bit an input index: dropped by the first
     for (;;) {
@@ -223,8 +225,13 @@ void answer_counts(TileScheduler& on, KeptRange& range) {
             if (std::find(keep.begin(), keep.end(), 0) != keep.end()) t.keep_only(keep);
             continue;
         }
-        if (!(asked[0] >= 0)) throw Error("the first process asked the neighbours' counts at no reach");
         for (std::size_t k = 2 + range.scaled; k < asked.size(); ++k, ++range.scaled) t.scale(asked[k]);
+        if (asked[0] == kLinkAsked) {
+            const PointArray<std::uint32_t> roots = cluster_roots(t, asked[1]);
+            send_array(on, 0, roots.data(), roots.size());
+            continue;
+        }
+        if (!(asked[0] >= 0)) throw Error("the first process asked the neighbours' counts at no reach");
         const std::vector<std::uint8_t> few = points_short_of(t, asked[0], std::size_t(asked[1]));
         std::vector<std::uint32_t> places;
         for (std::size_t k = 0; k < few.size(); ++k)
@@ -365,6 +372,22 @@ NeighbourCountsShared::~NeighbourCountsShared() {
     tree_->tell_dropped = nullptr;
     const std::vector<double> done{kCountsDone, 0};
     for (int p = 1; p < on_->processes(); ++p) send_array(*on_, p, done.data(), done.size());
+}
+
+RootsOf NeighbourCountsShared::roots_of() {
+    if (!on_) return nullptr;
+    return [this](const PointTree& t, double link) {
+        if (&t != tree_ || t.shared_ranges.size() != std::size_t(on_->processes()) + 1)
+            return cluster_roots(t, link);  // not the points filed together
+        std::vector<double> ask{kLinkAsked, link};
+        ask.insert(ask.end(), t.scaled_since.begin(), t.scaled_since.end());
+        for (int p = 1; p < on_->processes(); ++p) send_array(*on_, p, ask.data(), ask.size());
+        return cluster_roots(t, link, t.shared_ranges, [this](int p) {
+            PointArray<std::uint32_t> theirs;
+            receive_array(*on_, p, theirs);
+            return theirs;
+        });
+    };
 }
 
 ShortOf NeighbourCountsShared::short_of() {

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "geometry/outliers.hpp"
+#include "geometry/point_clusters.hpp"
 #include "geometry/point_tree.hpp"
 #include "io/point_readers.hpp"
 #include "snvr/point_cloud.hpp"
@@ -51,15 +52,18 @@ PointCloud cloud_read_with(TileScheduler& on, FloatPoints&& part, std::size_t n)
 std::shared_ptr<KeptRange> file_part_for_root(TileScheduler& on, FloatPoints&& part, std::size_t n);  // at the others
 
 // The others keep their ranges after filing (file_for_root and file_part_for_root return
-// once the counts are done; the ranges then stay for the check): the first's outlier rules (the sparse rule, the strays' lonely
-// points) ask each which of its range's points have too few neighbours within it, count
-// the rest of their own, and decide the points named over the whole cloud: the rules'
-// answers, the same (their questions a point outside this process's range stood at the
-// cost of the whole tree's search before). The others drop the points the first drops
-// (told as it drops them: PointTree::tell_dropped), so that their ranges stay its.
-// At the first, for points filed with the others (else inert): short_of() for the rules,
-// asked as often as they like; going out of scope, it tells the others there is no more.
-// The ranges stay (PointTree::shared_ranges) while no point is dropped.
+// once the rules' questions are done; the ranges then stay for the check): the first's
+// outlier rules (the sparse rule, the strays' lonely points) ask each which of its
+// range's points have too few neighbours within it, count the rest of their own, and
+// decide the points named over the whole cloud: the rules' answers, the same (their
+// questions a point outside this process's range stood at the cost of the whole tree's
+// search before). The clusters' rule asks each for its range's own clusters and links
+// the rest (every pair but those within one other's range: cluster_roots). The others
+// drop the points the first drops (told as it drops them: PointTree::tell_dropped), so
+// that their ranges stay its. At the first, for points filed with the others (else
+// inert): short_of() and roots_of() for the rules, asked as often as they like; going
+// out of scope, it tells the others there is no more. The ranges stay
+// (PointTree::shared_ranges) while no point is dropped.
 class NeighbourCountsShared {
 public:
     NeighbourCountsShared(TileScheduler* on, PointCloud& points);
@@ -67,6 +71,7 @@ public:
     NeighbourCountsShared(const NeighbourCountsShared&) = delete;
     NeighbourCountsShared& operator=(const NeighbourCountsShared&) = delete;
     ShortOf short_of();  // null where inert
+    RootsOf roots_of();  // the clusters' roots: the others link their ranges' own
 
 private:
     TileScheduler* on_;
