@@ -426,9 +426,10 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
                 for (std::size_t k = 0; k < all.size(); ++k) all[k] = points.point(k);
                 points_inside = count_points_inside(mesh, all);
             }
-            const bool groups_elsewhere = elsewhere && !elsewhere->groups.empty();
-            depths.emplace(mesh, *grid, points, voxel, surface, surface,
-                           groups_elsewhere ? &elsewhere->groups : nullptr);
+            if (elsewhere && !elsewhere->groups.empty())  // its groups made once, as dealt
+                depths.emplace(mesh, *grid, points, voxel, elsewhere->spans, surface, surface, &elsewhere->groups);
+            else
+                depths.emplace(mesh, *grid, points, voxel, surface, surface);
         });
         if (!failed[1]) {
             const double eps = wall_epsilon(mesh);

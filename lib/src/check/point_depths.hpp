@@ -61,6 +61,11 @@ public:
     static std::vector<Span> group_spans(const PointTree& points, double voxel, bool every_point);
     // Points [begin, end) as a group (their box, as group_spans makes it from the leaves').
     static Span span_of(const PointTree& points, std::uint32_t begin, std::uint32_t end);
+    // The same over the groups group_spans gave for these points, voxel and every_point
+    // (made once by a caller that dealt them among processes).
+    PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
+                const std::vector<Span>& spans, bool every_point, bool by_rays, const std::vector<std::uint8_t>* skip,
+                const Part* part = nullptr);
 
     std::size_t groups() const { return groups_.size(); }
     // The first pass over groups [first, last) (disjoint ranges from several threads).
@@ -86,9 +91,6 @@ public:
     Depth depth_of(const Vec3& p) const;
 
 private:
-    PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
-                const std::vector<Span>& spans, bool every_point, bool by_rays, const std::vector<std::uint8_t>* skip,
-                const Part* part);
     // Points [begin, end) of the tree, within the box [lo, hi], and what is known of them.
     struct Group {
         std::uint32_t begin = 0, end = 0;

@@ -35,12 +35,13 @@ void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<V
 
 // What other processes measure of the check (make_shell over MPI): the walls of the
 // flagged vertices, and the depths of the points in the flagged groups (PointDepths'
-// groups; empty: none). `fill` writes their walls back (NaN: to be measured here after
+// groups, `spans` as group_spans made them; empty: none). `fill` writes their walls back (NaN: to be measured here after
 // all) and adds up their points' figures (with the points, by the cloud's order, they
 // could not decide: measured here).
 struct CheckElsewhere {
     std::vector<std::uint8_t> vertex;
     std::vector<std::uint8_t> groups;
+    std::vector<PointDepths::Span> spans;
     std::function<void(std::vector<double>& wall, PointDepths::Figures& points)> fill;
 };
 

@@ -221,7 +221,7 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     // points may lie beyond where a share holds every triangle near). The surface's
     // figures (every point by rays) stay here too.
     const PointTree& tree = tree_of(points);
-    std::vector<PointDepths::Span> spans;  // freed once dealt
+    std::vector<PointDepths::Span> spans;  // kept for this process's own measuring
     if (!surface) spans = PointDepths::group_spans(tree, d.h, false);
     constexpr std::uint32_t kHere = std::numeric_limits<std::uint32_t>::max();  // measured here
     std::vector<std::uint32_t> group_tile(spans.size());  // freed once dealt
@@ -296,7 +296,7 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             (by_ranges && group_range[g] ? ranged : given)[depths_by(g)].add(spans[g].begin, spans[g].end);
             tile_bits[group_tile[g]] |= std::uint64_t(1) << depths_by(g);
         }
-    std::vector<PointDepths::Span>().swap(spans);
+    elsewhere.spans = std::move(spans);  // made once
     std::vector<std::uint32_t>().swap(group_tile);
     std::vector<std::uint8_t>().swap(group_range);
     {  // what builds the shares, freed before the first measures its own part
