@@ -72,6 +72,12 @@ sys.exit(0 if all(x["check_points_elsewhere"] > 60000 and x["check_points_back"]
                   for x in t) else 1)
 PY
 rm "$tmp"/dense_cm[12].* "$tmp"/dense_kept[12].*
+# Three processes: a middle range too (its clusters' links with the last range, its depths).
+"${mpi[@]}" -np 3 "$cli" reconstruct "$tmp/dense.ply" --device openmp --resolution 64 --tile-cells 16 \
+    --report "$tmp/dense3.json" -o "$tmp/dense3.stl" 2>/dev/null || fail "dense on three processes"
+cmp "$tmp/dense1.stl" "$tmp/dense3.stl" || fail "dense: other bytes on three processes"
+same_check "$tmp/dense1.json" "$tmp/dense3.json"
+rm "$tmp"/dense3.*
 # Its binary PLY is read in parts, a part a process, and the points' tree filed by both
 # (above); as text the first reads it and gives the other its part; where the other
 # cannot see the file, the first gives it its part too: the same bytes each time.

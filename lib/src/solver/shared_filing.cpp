@@ -238,6 +238,9 @@ void answer_counts(TileScheduler& on, KeptRange& range) {
             if (few[k]) places.push_back(std::uint32_t(k));
         send_array(on, 0, places.data(), places.size());
     }
+    // No point is dropped from here on and the check names points by place: the input
+    // indices go (4 bytes a point held through the tiles).
+    PointArray<std::uint32_t>().swap(range.tree->input);
 }
 
 // Every process, its part read from the file: the filing the whole input would have (its

@@ -32,7 +32,8 @@ void no_shared_filing(TileScheduler& on);
 // At another process: its range of the points filed by all, in the first's order and
 // frame, kept from the filing to the check (which measures its points' depths where they
 // are: check_share.cpp); `whole`: the points filed by all; `scaled`: how many of the
-// first's scale factors (PointTree::scaled_since) it has applied.
+// first's scale factors (PointTree::scaled_since) it has applied. Once the outlier rules
+// are done its tree has no input indices (the check names points by place).
 struct KeptRange {
     std::unique_ptr<PointTree> tree;
     std::size_t whole = 0;
