@@ -24,6 +24,18 @@ namespace snvr {
 
 namespace {
 
+// Every group of `depths` measured, its figures added to out's, the points it could not
+// decide named as name(k) (k: by its tree's order).
+template <class Name>
+void add_depths(detail::PointDepths& depths, CheckShareFigures& out, const Name& name) {
+    depths.bound(0, depths.groups());
+    depths.settle(0, depths.groups(), depths.shallowest());
+    const detail::PointDepths::Figures f = depths.figures();
+    out.points_inside += f.inside;
+    out.depth_min = std::min(out.depth_min, f.depth_min);
+    for (std::uint32_t k : f.unresolved) out.unresolved.push_back(name(k));
+}
+
 // The figures of the groups of a range kept by this process (its places named where
 // undecided), once its points are where the root's are: scaled as they were since filed,
 // about the root's origin now.
@@ -39,12 +51,7 @@ void measure_kept(const CheckShare& share, const Mesh& m, const TriangleGrid& gr
     detail::PointDepths::Part part;
     part.complete_within = share.reach;
     detail::PointDepths depths(m, grid, tree, share.voxel, share.range_groups, part);
-    depths.bound(0, depths.groups());
-    depths.settle(0, depths.groups(), depths.shallowest());
-    const detail::PointDepths::Figures f = depths.figures();
-    out.points_inside += f.inside;
-    out.depth_min = std::min(out.depth_min, f.depth_min);
-    out.unresolved.insert(out.unresolved.end(), f.unresolved.begin(), f.unresolved.end());
+    add_depths(depths, out, [](std::uint32_t k) { return k; });
 }
 
 // The share's points' figures; those whose search or side would leave its triangles
@@ -59,12 +66,7 @@ void measure_points(CheckShare& share, const Mesh& m, const TriangleGrid& grid, 
     detail::PointDepths::Part part;
     part.complete_within = share.reach;
     detail::PointDepths depths(m, grid, tree, share.voxel, false, false, nullptr, &part);
-    depths.bound(0, depths.groups());
-    depths.settle(0, depths.groups(), depths.shallowest());
-    const detail::PointDepths::Figures f = depths.figures();
-    out.points_inside += f.inside;
-    out.depth_min = std::min(out.depth_min, f.depth_min);
-    for (std::uint32_t k : f.unresolved) out.unresolved.push_back(std::uint32_t(share.range_size + cloud.input_index(k)));
+    add_depths(depths, out, [&](std::uint32_t k) { return std::uint32_t(share.range_size + cloud.input_index(k)); });
 }
 
 }  // namespace

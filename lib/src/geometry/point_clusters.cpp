@@ -183,11 +183,12 @@ private:
     // (but those of the same other process's range, which it links).
     void link_unit(const Unit& u) {
         const Node& a = t_.nodes[u.node];
-        if (!u.whole && !others_range(a))
+        const int range = others_range(a);
+        if (!u.whole && !range)
             for (std::uint32_t i = a.begin; i < a.end; ++i)
                 for (std::uint32_t j = i + 1; j < a.end; ++j)
                     if (linked(i, j)) unite(i, j);
-        neighbours(u, 0, others_range(a));
+        neighbours(u, 0, range);
     }
 
     // Walks the tree from node i to the units after u within the link of it (a unit is the
