@@ -222,11 +222,11 @@ public:
     }
 
     void send_bytes(int process, const void* bytes, std::size_t size) override {
-        send_parts(static_cast<const char*>(bytes), size, MPI_BYTE, process, kBytes, "sending the points to file");
+        send_parts(static_cast<const char*>(bytes), size, MPI_BYTE, process, kBytes, "sending the points' tree or the depth guard's search");
     }
 
     void receive_bytes(int process, const std::function<void*(std::size_t)>& room) override {
-        receive_parts_into<char>(MPI_BYTE, process, kBytes, "receiving the points to file",
+        receive_parts_into<char>(MPI_BYTE, process, kBytes, "receiving the points' tree or the depth guard's search",
                                  [&room](std::size_t n) { return static_cast<char*>(room(n)); });
     }
 

@@ -48,15 +48,17 @@ awk 'BEGIN { srand(3); for (i = 0; i < 4000; ++i) printf "%.6f %.6f %.6f\n", ran
 one_and_two blob "$tmp/blob.xyz" --resolution 64 --tile-cells 16
 # A dense sphere (318,054 points, over the 2^18 the check samples for its percentile): the
 # points' depths are measured by the process whose range of the points filed by both holds
-# them (half of those the first does not sample: 79 k), where it kept them since the filing.
+# them (half of those the first does not sample: 79 k), where it kept them since the filing,
+# and the depth guard's first search of its range (159 k points) too.
 "$cli" sample noisy-sphere --spacing 0.0022 -o "$tmp/dense.ply" >/dev/null || fail "the sampler"
 one_and_two dense "$tmp/dense.ply" --resolution 64 --tile-cells 16
 python3 - "$tmp/dense2.json" <<'PY' || fail "the other process measured none of the check"
 import json, sys
 t = json.load(open(sys.argv[1]))["tiles"]
 print(f"the other process: {t['check_walls_elsewhere']} walls, {t['check_points_elsewhere']} points' depths "
-      f"({t['check_points_back']} back to the first)")
-sys.exit(0 if t["check_walls_elsewhere"] > 0 and t["check_points_elsewhere"] > 60000 else 1)
+      f"({t['check_points_back']} back to the first), the depth guard's search of {t['guard_points_elsewhere']} points")
+sys.exit(0 if t["check_walls_elsewhere"] > 0 and t["check_points_elsewhere"] > 60000
+         and t["guard_points_elsewhere"] > 100000 else 1)
 PY
 # The other measures them where it kept them since the filing: scaled as the first's (in
 # centimetres: told while the outlier rules ask, or, where they ask nothing, with its share
@@ -64,12 +66,12 @@ PY
 one_and_two dense_cm "$tmp/dense.ply" --resolution 64 --tile-cells 16 --units cm --origin center
 one_and_two dense_kept "$tmp/dense.ply" --resolution 64 --tile-cells 16 --units cm --origin center --keep-outliers
 # (Points it holds elsewhere than the first's would come back undecided: the same figures,
-# but measured by the first.)
+# but measured by the first.) The depth guard's search goes by the same ranges, moved alike.
 python3 - "$tmp/dense_cm2.json" "$tmp/dense_kept2.json" <<'PY' || fail "the other process measured none of the points moved"
 import json, sys
 t = [json.load(open(f))["tiles"] for f in sys.argv[1:]]
 sys.exit(0 if all(x["check_points_elsewhere"] > 60000 and x["check_points_back"] < 0.05 * x["check_points_elsewhere"]
-                  for x in t) else 1)
+                  and x["guard_points_elsewhere"] > 100000 for x in t) else 1)
 PY
 rm "$tmp"/dense_cm[12].* "$tmp"/dense_kept[12].*
 # Three processes: a middle range too (its clusters' links with the last range, its depths).
@@ -77,6 +79,8 @@ rm "$tmp"/dense_cm[12].* "$tmp"/dense_kept[12].*
     --report "$tmp/dense3.json" -o "$tmp/dense3.stl" 2>/dev/null || fail "dense on three processes"
 cmp "$tmp/dense1.stl" "$tmp/dense3.stl" || fail "dense: other bytes on three processes"
 same_check "$tmp/dense1.json" "$tmp/dense3.json"
+python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["tiles"]["guard_points_elsewhere"] > 150000 else 1)' \
+    "$tmp/dense3.json" || fail "three processes: the others searched too few points for the depth guard"
 rm "$tmp"/dense3.*
 # Its binary PLY is read in parts, a part a process, and the points' tree filed by both
 # (above); as text the first reads it and gives the other its part; where the other

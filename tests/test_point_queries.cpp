@@ -26,6 +26,11 @@
 #include "geometry/point_samples.hpp"
 #include "geometry/point_tree.hpp"
 #include "geometry/stray_points.hpp"
+#include "mesh/fair_and_keep_deep.hpp"
+#include "mesh/guard_search.hpp"
+#include "mesh_fields.hpp"
+#include "pipeline/shared_guard.hpp"
+#include "snvr/mesh.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/point_io.hpp"
 #include "snvr/shapes.hpp"
@@ -789,3 +794,76 @@ TEST_CASE("strided_sample: the points of ranks floor(s n / samples) by input ind
             }
         }
 }
+
+TEST_CASE("the depth guard's search shared by the processes that filed the points: the vertices one process moves") {
+    // A dense noisy sphere inside a coarse meshed ball a little wider: the flat triangles
+    // and the noise bring thousands of points nearer than the depth. In millimetres and
+    // moved after the filing, as make_shell's points are; every point kept, and some left
+    // out by a `lone` distance (the others search those too; the first keeps them out).
+    const PointSet points = noisy_dense_sphere();
+    const double mm = 25.4, h = 0.01 * mm, depth = 0.0105 * mm;
+    const Vec3 shift{-10, -10, -10}, c{0.5 * mm + shift[0], 0.5 * mm + shift[1], 0.5 * mm + shift[2]};
+    const double r0 = 0.312 * mm;
+    const int n = int(std::ceil(2 * (r0 + 3 * h) / h)) + 2;
+    const testing::Grid g = testing::make_grid(n, n, n, h, {c[0] - n * h / 2, c[1] - n * h / 2, c[2] - n * h / 2},
+                             [&](const Vec3& p, int, int, int) { return std::tanh((r0 - testing::dist(p, c)) / (1.5 * h)); });
+    const Mesh ball = extract_dual_isosurface(g.field, g.domain);
+    MeshFairing unfaired;
+    unfaired.passes = 0;
+    for (const double lone : {std::numeric_limits<double>::infinity(), 0.0011 * mm}) {
+        CAPTURE(lone);
+        PointCloud alone(points);
+        alone.scale(mm);
+        alone.translate(shift);
+        Mesh want = ball;
+        detail::KeepDeep deep{depth, h, lone};
+        const DepthGuardReport expected = detail::fair_and_keep_deep(want, alone, unfaired, &deep);
+        CHECK(expected.near_vertices > 100);
+        CHECK(expected.moved_vertices > 100);
+        if (std::isfinite(lone)) CHECK(expected.lone_points > 100);
+        for (int processes : {2, 3}) {
+            CAPTURE(processes);
+            ThreadProcesses all(processes);
+            std::vector<std::unique_ptr<ThreadProcesses::One>> each;
+            for (int p = 0; p < processes; ++p) each.push_back(std::make_unique<ThreadProcesses::One>(all, p));
+            std::vector<std::thread> others;
+            for (int p = 1; p < processes; ++p)
+                others.emplace_back([&each, p] {
+                    TileScheduler& mine = *each[std::size_t(p)];
+                    const std::shared_ptr<detail::KeptRange> kept = detail::file_for_root(mine);
+                    detail::answer_guard_search(mine, kept.get());
+                });
+            const PointCloud as_given(points);
+            const PointTree& t = detail::tree_of(as_given);
+            detail::PointArray<Vec3f> as_read(t.size());
+            for (std::size_t k = 0; k < t.size(); ++k) as_read[t.input[k]] = t.xyz[k];
+            PointCloud filed = detail::cloud_filed_with(*each[0], std::move(as_read), t.origin);
+            { const detail::NeighbourCountsShared unasked(each[0].get(), filed); }
+            filed.scale(mm);
+            filed.translate(shift);
+            Mesh got = ball;
+            TileFacts facts;
+            DepthGuardReport report;
+            {
+                detail::GuardSearchShared shared(each[0].get(), filed, facts);
+                REQUIRE(shared.elsewhere());
+                deep.elsewhere = shared.elsewhere();
+                report = detail::fair_and_keep_deep(got, filed, unfaired, &deep);
+                deep.elsewhere = nullptr;
+                shared.done();
+            }
+            for (std::thread& o : others) o.join();
+            const std::vector<std::size_t>& ranges = detail::tree_of(filed).shared_ranges;
+            REQUIRE(ranges.size() == std::size_t(processes) + 1);
+            CHECK(facts.guard_points == filed.size() - ranges[1]);
+            CHECK(facts.guard_points > points.size() / std::size_t(2 * processes));
+            CHECK(report.near_vertices == expected.near_vertices);
+            CHECK(report.moved_vertices == expected.moved_vertices);
+            CHECK(report.repair_rounds == expected.repair_rounds);
+            CHECK(report.shallow_points == expected.shallow_points);
+            CHECK(report.lone_points == expected.lone_points);
+            CHECK(got.vertices == want.vertices);  // bit for bit
+        }
+    }
+}
+

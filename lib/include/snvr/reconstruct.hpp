@@ -85,6 +85,9 @@ struct TileFacts {
     // The check shared (make_shell): what the others measured, the bytes of their shares,
     // and the points they left to the first (their side a ray would tell, or beyond reach).
     std::size_t check_walls = 0, check_points = 0, check_bytes = 0, check_points_back = 0;
+    // The depth guard's first search shared: the points the others searched (their ranges),
+    // and the bytes of the mesh sent them.
+    std::size_t guard_points = 0, guard_bytes = 0;
 };
 
 // How the run fitted its memory (Parameters::max_memory, or what the machine had free),

@@ -122,8 +122,8 @@ Shell make_shell(PointCloud points, const ShellSettings& settings, const Progres
 Shell make_shell(const PointSet& points, const ShellSettings& settings, const ProgressCallback& progress = {});
 
 // Another process's part of a make_shell spread over processes (tiles.hpp): its tiles
-// (reconstruct_tiles_of), then its share of the check (measure_check_share), sent to the
-// root; under the run's budget, its points' arrays beyond it in files as make_shell's.
+// (reconstruct_tiles_of), its range's part of the depth guard's search where the root
+// asks, then its share of the check (measure_check_share), sent to the root; under the run's budget, its points' arrays beyond it in files as make_shell's.
 void serve_shell(const Parameters& params, TileScheduler& tiles_on);
 // Another process's part of the root's read_input(path, params, others): its share of
 // reading (where the file can be read in parts) and filing the points (nothing where the

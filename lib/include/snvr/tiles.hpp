@@ -10,7 +10,9 @@
 // bricks near its core's faces, and the root makes the seams and welds); on the other
 // processes the call returns once their tiles are sent, without a phase field or a mesh
 // (Result::tiles.worker). Before the plan goes out, a sparse scan's points added on the
-// surface are shared too (UpsampleShare). make_shell's check is then shared too: each other process
+// surface are shared too (UpsampleShare). After the tiles the depth guard's first search
+// is shared by the ranges of the points each kept (lib/src/pipeline/shared_guard.hpp, in
+// send_bytes' messages), and make_shell's check is then shared too: each other process
 // measures the walls and points' depths the root gives it (CheckShare,
 // measure_check_share): the depths of its own range of the points filed by all, which it
 // keeps from the filing on (points_kept), or else of the points the root sends it.
@@ -135,7 +137,8 @@ public:
     // own array, which a run under a budget may keep in a file).
     virtual void take_points(Vec3& origin, const std::function<float*(std::size_t floats)>& room) = 0;
     // Plain bytes from this process to another, received in the order sent (the points'
-    // tree filed by all processes, lib/src/solver/shared_filing.hpp): sent before
+    // tree filed by all processes, lib/src/solver/shared_filing.hpp, and the depth guard's
+    // search by their ranges, lib/src/pipeline/shared_guard.hpp): sent before
     // send_bytes returns; received into room(size), which gives where they go.
     virtual void send_bytes(int process, const void* bytes, std::size_t size) = 0;
     virtual void receive_bytes(int process, const std::function<void*(std::size_t size)>& room) = 0;

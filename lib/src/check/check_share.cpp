@@ -41,13 +41,7 @@ void add_depths(detail::PointDepths& depths, CheckShareFigures& out, const Name&
 // about the root's origin now.
 void measure_kept(const CheckShare& share, const Mesh& m, const TriangleGrid& grid, detail::KeptRange* kept,
                   CheckShareFigures& out) {
-    if (!kept || !kept->tree || kept->tree->size() != share.range_size)
-        throw Error("the points this process kept are not its range of the first's (" +
-                    std::to_string(kept && kept->tree ? kept->tree->size() : 0) + " where the first has " +
-                    std::to_string(share.range_size) + ")");
-    detail::PointTree& tree = *kept->tree;
-    for (; kept->scaled < share.range_scaled.size(); ++kept->scaled) tree.scale(share.range_scaled[kept->scaled]);
-    tree.origin = share.origin;
+    const detail::PointTree& tree = detail::kept_as_first(kept, share.range_size, share.range_scaled, share.origin);
     detail::PointDepths::Part part;
     part.complete_within = share.reach;
     detail::PointDepths depths(m, grid, tree, share.voxel, share.range_groups, part);

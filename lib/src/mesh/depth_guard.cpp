@@ -32,6 +32,7 @@
 #include "snvr/error.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/mesh.hpp"
+#include "mesh/guard_search.hpp"
 #include "mesh/triangle_grid.hpp"  // point_triangle_dist_sq
 #include "geometry/vec3_math.hpp"
 #include "mesh/vertex_lists.hpp"
@@ -43,6 +44,9 @@ namespace {
 
 using detail::PointTree;
 using detail::VertexLists;
+using detail::GuardElsewhere;
+using detail::GuardFound;
+using detail::PointTriangle;
 
 // Vertices are aimed this far (in voxels) beyond the depth: a triangle about a voxel
 // across on a ball of radius 2 voxels sags about 0.1 voxel between its corners.
@@ -559,14 +563,15 @@ public:
                          });
     }
 
-    // The same pairs as near(x, q, r, f) for every point q of `tree`, found from the cells:
-    // calls f(k, t, box) for each point k and triangle t that near(x, point k, r) would
-    // hand over, from the team's threads. A pair is handed over when the point passes
-    // its cell's exact test (Bound::may_reach) and the triangle's box test; a node of the
-    // tree is passed by when its box is beyond a cell's bound, and a point when its float
-    // coordinates are (FloatReach): the cost follows the points near the mesh.
+    // The same pairs as near(x, q, r, f) for every point q of `tree` before `end`, found
+    // from the cells: calls f(k, t, box) for each point k and triangle t that near(x,
+    // point k, r) would hand over, from the team's threads. A pair is handed over when the
+    // point passes its cell's exact test (Bound::may_reach) and the triangle's box test; a
+    // node of the tree is passed by when its box is beyond a cell's bound, and a point when
+    // its float coordinates are (FloatReach): the cost follows the points near the mesh.
     template <class X, class F>
-    void near_points(const X& x, const detail::PointTree& tree, double r, F f) const {
+    void near_points(const X& x, const detail::PointTree& tree, double r, F f,
+                     std::size_t end = std::numeric_limits<std::size_t>::max()) const {
         using Node = detail::PointTree::Node;
         const double slab_extent = std::sqrt(longest_sq_);
         const FloatFrame frame(tree, r, slab_extent);
@@ -591,7 +596,8 @@ public:
         const auto points_of = [&](const Node& n, std::uint32_t c, std::uint32_t b, std::uint32_t e,
                                    const FloatReach& reach) {
             const Bound& cb = cell_[c];
-            for (std::uint32_t k = n.begin; k < n.end; ++k) {
+            const std::uint32_t last = std::uint32_t(std::min<std::size_t>(n.end, end));
+            for (std::uint32_t k = n.begin; k < last; ++k) {
                 if (!reach.may_reach(tree.xyz[k])) continue;  // nearly every point of a dense scan
                 const Vec3 q = tree.point(k);
                 const double r_box = slack(r * (1 + 1e-9), q), r_box_sq = r_box * r_box;
@@ -612,6 +618,7 @@ public:
                 const FloatReach reach = frame.reach(cell_[c]);
                 tree.for_each_leaf(
                     [&](const Node& n) {
+                        if (n.begin >= end) return false;
                         Vec3 lo, hi, big;
                         corners(n, lo, hi, big);
                         return node_may_reach(cell_[c], lo, hi, big);
@@ -628,7 +635,7 @@ public:
 #pragma omp parallel for schedule(dynamic, 256) if (leaves > detail::kParallelCheapItems / 16)
         for (std::ptrdiff_t i = 0; i < nn; ++i) {
             const Node& n = nodes[std::size_t(i)];
-            if (!n.leaf()) continue;
+            if (!n.leaf() || n.begin >= end) continue;
             Vec3 lo, hi, big;
             corners(n, lo, hi, big);
             const double r_box = slack(r * (1 + 1e-9), big);
@@ -715,12 +722,6 @@ private:
     std::vector<Vec3> was_;
 };
 
-// A kept point, a triangle nearer than the depth to it, and their distance.
-struct PointTriangle {
-    std::uint32_t point, triangle;
-    double dist;
-};
-
 // A triangle's face vector where the mesh started (before any vertex moved).
 struct StartFaces {
     const Mesh& mesh;
@@ -742,14 +743,15 @@ std::vector<std::uint8_t> covered_points(const PointTree& points, double lone, D
 // the aim of it (the index's distance test, so exactly those the index would find),
 // and, for the first repair round, the triangles within the depth of it (those that the
 // lift leaves where they are stay that near). The cells look for their points, so that
-// the points far from the mesh (most of a dense scan) cost nothing.
+// the points far from the mesh (most of a dense scan) cost nothing. The points before
+// `end` (the others elsewhere); the pairs of the `kept` ones (null: every one).
 struct StartSearch {
     std::vector<std::uint8_t> near_point;  // by vertex: a point within the aim
     std::vector<PointTriangle> close;      // (kept point, triangle) nearer than the depth, by point
 };
 
 StartSearch search_start(const Mesh& mesh, const PointTree& points, const TriangleCells& start_cells,
-                         const std::vector<std::uint8_t>& kept, double aim, double depth) {
+                         const std::vector<std::uint8_t>* kept, double aim, double depth, std::size_t end) {
     StartSearch found;
     found.near_point.assign(mesh.vertices.size(), 0);
     const double aim_sq = aim * aim;
@@ -763,10 +765,10 @@ StartSearch search_start(const Mesh& mesh, const PointTree& points, const Triang
             if (index_dist_sq(mesh.vertices[c], q) < aim_sq) mine.push_back(c);
         // The box bound keeps a margin far above the exact distance's rounding.
         const double depth_box = slack(depth * (1 + 1e-9), q), depth_box_sq = depth_box * depth_box;
-        if (!kept[p] || !(box < depth_box_sq)) return;
+        if ((kept && !(*kept)[p]) || !(box < depth_box_sq)) return;
         const double d = triangle_distance(mesh.vertices, mesh, q, t);
         if (d < depth) close_of[std::size_t(detail::thread_number())].push_back({p, t, d});
-    });
+    }, end);
     for (const auto& mine : near_of)
         for (std::uint32_t v : mine) found.near_point[v] = 1;
     for (const auto& mine : close_of) found.close.insert(found.close.end(), mine.begin(), mine.end());
@@ -1038,7 +1040,34 @@ private:
     std::vector<std::uint32_t> pushed_;
 };
 
+// What other processes found for their points, added to this one's: the pairs of the
+// kept points among them, in the order one search of every point gives.
+void add_found(StartSearch& found, const GuardFound& theirs, const std::vector<std::uint8_t>& kept) {
+    for (const std::uint32_t v : theirs.near_vertices) {
+        if (v >= found.near_point.size()) throw Error("the depth guard's search elsewhere named a vertex the mesh lacks");
+        found.near_point[v] = 1;
+    }
+    for (const PointTriangle& c : theirs.close) {
+        if (c.point >= kept.size()) throw Error("the depth guard's search elsewhere named a point the cloud lacks");
+        if (kept[c.point]) found.close.push_back(c);
+    }
+    std::sort(found.close.begin(), found.close.end(), [](const PointTriangle& a, const PointTriangle& b) {
+        return a.point != b.point ? a.point < b.point : a.triangle < b.triangle;
+    });
+}
+
 }  // namespace
+
+detail::GuardFound detail::guard_search(const Mesh& mesh, const PointTree& points, double aim, double depth) {
+    GuardFound out;
+    if (mesh.triangles.empty() || points.size() == 0) return out;
+    const TriangleCells cells(mesh, nullptr, aim);
+    StartSearch found = search_start(mesh, points, cells, nullptr, aim, depth, points.size());
+    for (std::size_t v = 0; v < found.near_point.size(); ++v)
+        if (found.near_point[v]) out.near_vertices.push_back(std::uint32_t(v));
+    out.close = std::move(found.close);
+    return out;
+}
 
 DepthGuardReport keep_points_deep(Mesh& mesh, const PointSet& points, double depth, double voxel, double lone) {
     return keep_points_deep(mesh, PointCloud(points), depth, voxel, lone);
@@ -1062,18 +1091,23 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointCloud& points, double d
 // Search (points near the start mesh), lift (the vertices near them, spread and
 // untangled), then the repair rounds' test and move.
 DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, double depth, double voxel,
-                                          double lone, VertexLists rings, const VertexLists& fans) {
+                                          double lone, VertexLists rings, const VertexLists& fans,
+                                          const GuardElsewhere* elsewhere) {
     if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
         throw ParameterError("keep_points_deep: depth and voxel must be positive and finite");
     if (!(lone > 0)) throw ParameterError("keep_points_deep: lone must be positive");
     DepthGuardReport report;
     if (mesh.triangles.empty() || points.size() == 0) return report;
 
-    const std::vector<std::uint8_t> kept = covered_points(points, lone, report);
     const double aim = depth + kMarginVoxels * voxel;
     const double within = depth + 0.25 * voxel;
+    // The others search their points meanwhile, on the same cells of the same mesh.
+    if (elsewhere) elsewhere->ask(mesh, aim, depth);
+    const std::vector<std::uint8_t> kept = covered_points(points, lone, report);
     const TriangleCells start_cells(mesh, nullptr, aim);
-    const StartSearch found = search_start(mesh, points, start_cells, kept, aim, depth);
+    StartSearch found =
+        search_start(mesh, points, start_cells, &kept, aim, depth, elsewhere ? elsewhere->here_end : points.size());
+    if (elsewhere) add_found(found, elsewhere->collect(), kept);
 
     std::vector<std::uint32_t> negative_zero;
     std::vector<double> lift = vertex_lifts(mesh, fans, points, kept, found.near_point, aim, negative_zero);

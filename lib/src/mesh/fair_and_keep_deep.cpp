@@ -69,7 +69,8 @@ DepthGuardReport detail::fair_and_keep_deep(Mesh& mesh, const PointCloud& points
     if (fair || lists) rings_and_fans(mesh, ring, lists ? &fan : nullptr);
     if (fair) detail::fair_mesh(mesh, fairing, ring);
     if (!deep) return {};
-    return lists ? detail::keep_points_deep(mesh, detail::tree_of(points), deep->depth, deep->voxel, deep->lone, std::move(ring), fan)
+    return lists ? detail::keep_points_deep(mesh, detail::tree_of(points), deep->depth, deep->voxel, deep->lone, std::move(ring), fan,
+                                                     deep->elsewhere)
                  : keep_points_deep(mesh, points, deep->depth, deep->voxel, deep->lone);
 }
 

@@ -5,9 +5,13 @@
 
 namespace snvr::detail {
 
-// What keep_points_deep is asked for (world units; see mesh.hpp).
+struct GuardElsewhere;  // guard_search.hpp
+
+// What keep_points_deep is asked for (world units; see mesh.hpp), and where other
+// processes search some of the points (null: none).
 struct KeepDeep {
     double depth = 0, voxel = 0, lone = 0;
+    const GuardElsewhere* elsewhere = nullptr;
 };
 
 // fair_mesh, then (when `deep`) keep_points_deep: the same results as the two public

@@ -11,6 +11,7 @@
 
 namespace snvr::detail {
 class PointTree;
+struct GuardElsewhere;  // guard_search.hpp
 }
 
 namespace snvr::detail {
@@ -60,7 +61,8 @@ inline VertexLists fans(const Mesh& m) { return VertexLists(m, fan_item()); }
 // and keep_points_deep; the mesh must be valid (every index a vertex). The guard takes
 // the rings over and frees them once the lift is spread, before its repair rounds.
 void fair_mesh(Mesh& mesh, const MeshFairing& fairing, const VertexLists& rings);
+// `elsewhere`: other processes search some of the points (guard_search.hpp), or null.
 DepthGuardReport keep_points_deep(Mesh& mesh, const PointTree& points, double depth, double voxel, double lone,
-                                  VertexLists rings, const VertexLists& fans);
+                                  VertexLists rings, const VertexLists& fans, const GuardElsewhere* elsewhere = nullptr);
 
 }  // namespace snvr::detail

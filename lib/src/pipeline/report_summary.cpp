@@ -73,7 +73,7 @@ std::string report_summary(const RunReport& report) {
                                  t.tiles, t.core_cells, t.halo_cells, t.halo_derived ? "as far as the flow reaches" : "as given",
                                  t.run, t.cells_run,
                                  t.processes > 1 ? format_text(" on %d processes (the busiest %.2f x the mean; %s points "
-                                                               "given to the others, %.3g MiB of tiles sent back%s%s)",
+                                                               "given to the others, %.3g MiB of tiles sent back%s%s%s)",
                                                                t.processes, t.busiest_over_mean,
                                                                grouped(t.points_sent).c_str(), mib(t.bytes_received),
                                                                t.faces_received
@@ -91,6 +91,13 @@ std::string report_summary(const RunReport& report) {
                                                                                  grouped(t.check_points).c_str(),
                                                                                  mib(t.check_bytes),
                                                                                  grouped(t.check_points_back).c_str())
+                                                                         .c_str()
+                                                                   : "",
+                                                               t.guard_bytes
+                                                                   ? format_text("; the depth guard's search of %s points "
+                                                                                 "by the others (%.3g MiB sent them)",
+                                                                                 grouped(t.guard_points).c_str(),
+                                                                                 mib(t.guard_bytes))
                                                                          .c_str()
                                                                    : "")
                                                        .c_str()

@@ -14,6 +14,7 @@
 #include "io/formats.hpp"
 #include "pipeline/outlier_policy.hpp"
 #include "pipeline/shared_check.hpp"
+#include "pipeline/shared_guard.hpp"
 #include "pipeline/shell_mesh.hpp"
 #include "process_limits.hpp"
 #include "spilled_memory.hpp"
@@ -143,8 +144,15 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     shell.warnings = run.warnings;
 
     enter("mesh");
-    shell.mesh = run.surface_made ? detail::shell_mesh_of(std::move(surface), run, points, &shell.guard, settings.fairing)
-                                  : shell_mesh(run, points, &shell.guard, settings.fairing);
+    // Over several processes, each searches its range of the points for the depth guard.
+    TileScheduler* on = run.tiles.core_cells > 0 ? settings.tiles_on.get() : nullptr;
+    {
+        detail::GuardSearchShared guard_search(on, points, shell.run.tiles);
+        shell.mesh = run.surface_made ? detail::shell_mesh_of(std::move(surface), run, points, &shell.guard,
+                                                              settings.fairing, guard_search.elsewhere())
+                                      : shell_mesh(run, points, &shell.guard, settings.fairing);
+        guard_search.done();
+    }
     const double depth = 1 - run.tube_inner / run.offset;
     if (shell.guard.shallow_points)
         shell.warnings.push_back(std::to_string(shell.guard.shallow_points) + " points stay shallower than " +
@@ -181,8 +189,7 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     };
     // Over several processes, each measures the walls and points of its own tiles (the
     // mesh handed over once this one has measured its own part, the others finishing theirs).
-    TileScheduler* on = settings.tiles_on.get();
-    if (on && on->processes() > 1 && run.tiles.core_cells > 0) {
+    if (on && on->processes() > 1) {
         const double writing = settings.mesh_ready ? detail::mesh_writing_seconds(written_file(settings.written_as),
                                                                                   shell.mesh.triangles.size())
                                                    : 0;

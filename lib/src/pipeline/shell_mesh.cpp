@@ -24,7 +24,7 @@ Mesh shell_mesh(const Result& result, const PointCloud& points, DepthGuardReport
 }
 
 Mesh detail::shell_mesh_of(Mesh mesh, const Result& result, const PointCloud& points, DepthGuardReport* guard,
-                           const MeshFairing& fairing) {
+                           const MeshFairing& fairing, const GuardElsewhere* elsewhere) {
     fairing.validate();
     // The tube's inner wall is the depth promised. Where the offset is below the points'
     // spacing the shell is a chain of beads around single points; lifting each bead's top
@@ -35,6 +35,7 @@ Mesh detail::shell_mesh_of(Mesh mesh, const Result& result, const PointCloud& po
     deep.depth = result.offset - result.tube_inner;
     deep.voxel = result.domain.h;
     deep.lone = result.offset >= result.gap ? std::numeric_limits<double>::infinity() : result.offset;
+    deep.elsewhere = elsewhere;
     const DepthGuardReport report =
         detail::fair_and_keep_deep(mesh, points, fairing, result.tube_inner > 0 ? &deep : nullptr);
     if (guard) *guard = report;

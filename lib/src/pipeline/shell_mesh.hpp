@@ -7,7 +7,10 @@
 
 namespace snvr::detail {
 
+struct GuardElsewhere;  // mesh/guard_search.hpp
+
+// `elsewhere`: other processes search some of the points for the depth guard (null: none).
 Mesh shell_mesh_of(Mesh surface, const Result& result, const PointCloud& points, DepthGuardReport* guard,
-                   const MeshFairing& fairing);
+                   const MeshFairing& fairing, const GuardElsewhere* elsewhere = nullptr);
 
 }  // namespace snvr::detail

@@ -16,6 +16,7 @@
 #include "geometry/point_tree.hpp"
 #include "io/point_readers.hpp"
 #include "process_limits.hpp"
+#include "solver/sent_arrays.hpp"
 #include "snvr/error.hpp"
 
 namespace snvr::detail {
@@ -27,29 +28,6 @@ using Filing = PointTree::Filing;
 // filed together), the filing's cell bits, its frame (low corner, scale), the origin, and
 // the part of the input given (its first index, its count).
 using Figures = std::array<double, 11>;
-
-template <class T>
-void send_array(TileScheduler& on, int to, const T* data, std::size_t n) {
-    on.send_bytes(to, data, n * sizeof(T));
-}
-// Received into `into`, resized to what came.
-template <class Array>
-void receive_array(TileScheduler& on, int from, Array& into) {
-    using T = typename Array::value_type;
-    on.receive_bytes(from, [&into](std::size_t bytes) -> void* {
-        if (bytes % sizeof(T)) throw Error("a filing's message is not whole");
-        into.resize(bytes / sizeof(T));
-        return into.data();
-    });
-}
-// Received into n elements at `at`, which must be what came.
-template <class T>
-void receive_into(TileScheduler& on, int from, T* at, std::size_t n) {
-    on.receive_bytes(from, [at, n](std::size_t bytes) -> void* {
-        if (bytes != n * sizeof(T)) throw Error("a filing's message is not the size agreed");
-        return at;
-    });
-}
 
 // Process p's part of the input: an equal run of it.
 std::size_t part_begin(std::size_t n, int p, int processes) { return n * std::size_t(p) / std::size_t(processes); }
@@ -261,6 +239,17 @@ Filing agreed_filing(TileScheduler& on, const PointArray<Vec3f>& part, const Vec
 }
 
 }  // namespace
+
+PointTree& kept_as_first(KeptRange* kept, std::size_t size, const std::vector<double>& scaled, const Vec3& origin) {
+    if (!kept || !kept->tree || kept->tree->size() != size)
+        throw Error("the points this process kept are not its range of the first's (" +
+                    std::to_string(kept && kept->tree ? kept->tree->size() : 0) + " where the first has " +
+                    std::to_string(size) + ")");
+    PointTree& tree = *kept->tree;
+    for (; kept->scaled < scaled.size(); ++kept->scaled) tree.scale(scaled[kept->scaled]);
+    tree.origin = origin;
+    return tree;
+}
 
 void no_shared_filing(TileScheduler& on) {
     const Figures none{};

@@ -10,6 +10,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "geometry/outliers.hpp"
 #include "geometry/point_clusters.hpp"
@@ -39,6 +40,11 @@ struct KeptRange {
     std::size_t whole = 0;
     std::size_t scaled = 0;
 };
+// At another process: its kept range where the first's points are now, for a question
+// about them (the check's depths, the depth guard's search): scaled by each of the
+// first's factors since the filing (`scaled`) that it has not taken, about the first's
+// origin. Throws unless it holds `size` points (the first's count of its range).
+PointTree& kept_as_first(KeptRange* kept, std::size_t size, const std::vector<double>& scaled, const Vec3& origin);
 // At another process: its part of the first's filing, if any (null: none); it returns
 // once the outlier rules' counts are done.
 std::shared_ptr<KeptRange> file_for_root(TileScheduler& on);
