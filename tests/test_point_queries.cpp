@@ -30,6 +30,7 @@
 #include "mesh/guard_search.hpp"
 #include "mesh_fields.hpp"
 #include "pipeline/shared_guard.hpp"
+#include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/point_io.hpp"
@@ -288,6 +289,25 @@ std::size_t tree_differences(const PointTree& a, const PointTree& b) {
 }
 
 }  // namespace
+
+TEST_CASE("a cloud from float coordinates about an origin: the points and errors of one from doubles") {
+    const Vec3 origin{512345.5, 4012345.25, 101.5};
+    std::vector<Vec3f> coordinates;
+    PointSet world;
+    for (int i = 0; i < 5000; ++i) {
+        const Vec3f c{float(i % 17) * 0.25f, float(i % 13) * 0.5f, float(i % 7)};
+        coordinates.push_back(c);
+        world.push_back({origin[0] + c[0], origin[1] + c[1], origin[2] + c[2]});
+    }
+    const PointCloud cloud(coordinates, origin);
+    REQUIRE(cloud.size() == world.size());
+    std::size_t differ = 0;
+    for (std::size_t k = 0; k < cloud.size(); ++k) differ += cloud[k] != world[cloud.input_index(k)];
+    CHECK(differ == 0);
+    coordinates[77][1] = std::numeric_limits<float>::quiet_NaN();
+    CHECK_THROWS_AS(PointCloud(coordinates, origin), InputError);
+    CHECK_THROWS_AS(PointCloud({{0, 0, 0}}, {0, std::numeric_limits<double>::infinity(), 0}), InputError);
+}
 
 TEST_CASE("the points' tree filed by several processes is the one a process files alone, bit for bit") {
     std::mt19937 rng(5);

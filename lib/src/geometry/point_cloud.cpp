@@ -139,7 +139,7 @@ PointCloud::PointCloud(const double* xyz, std::size_t n) : tree_(file_array(xyz,
 PointCloud::PointCloud(const float* xyz, std::size_t n) : tree_(file_array(xyz, n)) {}
 
 PointCloud::PointCloud(std::vector<Vec3f> coordinates, const Vec3& origin)
-    : tree_(file_coordinates(detail::PointArray<Vec3f>(coordinates.begin(), coordinates.end()), origin, nullptr)) {}
+    : PointCloud(detail::cloud_of(detail::PointArray<Vec3f>(coordinates.begin(), coordinates.end()), origin, nullptr)) {}
 
 PointCloud detail::cloud_of(PointArray<Vec3f>&& coordinates, const Vec3& origin, const PointTree::Frame* frame) {
     return cloud_filed(std::move(coordinates), origin, [frame](PointArray<Vec3f>&& xyz, const Vec3& at) {
