@@ -74,6 +74,20 @@ sys.exit(0 if all(x["check_points_elsewhere"] > 60000 and x["check_points_back"]
                   and x["guard_points_elsewhere"] > 100000 for x in t) else 1)
 PY
 rm "$tmp"/dense_cm[12].* "$tmp"/dense_kept[12].*
+# The whole field kept (--volume): the level set made from it, the guard's search shared
+# alike, the same field and shell.
+for p in 1 2; do
+    launch=("$cli")
+    [ $p = 2 ] && launch=("${mpi[@]}" -np 2 "$cli")
+    "${launch[@]}" reconstruct "$tmp/dense.ply" --device openmp --resolution 64 --tile-cells 16 \
+        --volume "$tmp/field$p.vti" --report "$tmp/field$p.json" -o "$tmp/field$p.stl" 2>/dev/null ||
+        fail "the field kept on $p processes"
+done
+cmp "$tmp/field1.stl" "$tmp/field2.stl" && cmp "$tmp/field1.vti" "$tmp/field2.vti" ||
+    fail "the field kept: other bytes on two processes"
+python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["tiles"]["guard_points_elsewhere"] > 100000 else 1)' \
+    "$tmp/field2.json" || fail "the field kept: the other searched none of its points for the depth guard"
+rm "$tmp"/field[12].*
 # Three processes: a middle range too (its clusters' links with the last range, its depths).
 "${mpi[@]}" -np 3 "$cli" reconstruct "$tmp/dense.ply" --device openmp --resolution 64 --tile-cells 16 \
     --report "$tmp/dense3.json" -o "$tmp/dense3.stl" 2>/dev/null || fail "dense on three processes"

@@ -148,9 +148,8 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     TileScheduler* on = run.tiles.core_cells > 0 ? settings.tiles_on.get() : nullptr;
     {
         detail::GuardSearchShared guard_search(on, points, shell.run.tiles);
-        shell.mesh = run.surface_made ? detail::shell_mesh_of(std::move(surface), run, points, &shell.guard,
-                                                              settings.fairing, guard_search.elsewhere())
-                                      : shell_mesh(run, points, &shell.guard, settings.fairing);
+        shell.mesh = detail::shell_mesh_of(run.surface_made ? std::move(surface) : detail::level_set_of(run), run, points,
+                                           &shell.guard, settings.fairing, guard_search.elsewhere());
         guard_search.done();
     }
     const double depth = 1 - run.tube_inner / run.offset;

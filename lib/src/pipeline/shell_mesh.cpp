@@ -18,9 +18,12 @@ Mesh shell_mesh(const Result& result, const PointSet& points, DepthGuardReport* 
 
 Mesh shell_mesh(const Result& result, const PointCloud& points, DepthGuardReport* guard, const MeshFairing& fairing) {
     // A tiled run may have made the level set by its tiles instead (Parameters::whole_field).
-    return detail::shell_mesh_of(
-        result.surface_made ? result.surface : extract_dual_isosurface(result.phi, result.domain, 0.0, Interpolation::PhaseField),
-        result, points, guard, fairing);
+    return detail::shell_mesh_of(result.surface_made ? result.surface : detail::level_set_of(result), result, points,
+                                 guard, fairing);
+}
+
+Mesh detail::level_set_of(const Result& result) {
+    return extract_dual_isosurface(result.phi, result.domain, 0.0, Interpolation::PhaseField);
 }
 
 Mesh detail::shell_mesh_of(Mesh mesh, const Result& result, const PointCloud& points, DepthGuardReport* guard,

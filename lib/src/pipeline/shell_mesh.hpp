@@ -9,6 +9,9 @@ namespace snvr::detail {
 
 struct GuardElsewhere;  // mesh/guard_search.hpp
 
+// The level set shell_mesh meshes where a run has not made it (Result::surface_made): its
+// phase field's, by dual marching cubes.
+Mesh level_set_of(const Result& result);
 // `elsewhere`: other processes search some of the points for the depth guard (null: none).
 Mesh shell_mesh_of(Mesh surface, const Result& result, const PointCloud& points, DepthGuardReport* guard,
                    const MeshFairing& fairing, const GuardElsewhere* elsewhere = nullptr);
