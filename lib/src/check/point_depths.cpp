@@ -490,16 +490,21 @@ PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const Point
       complete_within_(part ? part->complete_within : kInf), jump_(kJumpVoxels * voxel),
       run_most_(kRunVoxels * voxel) {
     if (skip && skip->size() != spans.size()) throw std::logic_error("PointDepths: one flag a group");
-    groups_.resize(spans.size());
-    for (std::size_t g = 0; g < spans.size(); ++g) {
-        Group& group = groups_[g];
+    // No group for those measured elsewhere (over MPI, most of the first process's): their
+    // memory was a fresh page's fault each (the 50 M-point city block's 1.6 M groups).
+    const auto here = [skip](std::size_t g) { return !skip || !(*skip)[g]; };
+    std::size_t measured_here = 0;
+    for (std::size_t g = 0; g < spans.size(); ++g) measured_here += here(g);
+    groups_.resize(measured_here);
+    for (std::size_t g = 0, at = 0; g < spans.size(); ++g) {
+        if (!here(g)) continue;
+        Group& group = groups_[at++];
         group.begin = spans[g].begin;
         group.end = spans[g].end;
         group.lo = spans[g].lo;
         group.hi = spans[g].hi;
         // A part measures no depths for the percentile (the whole cloud's groups are its).
         group.sampled = spans[g].sampled && !part;
-        group.skipped = skip && (*skip)[g];
     }
 
     // Frames are made when a run first needs them (a sparse scan needs few): their
@@ -519,8 +524,7 @@ PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const Point
 void PointDepths::bound(std::size_t first, std::size_t last) {
     std::vector<std::uint32_t> ids;
     ids.reserve(last - first);
-    for (std::size_t g = first; g < last; ++g)
-        if (!groups_[g].skipped) ids.push_back(std::uint32_t(g));
+    for (std::size_t g = first; g < last; ++g) ids.push_back(std::uint32_t(g));
     pass(ids, kInf);
 }
 
@@ -528,7 +532,7 @@ void PointDepths::settle(std::size_t first, std::size_t last, double shallowest)
     std::vector<std::uint32_t> ids;
     for (std::size_t g = first; g < last; ++g) {
         const Group& group = groups_[g];
-        if (!group.skipped && !group.unresolved && !group.measured && group.side < 0 && group.low < shallowest)
+        if (!group.unresolved && !group.measured && group.side < 0 && group.low < shallowest)
             ids.push_back(std::uint32_t(g));
     }
     pass(ids, shallowest);
@@ -633,14 +637,13 @@ const TriangleFrame& PointDepths::frame(std::uint32_t t) const {
 double PointDepths::shallowest() const {
     double least = kInf;
     for (const Group& g : groups_)
-        if (!g.skipped && !g.unresolved) least = std::min(least, g.shallowest);
+        if (!g.unresolved) least = std::min(least, g.shallowest);
     return least;
 }
 
 PointDepths::Figures PointDepths::figures() const {
     Figures f;
     for (const Group& g : groups_) {
-        if (g.skipped) continue;
         if (g.unresolved) {
             for (std::uint32_t k = g.begin; k < g.end; ++k) f.unresolved.push_back(k);
             continue;

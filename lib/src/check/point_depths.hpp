@@ -41,8 +41,9 @@ public:
         double complete_within = std::numeric_limits<double>::infinity();
     };
     // every_point: measure every point (and by a ray's crossings when by_rays) rather than
-    // only what the figures need. skip: groups (in this class's order, group_spans())
-    // measured elsewhere, or null. part: the points and mesh are a part, or null.
+    // only what the figures need. skip: groups (in group_spans()' order) measured
+    // elsewhere, none made for them (groups() counts the rest), or null. part: the points
+    // and mesh are a part, or null.
     PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel, bool every_point,
                 bool by_rays, const std::vector<std::uint8_t>* skip = nullptr, const Part* part = nullptr);
     // A part over groups given as runs [begin, end) of the points' order (another
@@ -67,7 +68,7 @@ public:
                 const std::vector<Span>& spans, bool every_point, bool by_rays, const std::vector<std::uint8_t>* skip,
                 const Part* part = nullptr);
 
-    std::size_t groups() const { return groups_.size(); }
+    std::size_t groups() const { return groups_.size(); }  // those measured here
     // The first pass over groups [first, last) (disjoint ranges from several threads).
     void bound(std::size_t first, std::size_t last);
     // The shallowest depth measured in the first pass: every bound() done.
@@ -97,7 +98,6 @@ private:
         Vec3 lo{0, 0, 0}, hi{0, 0, 0};
         bool sampled = false;   // its depths go to the percentile
         bool measured = false;  // point by point
-        bool skipped = false;   // measured elsewhere
         bool unresolved = false;  // a part's triangles could not decide it
         std::vector<std::uint32_t> undecided;  // nor these points' sides
         int side = 0;           // +1 all outside, -1 all inside, 0 not known as a whole
