@@ -79,6 +79,11 @@ std::string who() {
                                     : "";
 }
 
+// A message to stderr in one write: unit-buffered, each << was a write of its own, and
+// under MPI the launcher's lines came in between (a failure's "snvr-cl: error" and its
+// "(process 1 of 2): tile 1 ..." parted by MPI_ABORT's notice).
+void tell(const std::string& message) { std::cerr << message << std::flush; }
+
 int run(const std::vector<std::string>& args, const std::string& command) {
     try {
         if (command.empty()) throw cli::UsageError("no subcommand given");
@@ -94,14 +99,14 @@ int run(const std::vector<std::string>& args, const std::string& command) {
     } catch (const cli::UsageError& e) {
         // Every process reads the same command line: the first says so.
         if (cli::process_rank() == 0)
-            std::cerr << "snvr-cl: error: " << snvr::printable(e.what()) << "\nRun 'snvr-cl "
-                      << (is_subcommand(command) ? command + " " : std::string()) << "--help' for usage.\n";
+            tell("snvr-cl: error: " + snvr::printable(e.what()) + "\nRun 'snvr-cl " +
+                 (is_subcommand(command) ? command + " " : std::string()) + "--help' for usage.\n");
         return kUsage;
     } catch (const std::bad_alloc&) {
-        std::cerr << "snvr-cl: error" << who() << ": out of memory\n";
+        tell("snvr-cl: error" + who() + ": out of memory\n");
         return kFailure;
     } catch (const std::exception& e) {
-        std::cerr << "snvr-cl: error" << who() << ": " << snvr::printable(e.what()) << '\n';
+        tell("snvr-cl: error" + who() + ": " + snvr::printable(e.what()) + "\n");
         return kFailure;
     }
 }
@@ -115,7 +120,7 @@ int main(int argc, char** argv) {
     try {
         cli::start_processes(argc, argv);
     } catch (const std::exception& e) {
-        std::cerr << "snvr-cl: error: " << snvr::printable(e.what()) << '\n';
+        tell("snvr-cl: error: " + snvr::printable(e.what()) + "\n");
         return kFailure;
     }
     const std::vector<std::string> args(argv + 1, argv + argc);
