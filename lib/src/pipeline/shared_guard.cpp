@@ -6,7 +6,6 @@
 // points named by their places in its range.
 #include "pipeline/shared_guard.hpp"
 
-#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>

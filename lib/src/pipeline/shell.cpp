@@ -147,10 +147,10 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     // Over several processes, each searches its range of the points for the depth guard.
     TileScheduler* on = run.tiles.core_cells > 0 ? settings.tiles_on.get() : nullptr;
     {
-        detail::GuardSearchShared guard_search(on, points, shell.run.tiles);
+        detail::GuardSearchShared guard_shared(on, points, shell.run.tiles);
         shell.mesh = detail::shell_mesh_of(run.surface_made ? std::move(surface) : detail::level_set_of(run), run, points,
-                                           &shell.guard, settings.fairing, guard_search.elsewhere());
-        guard_search.done();
+                                           &shell.guard, settings.fairing, guard_shared.elsewhere());
+        guard_shared.done();
     }
     const double depth = 1 - run.tube_inner / run.offset;
     if (shell.guard.shallow_points)
