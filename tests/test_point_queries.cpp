@@ -657,6 +657,36 @@ TEST_CASE("nearest_lanes: eight queries at once give nearest()'s distances, and 
     }
 }
 
+TEST_CASE("kth_nearest's points within: for_each_within's at that distance, in its order, from one search") {
+    std::mt19937 rng(6);
+    for (const Cloud& c : awkward_clouds()) {
+        CAPTURE(c.what);
+        const PointCloud cloud(c.points);
+        const PointTree& t = detail::tree_of(cloud);
+        std::uniform_int_distribution<std::size_t> pick(0, t.size() - 1);
+        std::vector<PointTree::Neighbour> within;
+        std::size_t wrong = 0, asked = 0;
+        for (int q = 0; q < 300; ++q) {
+            const std::size_t k = pick(rng), kth = std::size_t(1) << (q % 6);  // 1 to 32
+            const double alone = t.kth_nearest(k, kth);
+            const double reach = t.kth_nearest(k, kth, &within);
+            wrong += alone != reach;
+            // As the stray rule asks: within the distance squared again, rounded up.
+            const double r_sq = std::nextafter(reach * reach, std::numeric_limits<double>::infinity());
+            std::vector<std::uint32_t> expected, got;
+            t.for_each_within(t.point(k), r_sq, [&](std::uint32_t j) { expected.push_back(j); });
+            for (const PointTree::Neighbour& at : within) {
+                wrong += at.dist_sq != PointTree::dist_sq(t.point(k), t.point(at.index));
+                if (at.dist_sq < r_sq) got.push_back(at.index);
+            }
+            wrong += got != expected;
+            asked += expected.size();
+        }
+        CHECK(asked >= 300);
+        CHECK(wrong == 0);
+    }
+}
+
 TEST_CASE("points_short_of: the cells' counts are the tree's, and brute force's") {
     std::mt19937 rng(9);
     std::uniform_real_distribution<double> unit(0, 1);

@@ -596,24 +596,39 @@ void nearest_first(const PointTree& t, const Vec3& q, Bound&& bound, Leaf&& leaf
     }
 }
 
-double PointTree::kth_nearest(std::size_t k, std::size_t kth) const {
+double PointTree::kth_nearest(std::size_t k, std::size_t kth, std::vector<Neighbour>* within) const {
     // The kth + 1 smallest squared distances to all points, the point itself (0) included.
     const std::size_t want = std::min(kth + 1, size());
     std::vector<double> best;  // ascending, at most `want`
     best.reserve(want + 1);
     const auto worst = [&] { return best.size() < want ? std::numeric_limits<double>::infinity() : best.back(); };
-    const auto add = [&](double d, std::size_t copies) {
-        for (std::size_t c = 0; c < copies && d < worst(); ++c) {
+    // Those asked for `within` are kept while no farther than the worst so far (a hair
+    // more: the caller's bound is the distance squared again), and so are the leaves.
+    constexpr double kHair = 1 + 1e-12;
+    const auto bound = [&] {
+        return within ? std::nextafter(worst() * kHair, std::numeric_limits<double>::infinity()) : worst();
+    };
+    if (within) within->clear();
+    const auto add = [&](double d, std::uint32_t first, std::uint32_t copies) {
+        if (within && d <= worst() * kHair)
+            for (std::uint32_t c = 0; c < copies; ++c) within->push_back({d, first + c});
+        for (std::uint32_t c = 0; c < copies && d < worst(); ++c) {
             best.insert(std::upper_bound(best.begin(), best.end(), d), d);
             if (best.size() > want) best.pop_back();
         }
     };
     const Vec3 q = point(k);
-    nearest_first(*this, q, worst, [&](const Node& n) {
-        if (n.lo == n.hi) add(dist_sq(q, point(n.begin)), n.count());
+    nearest_first(*this, q, bound, [&](const Node& n) {
+        if (n.lo == n.hi) add(dist_sq(q, point(n.begin)), n.begin, n.count());
         else
-            for (std::uint32_t j = n.begin; j < n.end; ++j) add(dist_sq(q, point(j)), 1);
+            for (std::uint32_t j = n.begin; j < n.end; ++j) add(dist_sq(q, point(j)), j, 1);
     });
+    if (within) {
+        const double last = best.back() * kHair;
+        within->erase(std::remove_if(within->begin(), within->end(), [&](const Neighbour& a) { return a.dist_sq > last; }),
+                      within->end());
+        std::sort(within->begin(), within->end(), [](const Neighbour& a, const Neighbour& b) { return a.index < b.index; });
+    }
     return std::sqrt(best.back());
 }
 

@@ -137,15 +137,18 @@ public:
     void nearest_lanes(const double (&q)[3][kLanes], double (&best)[kLanes], std::uint32_t (&index)[kLanes]) const;
     // The distance from point k to its nearest point at a distance above 0 (0 when there is none).
     double nearest_other(std::size_t k) const;
-    // The distance from point k to its k-th nearest other point, duplicates counted (the
-    // farthest there is when there are fewer others).
-    double kth_nearest(std::size_t k, std::size_t kth) const;
     // The `count` points nearest q (all when there are fewer), nearest first; index: the
     // point's position in the tree.
     struct Neighbour {
         double dist_sq;
         std::uint32_t index;
     };
+    // The distance from point k to its k-th nearest other point, duplicates counted (the
+    // farthest there is when there are fewer others). With `within`, the same search also
+    // gives, in tree order, every point no farther than that (and a few a hair beyond: a
+    // caller's bound in squared distance may round up), itself included: for_each_within
+    // for that distance without a second search.
+    double kth_nearest(std::size_t k, std::size_t kth, std::vector<Neighbour>* within = nullptr) const;
     std::vector<Neighbour> nearest_points(const Vec3& q, std::size_t count) const;
     // How many points lie at squared distance <= r_sq from q, counting up to `enough`.
     std::size_t count_within(const Vec3& q, double r_sq, std::size_t enough) const;

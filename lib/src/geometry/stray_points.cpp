@@ -9,6 +9,7 @@
 #include "geometry/local_plane.hpp"
 #include "geometry/neighbour_counts.hpp"
 #include "geometry/point_samples.hpp"
+#include "geometry/vec3_math.hpp"
 
 namespace snvr::detail {
 
@@ -20,23 +21,40 @@ namespace {
 // fit tilts a plane over a patch a few spacings wide.
 template <class Lonely>
 bool stands_off(const PointTree& t, std::uint32_t k, const StraySettings& s, const Lonely& lonely,
-                std::vector<Vec3>& d, std::vector<std::uint8_t>& use) {
-    const double reach = t.kth_nearest(k, s.neighbours);
+                std::vector<PointTree::Neighbour>& near, std::vector<Vec3>& d, std::vector<std::uint8_t>& use) {
+    const double reach = t.kth_nearest(k, s.neighbours, &near);
+    const double within = std::nextafter(reach * reach, std::numeric_limits<double>::infinity());
     const Vec3 q = t.point(k);
     d.clear();
     use.clear();
     std::size_t company = 0;
-    t.for_each_within(q, std::nextafter(reach * reach, std::numeric_limits<double>::infinity()), [&](std::uint32_t j) {
-        const Vec3 p = t.point(j);
+    for (const PointTree::Neighbour& at : near) {  // in tree order, as for_each_within gives them
+        if (!(at.dist_sq < within)) continue;
+        const Vec3 p = t.point(at.index);
         const Vec3 r{p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-        if (r[0] == 0 && r[1] == 0 && r[2] == 0) return;  // itself, or its own duplicates
+        if (r[0] == 0 && r[1] == 0 && r[2] == 0) continue;  // itself, or its own duplicates
         d.push_back(r);
-        use.push_back(!lonely(j));
+        use.push_back(!lonely(at.index));
         company += use.back();
-    });
+    }
     if (d.size() < 3) return false;
     // Where most of them are lonely too (a sparse part of the surface) all of them.
     if (2 * company < d.size()) use.assign(d.size(), 1);
+    // Every plane below passes through the mean of the points it is fitted to, so q (the
+    // origin) lies within that mean's length of it; the rounds drop at most d.size() / 4 of
+    // them, none farther than the reach. Where even so the mean stays nearer q than
+    // plane_reach x reach (a tenth to spare for rounding), q cannot stand off: no plane is
+    // fitted (most lonely points of a sparse scan, 0.7 us each).
+    {
+        Vec3 sum{0, 0, 0};
+        std::size_t used = 0;
+        for (std::size_t i = 0; i < d.size(); ++i)
+            if (use[i]) sum = {sum[0] + d[i][0], sum[1] + d[i][1], sum[2] + d[i][2]}, ++used;
+        const std::size_t drops = d.size() / 4;
+        if (used > drops &&
+            norm(sum) + double(drops) * reach < 0.9 * s.plane_reach * reach * double(used - drops))
+            return false;
+    }
     // Then, a few times, without the one farthest off it while that one lies beyond four
     // times the scatter of the rest: other strays among them (one in a patch a few
     // spacings wide tilts the plane), where a Gaussian scatter would hardly ever go.
@@ -99,11 +117,12 @@ std::vector<std::uint8_t> stray_points(const PointTree& t, const StraySettings& 
     const std::ptrdiff_t nn = std::ptrdiff_t(n);
 #pragma omp parallel reduction(|| : any)
     {
+        std::vector<PointTree::Neighbour> near;
         std::vector<Vec3> d;
         std::vector<std::uint8_t> use;
 #pragma omp for schedule(dynamic, 1024)
         for (std::ptrdiff_t k = 0; k < nn; ++k)
-            if (alone[k] && stands_off(t, std::uint32_t(k), s, lonely_point, d, use))
+            if (alone[k] && stands_off(t, std::uint32_t(k), s, lonely_point, near, d, use))
                 stray[k] = 1, any = true;
     }
     if (!any) return {};
