@@ -248,7 +248,7 @@ PointCloud filed_by(int processes, const PointCloud& alone,
     PointCloud filed = detail::cloud_filed_with(*each[0], std::move(as_read), t.origin);
     {
         detail::NeighbourCountsShared counts(each[0].get(), filed);
-        if (then) then(filed, {counts.short_of(), counts.roots_of()});
+        if (then) then(filed, {counts.short_of(), counts.roots_of(), counts.strays_of()});
     }
     for (std::thread& o : others) o.join();
     return filed;
@@ -808,6 +808,50 @@ TEST_CASE("stray points whose lonely points the processes that filed them counte
             got = detail::stray_points(detail::tree_of(cloud), {}, asked.short_of);
         });
         CHECK(got == want);
+    }
+}
+
+TEST_CASE("stray points tested by the processes that filed them, each its own range's: every flag of one process's") {
+    // Scan lines (points 1 mm apart on lines 4 mm apart, as a car's scanner leaves them):
+    // half the points are lonely; strays two to four line spacings off, near the ranges'
+    // edges too; scaled after the filing, as to millimetres.
+    std::mt19937 rng(12);
+    std::normal_distribution<double> gauss(0, 1);
+    PointSet points;
+    for (double y = 0.2; y < 0.8; y += 0.004)
+        for (double x = 0.2; x < 0.8; x += 0.001) points.push_back({x + 0.1e-3 * gauss(rng), y, 0.5 + 0.05e-3 * gauss(rng)});
+    std::uniform_real_distribution<double> across(0.25, 0.75), off(2, 4);
+    for (int i = 0; i < 300; ++i)
+        points.push_back({across(rng), across(rng), 0.5 + (i % 2 ? 1 : -1) * off(rng) * 0.004});
+    PointCloud alone(points);
+    alone.scale(25.4);
+    const std::vector<std::uint8_t> want = detail::stray_points(detail::tree_of(alone));
+    CHECK(std::count(want.begin(), want.end(), 1) > 200);
+    for (int processes : {2, 3}) {
+        CAPTURE(processes);
+        std::vector<std::uint8_t> got;
+        std::size_t lonely_elsewhere = 0, undecided = 0;
+        filed_by(processes, PointCloud(points), [&](PointCloud& cloud, const detail::RuleQuestions& asked) {
+            REQUIRE(asked.strays_of);
+            cloud.scale(25.4);
+            const detail::AskStrays counted = [&](const PointTree& t, const detail::StraySettings& s,
+                                                  const std::vector<std::uint8_t>& lonely) {
+                detail::StraysElsewhere e = asked.strays_of(t, s, lonely);
+                lonely_elsewhere = std::size_t(std::count(lonely.begin() + std::ptrdiff_t(e.here_end), lonely.end(), 1));
+                const auto collect = e.collect;
+                e.collect = [&undecided, collect](std::vector<std::uint8_t>& stray, std::vector<std::uint32_t>& unsure) {
+                    collect(stray, unsure);
+                    undecided = unsure.size();
+                };
+                return e;
+            };
+            got = detail::stray_points(detail::tree_of(cloud), {}, asked.short_of, counted);
+        });
+        CHECK(got == want);
+        // Most of the others' lonely points decided where they are; a few near a range's edge here.
+        CHECK(lonely_elsewhere > 20000);
+        CHECK(undecided > 0);
+        CHECK(undecided * 10 < lonely_elsewhere);
     }
 }
 

@@ -198,7 +198,7 @@ std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cl
         plan = lengths_of(cloud);
         detail::StraySettings strays;
         strays.least_lonely = 0.5 * plan->voxel;
-        const std::vector<std::uint8_t> stray = detail::stray_points(detail::tree_of(cloud), strays, asked.short_of);
+        const std::vector<std::uint8_t> stray = detail::stray_points(detail::tree_of(cloud), strays, asked.short_of, asked.strays_of);
         if (!stray.empty() && take(cloud, stray, out)) plan.reset();
     }
     // Among the rest, what the shell would carry as loose beads: clusters that the

@@ -8,6 +8,7 @@
 
 #include "geometry/neighbour_counts.hpp"
 #include "geometry/point_clusters.hpp"
+#include "geometry/stray_points.hpp"
 #include "snvr/point_cloud.hpp"
 
 namespace snvr::detail {
@@ -28,8 +29,9 @@ using RunLengthsOf = std::function<RunLengths(const PointCloud&)>;
 // The rules' questions of every point that other processes may answer in part
 // (solver/shared_filing.hpp); each null: this process alone.
 struct RuleQuestions {
-    ShortOf short_of;  // neighbours within a reach
-    RootsOf roots_of;  // clusters at a link
+    ShortOf short_of;     // neighbours within a reach
+    RootsOf roots_of;     // clusters at a link
+    AskStrays strays_of;  // the lonely points' planes
 };
 std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, const OutlierSettings& settings,
                                                           const RunLengthsOf& lengths_of, double& link,

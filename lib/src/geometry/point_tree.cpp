@@ -110,10 +110,12 @@ void sort_cell(std::vector<Keyed>& v, std::vector<Keyed>& spare, int shift) {
 }  // namespace
 
 // The Morton frame: cubic cells of the points' box, 2^21 a side.
-std::uint64_t PointTree::Frame::key(const Vec3f& p) const {
+std::uint64_t PointTree::Frame::key(const Vec3f& p) const { return key(Vec3{double(p[0]), double(p[1]), double(p[2])}); }
+
+std::uint64_t PointTree::Frame::key(const Vec3& p) const {
     std::uint64_t k = 0;
     for (int a = 0; a < 3; ++a) {
-        const double t = (double(p[a]) - lo[a]) * scale;
+        const double t = (p[a] - lo[a]) * scale;
         const std::uint32_t c = t > 0 ? (t < double(1u << kBits) ? std::uint32_t(t) : (1u << kBits) - 1) : 0;
         k |= spread(c) << a;
     }

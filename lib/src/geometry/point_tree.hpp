@@ -44,6 +44,9 @@ public:
         double lo[3];
         double scale;
         std::uint64_t key(const Vec3f& p) const;
+        // The same for any place about the origin: every point in a box has a key from
+        // its low corner's to its high corner's (each axis's cell grows with it).
+        std::uint64_t key(const Vec3& p) const;
         // As sent between processes: lo x y z, then scale.
         std::array<double, 4> figures() const { return {lo[0], lo[1], lo[2], scale}; }
         static Frame of(const double* f) { return {{f[0], f[1], f[2]}, f[3]}; }

@@ -4,6 +4,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "geometry/neighbour_counts.hpp"
@@ -35,8 +36,33 @@ struct StraySettings {
 // distance) and the point sits clearly above it. Points on an edge, a corner or thin
 // detail have no flat neighbourhood to stand off; points in a sparse but flat part lie
 // in their neighbours' plane. Empty when no point stands off.
-// The lonely points are asked of short_of where given.
+// Where other processes keep ranges of the points (solver/shared_filing.hpp), each tests
+// its own range's lonely points: `ask`, given the rule and every point's lonely flag, puts
+// the question and returns the end of the points this process tests itself, and what then
+// takes the others' answers: their strays (flags set by place) and the places they could
+// not decide, which this process tests.
+struct StraysElsewhere {
+    std::size_t here_end = 0;
+    std::function<void(std::vector<std::uint8_t>& stray, std::vector<std::uint32_t>& undecided)> collect;
+};
+using AskStrays =
+    std::function<StraysElsewhere(const PointTree&, const StraySettings&, const std::vector<std::uint8_t>& alone)>;
+
+// The lonely points are asked of short_of where given, and tested elsewhere where asked.
 std::vector<std::uint8_t> stray_points(const PointTree& tree, const StraySettings& settings = {},
-                                       const ShortOf& short_of = nullptr);
+                                       const ShortOf& short_of = nullptr, const AskStrays& elsewhere = nullptr);
+
+// Another process's answer for its range (`range`: a tree of the points whose filing keys
+// lie in [keys_lo, keys_hi), the first's whole tree being all ranges in key order;
+// `alone`: their lonely flags, by place): the places of those that stand off, and of
+// those whose neighbours may lie in another range. Each decided is decided as the whole
+// tree decides it: its nearest neighbours' ball, widened by `rounding_cells` of the
+// frame's cells (the points may have been scaled since they were filed), holds keys of
+// this range only, so that its neighbours are the whole cloud's, in the same order.
+struct RangeStrays {
+    std::vector<std::uint32_t> strays, undecided;
+};
+RangeStrays range_strays(const PointTree& range, const StraySettings& settings, const std::vector<std::uint8_t>& alone,
+                         std::uint64_t keys_lo, std::uint64_t keys_hi, int rounding_cells);
 
 }  // namespace snvr::detail

@@ -116,7 +116,7 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
         detail::NeighbourCountsShared shared(settings.tiles_on.get(), points);
         if (settings.drop_outliers)
             shell.outliers = detail::drop_outliers_shared(points, settings.params, settings.outliers,
-                                                          {shared.short_of(), shared.roots_of()});
+                                                          {shared.short_of(), shared.roots_of(), shared.strays_of()});
     }
     if (centre) {
         shell.shift = round_centre(points);

@@ -156,7 +156,10 @@ KeptRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, s
         send_array(on, 0, xyz.data(), xyz.size());
         send_array(on, 0, input.data(), input.size());
         send_array(on, 0, keys.data(), keys.size());
-        return {std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), n, 0};
+        const int me = on.rank(), shift = filing.shift();
+        return {std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), n, 0,
+                std::uint64_t(ranges.first[std::size_t(me)]) << shift,
+                std::uint64_t(ranges.first[std::size_t(me) + 1]) << shift};
     }
     // The whole tree's arrays: this process's range first, then each other's in turn.
     xyz.resize(n);
@@ -182,7 +185,7 @@ KeptRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, s
 // tells it the points it drops, which it drops too, so that its range stays the first's;
 // until it says there is nothing more. The places named are within the range as it is,
 // which is kept for the check (the first drops no point after its outlier rules).
-constexpr double kCountsDone = -1, kCountsDropped = -2, kLinkAsked = -3;
+constexpr double kCountsDone = -1, kCountsDropped = -2, kLinkAsked = -3, kStraysAsked = -4;
 void answer_counts(TileScheduler& on, KeptRange& range) {
     std::vector<std::uint64_t> gone;  // a bit an input index: dropped by the first
     for (;;) {
@@ -207,6 +210,27 @@ void answer_counts(TileScheduler& on, KeptRange& range) {
         if (asked[0] == kLinkAsked) {
             const PointArray<std::uint32_t> roots = cluster_roots(t, asked[1]);
             send_array(on, 0, roots.data(), roots.size());
+            continue;
+        }
+        if (asked[0] == kStraysAsked) {
+            std::vector<double> rule;
+            std::vector<std::uint32_t> lonely;
+            receive_array(on, 0, rule);
+            receive_array(on, 0, lonely);
+            if (rule.size() != 3) throw Error("the first process asked the stray rule without its settings");
+            StraySettings s;
+            s.neighbours = std::size_t(rule[0]);
+            s.plane_sigmas = rule[1];
+            s.plane_reach = rule[2];
+            std::vector<std::uint8_t> alone(t.size(), 0);
+            for (const std::uint32_t k : lonely) {
+                if (k >= t.size()) throw Error("the first process named a lonely point beyond this range");
+                alone[k] = 1;
+            }
+            // Each scaling since the filing may round a point across a cell's edge.
+            const RangeStrays got = range_strays(t, s, alone, range.keys_lo, range.keys_hi, 2 + int(range.scaled));
+            send_array(on, 0, got.strays.data(), got.strays.size());
+            send_array(on, 0, got.undecided.data(), got.undecided.size());
             continue;
         }
         if (!(asked[0] >= 0)) throw Error("the first process asked the neighbours' counts at no reach");
@@ -379,6 +403,43 @@ RootsOf NeighbourCountsShared::roots_of() {
             receive_array(*on_, p, theirs);
             return theirs;
         });
+    };
+}
+
+AskStrays NeighbourCountsShared::strays_of() {
+    if (!on_) return nullptr;
+    return [this](const PointTree& t, const StraySettings& s, const std::vector<std::uint8_t>& alone) {
+        const int processes = on_->processes();
+        if (&t != tree_ || t.shared_ranges.size() != std::size_t(processes) + 1)
+            return StraysElsewhere{t.size(), nullptr};  // not the points filed together
+        std::vector<double> ask{kStraysAsked, 0};
+        ask.insert(ask.end(), t.scaled_since.begin(), t.scaled_since.end());
+        const std::vector<double> rule{double(s.neighbours), s.plane_sigmas, s.plane_reach};
+        for (int p = 1; p < processes; ++p) {
+            const std::size_t begin = t.shared_ranges[std::size_t(p)], end = t.shared_ranges[std::size_t(p) + 1];
+            std::vector<std::uint32_t> lonely;
+            for (std::size_t k = begin; k < end; ++k)
+                if (alone[k]) lonely.push_back(std::uint32_t(k - begin));
+            send_array(*on_, p, ask.data(), ask.size());
+            send_array(*on_, p, rule.data(), rule.size());
+            send_array(*on_, p, lonely.data(), lonely.size());
+        }
+        StraysElsewhere elsewhere{t.shared_end(), nullptr};
+        elsewhere.collect = [this, &t, processes](std::vector<std::uint8_t>& stray, std::vector<std::uint32_t>& undecided) {
+            for (int p = 1; p < processes; ++p) {
+                const std::size_t begin = t.shared_ranges[std::size_t(p)], end = t.shared_ranges[std::size_t(p) + 1];
+                std::vector<std::uint32_t> strays, unsure;
+                receive_array(*on_, p, strays);
+                receive_array(*on_, p, unsure);
+                for (const auto* named : {&strays, &unsure})
+                    for (const std::uint32_t k : *named)
+                        if (begin + k >= end)
+                            throw Error("process " + std::to_string(p) + " named a point its range does not have");
+                for (const std::uint32_t k : strays) stray[begin + k] = 1;
+                for (const std::uint32_t k : unsure) undecided.push_back(std::uint32_t(begin + k));
+            }
+        };
+        return elsewhere;
     };
 }
 

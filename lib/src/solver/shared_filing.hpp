@@ -39,6 +39,7 @@ struct KeptRange {
     std::unique_ptr<PointTree> tree;
     std::size_t whole = 0;
     std::size_t scaled = 0;
+    std::uint64_t keys_lo = 0, keys_hi = 0;  // the filing keys of its cells: [lo, hi)
 };
 // At another process: its kept range where the first's points are now, for a question
 // about them (the check's depths, the depth guard's search): scaled by each of the
@@ -79,6 +80,7 @@ public:
     NeighbourCountsShared& operator=(const NeighbourCountsShared&) = delete;
     ShortOf short_of();  // null where inert
     RootsOf roots_of();  // the clusters' roots: the others link their ranges' own
+    AskStrays strays_of();  // the stray rule: the others test their ranges' lonely points
 
 private:
     TileScheduler* on_;
