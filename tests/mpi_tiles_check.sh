@@ -136,6 +136,17 @@ print(f"points added: {two['points_added']}, {two['made_elsewhere']} by the othe
 sys.exit(0 if one["points_added"] == two["points_added"] > 1000 and 0 < two["made_elsewhere"] < two["points_added"]
          and one["made_elsewhere"] == 0 else 1)
 PY
+# A random sampling (5,000 points on a sphere): its holes sought by both processes.
+"$cli" sample sphere --random 5000 -o "$tmp/random.ply" >/dev/null || fail "the sampler (random)"
+one_and_two random "$tmp/random.ply" --resolution 128 --tile-cells 16
+python3 - "$tmp/random1.json" "$tmp/random2.json" <<'PY' || fail "the holes were not sought by both processes"
+import json, sys
+one, two = (json.load(open(f))["sampling_holes"] for f in sys.argv[1:])
+print(f"points at holes: {two['points_added']}, the holes at {two['sought_elsewhere']} points sought by the other")
+sys.exit(0 if one["points_added"] == two["points_added"] > 100 and two["sought_elsewhere"] == 2500
+         and one["sought_elsewhere"] == 0 else 1)
+PY
+rm "$tmp"/random*
 # The same with six stray points far off: the outlier rules drop them and shrink the box,
 # which then is not the first process's tree's frame; the other files the points it is
 # given in that frame, so that its run of them is the first's (6,621 points added, not

@@ -25,6 +25,7 @@
 #include "geometry/outliers.hpp"
 #include "geometry/point_samples.hpp"
 #include "geometry/point_tree.hpp"
+#include "geometry/sampling_holes.hpp"
 #include "geometry/stray_points.hpp"
 #include "mesh/fair_and_keep_deep.hpp"
 #include "mesh/guard_search.hpp"
@@ -37,6 +38,7 @@
 #include "snvr/shapes.hpp"
 #include "snvr/tiles.hpp"
 #include "solver/shared_filing.hpp"
+#include "solver/shared_holes.hpp"
 #include "temp_dir.hpp"
 
 using namespace snvr;
@@ -853,6 +855,51 @@ TEST_CASE("stray points tested by the processes that filed them, each its own ra
         CHECK(undecided > 0);
         CHECK(undecided * 10 < lonely_elsewhere);
     }
+}
+
+TEST_CASE("a sampling's holes found by several processes, each at its run of the points: one process's centres") {
+    // A random sampling of a sphere (its holes many and near every run's ends), scaled
+    // after filing as to millimetres.
+    PointCloud cloud(shapes::random_by_name("sphere", 20000, 7));
+    cloud.scale(25.4);
+    const double least = 25.4 * 0.006;
+    const PointSet want = hole_centres(cloud, least);
+    CHECK(want.size() > 100);
+    for (int processes : {2, 3}) {
+        CAPTURE(processes);
+        ThreadProcesses all(processes);
+        std::vector<std::unique_ptr<ThreadProcesses::One>> each;
+        for (int p = 0; p < processes; ++p) each.push_back(std::make_unique<ThreadProcesses::One>(all, p));
+        std::vector<std::thread> others;
+        for (int p = 1; p < processes; ++p) others.emplace_back([&each, p] { holes_for_root(*each[std::size_t(p)]); });
+        bool asked = false;
+        std::size_t sought = 0;
+        const AskHoles shared = holes_shared(*each[0], asked, sought);
+        std::size_t theirs = 0;
+        const AskHoles counted = [&](const PointTree& t, double at_least) {
+            HolesElsewhere e = shared(t, at_least);
+            const auto collect = e.collect;
+            e.collect = [&theirs, collect] {
+                std::vector<double> got = collect();
+                theirs = got.size() / 4;
+                return got;
+            };
+            return e;
+        };
+        const PointSet got = hole_centres(cloud, least, counted);
+        if (!asked) no_holes_asked(*each[0]);
+        for (std::thread& o : others) o.join();
+        CHECK(asked);
+        CHECK(got == want);
+        CHECK(theirs > 50);  // the others' runs held holes
+        CHECK(sought == cloud.size() - cloud.size() / std::size_t(processes));
+    }
+    // Where no hole is looked for, the others are told and return.
+    ThreadProcesses all(2);
+    ThreadProcesses::One root(all, 0), other(all, 1);
+    std::thread waiting([&other] { holes_for_root(other); });
+    no_holes_asked(root);
+    waiting.join();
 }
 
 TEST_CASE("strided_sample: the points of ranks floor(s n / samples) by input index, whatever the tree's order, in it") {

@@ -51,6 +51,7 @@ struct DomainPlan {
     double hole_share = 0;
     std::size_t hole_fills = 0;
     double hole_least = 0;  // world units: the holes wider than this got a point (0: none looked for)
+    std::size_t holes_sought_elsewhere = 0;  // the points whose holes the other processes of a tiled run sought
     // Where the sampling sets the offset: points added this far apart between the points,
     // on their local surfaces (0: none), and how many (Parameters::add_points).
     double upsample_spacing = 0;

@@ -30,12 +30,12 @@ PointCloud joined(const PointCloud& points, const PointSet& more) {
 }  // namespace
 
 PointCloud with_added_points(const PointCloud& points, double hole_least, double upsample_spacing, double slack,
-                             AddedPoints& added, const MakePointsBetween& make_between) {
+                             AddedPoints& added, const MakePointsBetween& make_between, const AskHoles& holes) {
     added = {};
     const std::array<Vec3, 2> box = points.box();
     PointCloud with;
     if (hole_least > 0) {
-        PointSet centres = hole_centres(points, hole_least);
+        PointSet centres = hole_centres(points, hole_least, holes);
         within(box, slack, centres);
         added.at_holes = centres.size();
         if (!centres.empty()) with = joined(points, centres);

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <functional>
 
+#include "geometry/sampling_holes.hpp"
 #include "snvr/point_cloud.hpp"
 
 namespace snvr {
@@ -20,9 +21,11 @@ struct AddedPoints {
 // outermost points bulges out of their box a little; the grid's padding holds that much,
 // and no point far out of place). Empty when none was added (`added` says how many).
 // `between`, if given, makes the points between (upsample_surface over the cloud it is
-// given at upsample_spacing, however it shares the work).
+// given at upsample_spacing, however it shares the work); `holes`, if given, finds the
+// holes at some of the points elsewhere (hole_centres').
 using MakePointsBetween = std::function<PointSet(const PointCloud& so_far)>;
 PointCloud with_added_points(const PointCloud& points, double hole_least, double upsample_spacing, double slack,
-                             AddedPoints& added, const MakePointsBetween& between = {});
+                             AddedPoints& added, const MakePointsBetween& between = {},
+                             const AskHoles& holes = nullptr);
 
 }  // namespace snvr

@@ -17,6 +17,7 @@
 #include "geometry/point_samples.hpp"
 #include "geometry/vec3_math.hpp"
 #include "parallel_sizes.hpp"
+#include "snvr/error.hpp"
 
 namespace snvr {
 namespace {
@@ -265,21 +266,35 @@ PointSet distinct_centres(std::vector<Hole> holes, double least) {
     return centres;
 }
 
-// The centres of the holes wider than `least` at the tree's points; with `near`, only at
+// The holes wider than `least` at the tree's points [begin, end); with `near`, only at
 // those within `reach` of one of its points (where the last pass changed the holes).
-PointSet centres_of_holes(const detail::PointTree& tree, double least, const PointCloud* near = nullptr,
-                          double reach = 0) {
-    if (tree.size() == 0) return {};
-    std::vector<std::vector<Hole>> at(tree.size());
-    const std::ptrdiff_t n = std::ptrdiff_t(tree.size());
+std::vector<Hole> holes_at_points(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end,
+                                  const PointCloud* near = nullptr, double reach = 0) {
+    std::vector<std::vector<Hole>> at(end - begin);
+    const std::ptrdiff_t n = std::ptrdiff_t(end - begin);
 #pragma omp parallel for schedule(dynamic, 64) if (n >= detail::kParallelCostlyItems)
-    for (std::ptrdiff_t k = 0; k < n; ++k) {
-        if (near && !(detail::tree_of(*near).nearest(tree.point(std::size_t(k))).dist_sq <= reach * reach)) continue;
-        at[std::size_t(k)] = holes_at(tree, std::uint32_t(k), least, false);
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+        const std::size_t k = begin + std::size_t(i);
+        if (near && !(detail::tree_of(*near).nearest(tree.point(k)).dist_sq <= reach * reach)) continue;
+        at[std::size_t(i)] = holes_at(tree, std::uint32_t(k), least, false);
     }
     std::vector<Hole> holes;
     for (const std::vector<Hole>& h : at) holes.insert(holes.end(), h.begin(), h.end());
-    return distinct_centres(std::move(holes), least);
+    return holes;
+}
+
+// The first pass's centres: at every point, the runs of other processes found there
+// where asked.
+PointSet centres_of_all_holes(const detail::PointTree& tree, double least, const AskHoles& ask) {
+    const HolesElsewhere elsewhere = ask ? ask(tree, least) : HolesElsewhere{tree.size(), nullptr};
+    std::vector<Hole> holes = holes_at_points(tree, least, 0, elsewhere.here_end);
+    if (elsewhere.collect) {
+        const std::vector<double> theirs = elsewhere.collect();
+        if (theirs.size() % 4) throw Error("the holes found by another process are not whole");
+        for (std::size_t k = 0; k < theirs.size(); k += 4)
+            holes.push_back({theirs[k], {theirs[k + 1], theirs[k + 2], theirs[k + 3]}});
+    }
+    return distinct_centres(std::move(holes), least);  // in an order of their own: none of the finding's
 }
 
 }  // namespace
@@ -294,18 +309,26 @@ double share_bordering_holes(const detail::PointTree& tree, double gap) {
     return double(bordering) / double(n);
 }
 
-PointSet hole_centres(const PointCloud& points, double least) {
+std::vector<double> holes_in_run(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end) {
+    std::vector<double> out;
+    for (const Hole& h : holes_at_points(tree, least, begin, std::min(end, tree.size())))
+        out.insert(out.end(), {h.radius, h.centre[0], h.centre[1], h.centre[2]});
+    return out;
+}
+
+PointSet hole_centres(const PointCloud& points, double least, const AskHoles& elsewhere) {
     // A point at a wide hole's centre leaves narrower ones around it; a long hole may
     // need another: passes over the points and the centres so far, each looking only
     // near the last pass's centres (within the widest hole's reach: 3 least covers the
     // holes of random samplings, up to 2 least wide), until none is left.
-    PointSet centres = centres_of_holes(detail::tree_of(points), least);
+    PointSet centres = centres_of_all_holes(detail::tree_of(points), least, elsewhere);
     PointSet last = centres;
     for (int pass = 1; pass < HoleRules::passes && !last.empty(); ++pass) {
         PointSet all = points.to_point_set();
         all.insert(all.end(), centres.begin(), centres.end());
         const PointCloud changed(last);
-        last = centres_of_holes(detail::tree_of(PointCloud(all)), least, &changed, 3 * least);
+        const PointCloud with(all);
+        last = distinct_centres(holes_at_points(detail::tree_of(with), least, 0, with.size(), &changed, 3 * least), least);
         centres.insert(centres.end(), last.begin(), last.end());
     }
     return centres;

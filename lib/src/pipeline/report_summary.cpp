@@ -46,8 +46,11 @@ std::string report_summary(const RunReport& report) {
     row("sampling gap", format_text("%.6g", r.gap));
     if (r.hole_share >= HoleRules::random_share)
         row("sampling holes", format_text("%s points added at the centres of holes wider than %.3g voxels (%.2g x offset; %.1f%% of the "
-                                          "points border holes wider than the gap: a random sampling; --points-as-given leaves them)",
-                                          grouped(r.hole_fills).c_str(), r.hole_least / d.h, r.hole_least / r.offset, 100 * r.hole_share));
+                                          "points border holes wider than the gap: a random sampling; --points-as-given leaves them)%s",
+                                          grouped(r.hole_fills).c_str(), r.hole_least / d.h, r.hole_least / r.offset, 100 * r.hole_share,
+                                          r.holes_sought_elsewhere ? ("; the holes at " + grouped(r.holes_sought_elsewhere) +
+                                                                      " of the points sought by the other processes").c_str()
+                                                                   : ""));
     if (r.upsample_spacing > 0)
         row("upsampled", format_text("%s points added %.3g voxels (%.2g x offset) apart on the points' local surfaces: the "
                                      "sampling sets the offset, and its balls would show (--points-as-given leaves them)%s",

@@ -9,6 +9,7 @@
 
 #include "geometry/band_distance.hpp"
 #include "geometry/added_points.hpp"
+#include "solver/shared_holes.hpp"
 #include "solver/shared_upsampling.hpp"
 #include "process_limits.hpp"
 #include "solver/operations.hpp"
@@ -59,12 +60,24 @@ PointCloud points_with_added(const PointCloud& points, DomainPlan& plan, TileSch
     const bool shared = on && on->processes() > 1;
     bool made = false;
     MakePointsBetween between;
-    if (shared)
+    AskHoles holes;
+    bool holes_asked = false;
+    // The others wait for the holes' question first, then the points between's.
+    const auto holes_settled = [&] {
+        if (!holes_asked) no_holes_asked(*on);
+        holes_asked = true;
+    };
+    if (shared) {
         between = [&](const PointCloud& so_far) {
+            holes_settled();
             made = true;
             return points_between_shared(*on, so_far, plan.upsample_spacing, plan.upsampled_elsewhere);
         };
-    PointCloud with_added = with_added_points(points, plan.hole_least, plan.upsample_spacing, slack, added, between);
+        holes = holes_shared(*on, holes_asked, plan.holes_sought_elsewhere);
+    }
+    PointCloud with_added =
+        with_added_points(points, plan.hole_least, plan.upsample_spacing, slack, added, between, holes);
+    if (shared) holes_settled();
     if (shared && !made) no_points_between(*on);
     plan.hole_fills = added.at_holes;
     plan.upsampled = added.between;

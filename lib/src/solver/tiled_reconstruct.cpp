@@ -14,6 +14,7 @@
 #include "solver/field_assembly.hpp"
 #include "solver/memory_budget.hpp"
 #include "solver/session.hpp"
+#include "solver/shared_holes.hpp"
 #include "solver/shared_upsampling.hpp"
 #include "solver/solver_memory.hpp"
 #include "solver/tile_needs.hpp"
@@ -446,6 +447,7 @@ void reconstruct_tiled(const PointCloud& measured, const DomainPlan& plan, const
 template <class Real>
 void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result& res) {
     Stopwatch clock;
+    holes_for_root(on);
     points_between_for_root(on);
     std::vector<double> figures;
     std::vector<int> owners;
