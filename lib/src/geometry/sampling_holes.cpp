@@ -39,7 +39,6 @@ struct Neighbourhood {
     std::vector<double> height;  // of each above the plane
     std::vector<double> square;  // |q|^2
     Vec3 e1{0, 0, 0}, e2{0, 0, 0}, normal{0, 0, 1};  // the plane's axes and normal
-    std::vector<Flat> hull;  // of q and the origin
     double reach = 0;
 
     // The disc centred at c through the origin, if empty of q, enclosed and within reach.
@@ -50,7 +49,17 @@ struct Neighbourhood {
             const double dx = p[0] - c[0], dy = p[1] - c[1];
             if (dx * dx + dy * dy < r_sq * (1 - 1e-9)) return false;
         }
-        return detail::strictly_inside(hull, c) && surrounded(c, std::sqrt(r_sq));
+        return detail::strictly_inside(hull(), c) && surrounded(c, std::sqrt(r_sq));
+    }
+    // The convex hull of q and the origin, made when first asked (most points' discs end
+    // before it is: a scan's 48 neighbours' hull cost a fifth of the search).
+    const std::vector<Flat>& hull() const {
+        if (hull_.empty()) {
+            std::vector<Flat> all = q;
+            all.push_back({0, 0});
+            hull_ = detail::convex_hull(std::move(all));
+        }
+        return hull_;
     }
     // Whether the points near the disc (within twice its radius of its centre) surround
     // it, leaving no empty angle wider than kWidestGap seen from the centre: a hole in a
@@ -101,22 +110,32 @@ struct Neighbourhood {
         }
         return true;
     }
-    // The disc through the origin whose centre lies along u, grown until a neighbour
-    // meets its rim: that neighbour (or none) and the distance to the centre, |q|^2 /
-    // (2 q.u) least over the neighbours ahead (compared as fractions: no division each).
-    std::size_t blocking(const Flat& u, double& rho) const {
-        double num = 1, den = 0;  // the least so far, num / den; none: 1 / 0
-        std::size_t by = q.size();
+    // For each direction u[d]: the disc through the origin whose centre lies along it,
+    // grown until a neighbour meets its rim: that neighbour (by[d]; q.size(): none) and the
+    // distance to the centre (rho[d]), |q|^2 / (2 q.u) least over the neighbours ahead
+    // (compared as fractions: no division each; the first of equals). The directions side
+    // by side for each neighbour: each direction's comparisons in the neighbours' order,
+    // as one direction at a time made them, but not each waiting on the last.
+    template <std::size_t D>
+    void blocking(const std::array<Flat, D>& u, std::size_t (&by)[D], double (&rho)[D]) const {
+        double ux[D], uy[D], num[D], den[D];  // the least so far, num / den; none: 1 / 0
+        for (std::size_t d = 0; d < D; ++d) ux[d] = u[d][0], uy[d] = u[d][1], num[d] = 1, den[d] = 0, by[d] = q.size();
         for (std::size_t i = 0; i < q.size(); ++i) {
-            const double along = 2 * (q[i][0] * u[0] + q[i][1] * u[1]);
-            if (along <= 0 || !(square[i] * den < num * along)) continue;
-            num = square[i];
-            den = along;
-            by = i;
+            const double x = q[i][0], y = q[i][1], s = square[i];
+            for (std::size_t d = 0; d < D; ++d) {
+                const double along = 2 * (x * ux[d] + y * uy[d]);
+                const bool nearer = along > 0 && s * den[d] < num[d] * along;
+                num[d] = nearer ? s : num[d];
+                den[d] = nearer ? along : den[d];
+                by[d] = nearer ? i : by[d];
+            }
         }
-        rho = by == q.size() ? std::numeric_limits<double>::infinity() : num / den;
-        return by;
+        for (std::size_t d = 0; d < D; ++d)
+            rho[d] = by[d] == q.size() ? std::numeric_limits<double>::infinity() : num[d] / den[d];
     }
+
+private:
+    mutable std::vector<Flat> hull_;
 };
 
 Neighbourhood neighbourhood(const detail::PointTree& tree, std::uint32_t k) {
@@ -134,9 +153,6 @@ Neighbourhood neighbourhood(const detail::PointTree& tree, std::uint32_t k) {
         n.height.push_back(v[2]);
         n.square.push_back(v[0] * v[0] + v[1] * v[1]);
     }
-    std::vector<Flat> all = n.q;
-    all.push_back({0, 0});
-    n.hull = detail::convex_hull(std::move(all));
     return n;
 }
 
@@ -170,7 +186,7 @@ std::vector<Hole> holes_at(const detail::PointTree& tree, std::uint32_t k, doubl
     }();
     std::size_t by[kDirections];
     double rho[kDirections];
-    for (int i = 0; i < kDirections; ++i) by[i] = n.blocking(directions[std::size_t(i)], rho[i]);
+    n.blocking(directions, by, rho);
     std::vector<std::pair<double, Flat>> candidates;  // radius, centre
     for (int i = 0; i < kDirections; ++i) {
         if (by[i] == n.q.size()) continue;  // open that way
