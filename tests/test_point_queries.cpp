@@ -872,33 +872,33 @@ TEST_CASE("a sampling's holes found by several processes, each at its run of the
         for (int p = 0; p < processes; ++p) each.push_back(std::make_unique<ThreadProcesses::One>(all, p));
         std::vector<std::thread> others;
         for (int p = 1; p < processes; ++p) others.emplace_back([&each, p] { holes_for_root(*each[std::size_t(p)]); });
-        bool asked = false;
         std::size_t sought = 0;
-        const AskHoles shared = holes_shared(*each[0], asked, sought);
-        std::size_t theirs = 0;
-        const AskHoles counted = [&](const PointTree& t, double at_least) {
-            HolesElsewhere e = shared(t, at_least);
+        const AskHoles shared = holes_shared(*each[0], sought);
+        std::size_t theirs = 0, passes = 0, theirs_later = 0;
+        const AskHoles counted = [&](const PointTree& t, double at_least, const PointSet& near, double reach) {
+            HolesElsewhere e = shared(t, at_least, near, reach);
             const auto collect = e.collect;
-            e.collect = [&theirs, collect] {
+            e.collect = [&theirs, &theirs_later, &passes, collect] {
                 std::vector<double> got = collect();
-                theirs = got.size() / 4;
+                (passes++ ? theirs_later : theirs) += got.size() / 4;
                 return got;
             };
             return e;
         };
         const PointSet got = hole_centres(cloud, least, counted);
-        if (!asked) no_holes_asked(*each[0]);
+        holes_done(*each[0]);
         for (std::thread& o : others) o.join();
-        CHECK(asked);
         CHECK(got == want);
         CHECK(theirs > 50);  // the others' runs held holes
+        CHECK(passes >= 2);   // and a later pass's, near the centres added
+        CHECK(theirs_later > 0);
         CHECK(sought == cloud.size() - cloud.size() / std::size_t(processes));
     }
     // Where no hole is looked for, the others are told and return.
     ThreadProcesses all(2);
     ThreadProcesses::One root(all, 0), other(all, 1);
     std::thread waiting([&other] { holes_for_root(other); });
-    no_holes_asked(root);
+    holes_done(root);
     waiting.join();
 }
 

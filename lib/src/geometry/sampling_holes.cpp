@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -299,11 +300,19 @@ std::vector<Hole> holes_at_points(const detail::PointTree& tree, double least, s
     return holes;
 }
 
-// The first pass's centres: at every point, the runs of other processes found there
-// where asked.
-PointSet centres_of_all_holes(const detail::PointTree& tree, double least, const AskHoles& ask) {
-    const HolesElsewhere elsewhere = ask ? ask(tree, least) : HolesElsewhere{tree.size(), nullptr};
-    std::vector<Hole> holes = holes_at_points(tree, least, 0, elsewhere.here_end);
+// The points as a cloud, none where there are none.
+std::optional<PointCloud> cloud_if_any(const PointSet& points) {
+    if (points.empty()) return std::nullopt;
+    return PointCloud(points);
+}
+
+// A pass's centres: at every point (with `near`, within `reach` of one of its points), the
+// runs of other processes found there where asked.
+PointSet centres_of_holes(const detail::PointTree& tree, double least, const PointSet& near, double reach,
+                          const AskHoles& ask) {
+    const HolesElsewhere elsewhere = ask ? ask(tree, least, near, reach) : HolesElsewhere{tree.size(), nullptr};
+    const std::optional<PointCloud> near_cloud = cloud_if_any(near);
+    std::vector<Hole> holes = holes_at_points(tree, least, 0, elsewhere.here_end, near_cloud ? &*near_cloud : nullptr, reach);
     if (elsewhere.collect) {
         const std::vector<double> theirs = elsewhere.collect();
         if (theirs.size() % 4) throw Error("the holes found by another process are not whole");
@@ -325,9 +334,12 @@ double share_bordering_holes(const detail::PointTree& tree, double gap) {
     return double(bordering) / double(n);
 }
 
-std::vector<double> holes_in_run(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end) {
+std::vector<double> holes_in_run(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end,
+                                 const PointSet& near, double reach) {
     std::vector<double> out;
-    for (const Hole& h : holes_at_points(tree, least, begin, std::min(end, tree.size())))
+    const std::optional<PointCloud> near_cloud = cloud_if_any(near);
+    for (const Hole& h :
+         holes_at_points(tree, least, begin, std::min(end, tree.size()), near_cloud ? &*near_cloud : nullptr, reach))
         out.insert(out.end(), {h.radius, h.centre[0], h.centre[1], h.centre[2]});
     return out;
 }
@@ -337,14 +349,13 @@ PointSet hole_centres(const PointCloud& points, double least, const AskHoles& el
     // need another: passes over the points and the centres so far, each looking only
     // near the last pass's centres (within the widest hole's reach: 3 least covers the
     // holes of random samplings, up to 2 least wide), until none is left.
-    PointSet centres = centres_of_all_holes(detail::tree_of(points), least, elsewhere);
+    PointSet centres = centres_of_holes(detail::tree_of(points), least, {}, 0, elsewhere);
     PointSet last = centres;
     for (int pass = 1; pass < HoleRules::passes && !last.empty(); ++pass) {
         PointSet all = points.to_point_set();
         all.insert(all.end(), centres.begin(), centres.end());
-        const PointCloud changed(last);
         const PointCloud with(all);
-        last = distinct_centres(holes_at_points(detail::tree_of(with), least, 0, with.size(), &changed, 3 * least), least);
+        last = centres_of_holes(detail::tree_of(with), least, last, 3 * least, elsewhere);
         centres.insert(centres.end(), last.begin(), last.end());
     }
     return centres;

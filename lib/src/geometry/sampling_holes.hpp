@@ -44,18 +44,22 @@ struct HoleRules {
 // border a hole wider than `gap`.
 double share_bordering_holes(const detail::PointTree& tree, double gap);
 
-// The first pass's holes wider than `least` at the points [begin, end) of a tree's order,
-// as radius, x, y, z in turn: a run another process finds (solver/shared_holes.hpp).
-std::vector<double> holes_in_run(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end);
-// Where other processes find the first pass's holes at runs of the points (each on the
-// whole cloud): given the tree and `least`, it gives them their runs and returns the end of
-// this process's own, [0, here_end), and what then takes theirs (as holes_in_run gives
-// them; null where none was given).
+// A pass's holes wider than `least` at the points [begin, end) of a tree's order (with
+// `near`, only those within `reach` of one of its points), as radius, x, y, z in turn: a
+// run another process finds (solver/shared_holes.hpp).
+std::vector<double> holes_in_run(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end,
+                                 const PointSet& near = {}, double reach = 0);
+// Where other processes find each pass's holes at runs of the points (each on the whole
+// cloud): given the pass's tree, `least` and where it looks (`near`, `reach`: as
+// holes_in_run's), it gives them their runs and returns the end of this process's own,
+// [0, here_end), and what then takes theirs (as holes_in_run gives them; null where none
+// was given).
 struct HolesElsewhere {
     std::size_t here_end = 0;
     std::function<std::vector<double>()> collect;
 };
-using AskHoles = std::function<HolesElsewhere(const detail::PointTree& tree, double least)>;
+using AskHoles =
+    std::function<HolesElsewhere(const detail::PointTree& tree, double least, const PointSet& near, double reach)>;
 
 // Points at the centres of the holes wider than `least` radius (on the surface their rim
 // points describe), one per hole, in passes over the points and the

@@ -61,11 +61,11 @@ PointCloud points_with_added(const PointCloud& points, DomainPlan& plan, TileSch
     bool made = false;
     MakePointsBetween between;
     AskHoles holes;
-    bool holes_asked = false;
-    // The others wait for the holes' question first, then the points between's.
+    bool holes_told = false;
+    // The others wait for the holes' questions first, then the points between's.
     const auto holes_settled = [&] {
-        if (!holes_asked) no_holes_asked(*on);
-        holes_asked = true;
+        if (!holes_told) holes_done(*on);
+        holes_told = true;
     };
     if (shared) {
         between = [&](const PointCloud& so_far) {
@@ -73,7 +73,7 @@ PointCloud points_with_added(const PointCloud& points, DomainPlan& plan, TileSch
             made = true;
             return points_between_shared(*on, so_far, plan.upsample_spacing, plan.upsampled_elsewhere);
         };
-        holes = holes_shared(*on, holes_asked, plan.holes_sought_elsewhere);
+        holes = holes_shared(*on, plan.holes_sought_elsewhere);
     }
     PointCloud with_added =
         with_added_points(points, plan.hole_least, plan.upsample_spacing, slack, added, between, holes);
