@@ -235,6 +235,13 @@ private:
     std::size_t round_ = 0;
 };
 
+// Each process of `all`, the first at [0].
+std::vector<std::unique_ptr<ThreadProcesses::One>> each_of(ThreadProcesses& all, int processes) {
+    std::vector<std::unique_ptr<ThreadProcesses::One>> each;
+    for (int p = 0; p < processes; ++p) each.push_back(std::make_unique<ThreadProcesses::One>(all, p));
+    return each;
+}
+
 // The cloud the first of `processes` files with the others' help (each a thread); then
 // `then` on it, the others answering the sparse rule's counts where it asks them.
 PointCloud filed_by(int processes, const PointCloud& alone,
@@ -243,8 +250,7 @@ PointCloud filed_by(int processes, const PointCloud& alone,
     detail::PointArray<Vec3f> as_read(t.size());  // in input order, as a reader gives them
     for (std::size_t k = 0; k < t.size(); ++k) as_read[t.input[k]] = t.xyz[k];
     ThreadProcesses all(processes);
-    std::vector<std::unique_ptr<ThreadProcesses::One>> each;
-    for (int p = 0; p < processes; ++p) each.push_back(std::make_unique<ThreadProcesses::One>(all, p));
+    const auto each = each_of(all, processes);
     std::vector<std::thread> others;
     for (int p = 1; p < processes; ++p) others.emplace_back([&each, p] { detail::file_for_root(*each[std::size_t(p)]); });
     PointCloud filed = detail::cloud_filed_with(*each[0], std::move(as_read), t.origin);
@@ -259,8 +265,7 @@ PointCloud filed_by(int processes, const PointCloud& alone,
 // The cloud the first of `processes` files where each reads its own part of the file.
 PointCloud read_in_parts_by(int processes, const std::string& path) {
     ThreadProcesses all(processes);
-    std::vector<std::unique_ptr<ThreadProcesses::One>> each;
-    for (int p = 0; p < processes; ++p) each.push_back(std::make_unique<ThreadProcesses::One>(all, p));
+    const auto each = each_of(all, processes);
     std::vector<std::thread> others;
     for (int p = 1; p < processes; ++p)
         others.emplace_back([&each, &path, p] {
@@ -868,8 +873,7 @@ TEST_CASE("a sampling's holes found by several processes, each at its run of the
     for (int processes : {2, 3}) {
         CAPTURE(processes);
         ThreadProcesses all(processes);
-        std::vector<std::unique_ptr<ThreadProcesses::One>> each;
-        for (int p = 0; p < processes; ++p) each.push_back(std::make_unique<ThreadProcesses::One>(all, p));
+        const auto each = each_of(all, processes);
         std::vector<std::thread> others;
         for (int p = 1; p < processes; ++p) others.emplace_back([&each, p] { holes_for_root(*each[std::size_t(p)]); });
         std::size_t sought = 0;
@@ -965,8 +969,7 @@ TEST_CASE("the depth guard's search shared by the processes that filed the point
         for (int processes : {2, 3}) {
             CAPTURE(processes);
             ThreadProcesses all(processes);
-            std::vector<std::unique_ptr<ThreadProcesses::One>> each;
-            for (int p = 0; p < processes; ++p) each.push_back(std::make_unique<ThreadProcesses::One>(all, p));
+            const auto each = each_of(all, processes);
             std::vector<std::thread> others;
             for (int p = 1; p < processes; ++p)
                 others.emplace_back([&each, p] {
