@@ -112,7 +112,7 @@ bool fit_quadric(const std::vector<std::array<double, 3>>& uvw, Quadric& quadric
 }
 
 LocalPatch local_patch(const PointTree& tree, std::uint32_t k, std::size_t neighbours, std::size_t plane_of,
-                       double off_plane, int refits) {
+                       double off_plane, int refits, double within_only) {
     LocalPatch patch;
     const Vec3 p = tree.point(k);
     std::vector<Vec3> d;
@@ -121,6 +121,7 @@ LocalPatch local_patch(const PointTree& tree, std::uint32_t k, std::size_t neigh
             d.push_back(sub(tree.point(at.index), p));
             patch.distance.push_back(std::sqrt(at.dist_sq));
         }
+    if (within_only >= 0 && !patch.distance.empty() && !(patch.distance.back() > within_only)) return patch;
     std::vector<std::uint8_t> nearest(d.size(), 0);
     std::fill(nearest.begin(), nearest.begin() + std::ptrdiff_t(std::min(d.size(), plane_of)), 1);
     patch.normal = fit_plane(d, nearest).normal;

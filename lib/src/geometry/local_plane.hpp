@@ -26,13 +26,14 @@ void plane_axes(const Vec3& n, Vec3& e1, Vec3& e2);
 // of them, its axes, and those no steeper off it than asin(off_plane) (others belong to
 // another part of the surface) as (u, v, height above the plane). With `refits`, the plane
 // is fitted again (so many times at most) to all the neighbours that stand near it.
+// Where none of them lies farther than `within_only` the distances alone are given.
 struct LocalPatch {
     Vec3 e1{0, 0, 0}, e2{0, 0, 0}, normal{0, 0, 1};
     std::vector<std::array<double, 3>> uvw;  // nearest first; the point itself is not among them
     std::vector<double> distance;            // to each neighbour found, near the plane or not, nearest first
 };
 LocalPatch local_patch(const PointTree& tree, std::uint32_t k, std::size_t neighbours, std::size_t plane_of,
-                       double off_plane, int refits = 0);
+                       double off_plane, int refits = 0, double within_only = -1);
 
 // The height field w = a u^2 + b u v + c v^2 + d u + e v + f over a point's plane that fits
 // its neighbours (u, v, w) best (least squares): the surface they lie on, curved, to

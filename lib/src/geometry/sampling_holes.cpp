@@ -139,12 +139,16 @@ private:
     mutable std::vector<Flat> hull_;
 };
 
-Neighbourhood neighbourhood(const detail::PointTree& tree, std::uint32_t k) {
+// Point k's neighbourhood, none (no neighbours) where it can hold no hole wider than
+// `least`: a hole's disc is at most half the neighbours' reach across (holds_hole), so
+// where they all lie within 2 least none is (four in five points of a dense scan's cut at
+// the hole size of 2 voxels, whose plane and discs then need not be made).
+Neighbourhood neighbourhood(const detail::PointTree& tree, std::uint32_t k, double least) {
     Neighbourhood n;
     // The plane of the nearest few: over all 48 a curved or twisted surface (a helicoid
     // near its axis) can be seen edge on, and its points then leave false holes between them.
-    const detail::LocalPatch patch = detail::local_patch(tree, k, kNeighbours, kPlaneNeighbours, kOffPlane);
-    if (patch.distance.size() < 8) return n;
+    const detail::LocalPatch patch = detail::local_patch(tree, k, kNeighbours, kPlaneNeighbours, kOffPlane, 0, 2 * least);
+    if (patch.distance.size() < 8 || !(patch.distance.back() > 2 * least)) return n;
     n.reach = patch.distance.back();
     n.normal = patch.normal;
     n.e1 = patch.e1;
@@ -178,7 +182,7 @@ struct Hole {
 // With `first` the widest alone.
 std::vector<Hole> holes_at(const detail::PointTree& tree, std::uint32_t k, double least, bool first) {
     std::vector<Hole> holes;
-    const Neighbourhood n = neighbourhood(tree, k);
+    const Neighbourhood n = neighbourhood(tree, k, least);
     if (n.q.size() < 8) return holes;
     static const std::array<Flat, kDirections> directions = [] {
         std::array<Flat, kDirections> u;
