@@ -74,7 +74,7 @@ void plan_and_run(const PointCloud& points, const Parameters& params, const Prog
                     std::to_string(plan.domain.nz) + ", " + std::to_string(plan.domain.levels) + " multigrid levels";
         if (!progress(p)) throw Cancelled("cancelled after the domain stage");
     }
-    const PointCloud with_added = points_with_added(points, plan, tiles_on);
+    const PointCloud with_added = points_with_added(points, plan, tiles_on, progress);
     const PointCloud& measured = with_added.empty() ? points : with_added;
     static_cast<DomainPlan&>(res) = plan;
     const MemoryChoice memory = fit_memory(measured, plan, params);

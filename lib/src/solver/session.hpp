@@ -25,7 +25,8 @@ namespace snvr {
 // none when nothing is added; the plan learns how many were added. With a scheduler of
 // several processes (at the root of a tiled run) the points between are made by all of
 // them (shared_upsampling.hpp).
-PointCloud points_with_added(const PointCloud& points, DomainPlan& plan, TileScheduler* on = nullptr);
+PointCloud points_with_added(const PointCloud& points, DomainPlan& plan, TileScheduler* on = nullptr,
+                             const ProgressCallback& progress = {});
 
 // What preparing a session found and cost.
 struct SessionFacts {
