@@ -287,10 +287,12 @@ PointSet distinct_centres(std::vector<Hole> holes, double least) {
     return centres;
 }
 
-// The holes wider than `least` at the tree's points [begin, end); with `near`, only at
-// those within `reach` of one of its points (where the last pass changed the holes).
+// The holes wider than `least` at the tree's points [begin, end); where `near` has points,
+// only at those within `reach` of one of them (where the last pass changed the holes).
 std::vector<Hole> holes_at_points(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end,
-                                  const PointCloud* near = nullptr, double reach = 0) {
+                                  const PointSet& near_points, double reach) {
+    const std::optional<PointCloud> near =
+        near_points.empty() ? std::nullopt : std::optional<PointCloud>(PointCloud(near_points));
     std::vector<std::vector<Hole>> at(end - begin);
     const std::ptrdiff_t n = std::ptrdiff_t(end - begin);
 #pragma omp parallel for schedule(dynamic, 64) if (n >= detail::kParallelCostlyItems)
@@ -304,19 +306,12 @@ std::vector<Hole> holes_at_points(const detail::PointTree& tree, double least, s
     return holes;
 }
 
-// The points as a cloud, none where there are none.
-std::optional<PointCloud> cloud_if_any(const PointSet& points) {
-    if (points.empty()) return std::nullopt;
-    return PointCloud(points);
-}
-
 // A pass's centres: at every point (with `near`, within `reach` of one of its points), the
 // runs of other processes found there where asked.
 PointSet centres_of_holes(const detail::PointTree& tree, double least, const PointSet& near, double reach,
                           const AskHoles& ask) {
     const HolesElsewhere elsewhere = ask ? ask(tree, least, near, reach) : HolesElsewhere{tree.size(), nullptr};
-    const std::optional<PointCloud> near_cloud = cloud_if_any(near);
-    std::vector<Hole> holes = holes_at_points(tree, least, 0, elsewhere.here_end, near_cloud ? &*near_cloud : nullptr, reach);
+    std::vector<Hole> holes = holes_at_points(tree, least, 0, elsewhere.here_end, near, reach);
     if (elsewhere.collect) {
         const std::vector<double> theirs = elsewhere.collect();
         if (theirs.size() % 4) throw Error("the holes found by another process are not whole");
@@ -341,9 +336,7 @@ double share_bordering_holes(const detail::PointTree& tree, double gap) {
 std::vector<double> holes_in_run(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end,
                                  const PointSet& near, double reach) {
     std::vector<double> out;
-    const std::optional<PointCloud> near_cloud = cloud_if_any(near);
-    for (const Hole& h :
-         holes_at_points(tree, least, begin, std::min(end, tree.size()), near_cloud ? &*near_cloud : nullptr, reach))
+    for (const Hole& h : holes_at_points(tree, least, begin, std::min(end, tree.size()), near, reach))
         out.insert(out.end(), {h.radius, h.centre[0], h.centre[1], h.centre[2]});
     return out;
 }
