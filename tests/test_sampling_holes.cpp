@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "geometry/local_plane.hpp"
 #include "geometry/point_tree.hpp"
@@ -54,6 +55,55 @@ TEST_CASE("hole_centres: a hole in a lattice is found at its centre; a lattice's
     // Whole: the lattice's squares (radius 0.014) are narrower, and its edges and corners,
     // open to one side, are no holes at all.
     CHECK(hole_centres(PointCloud(lattice(0)), 0.015).empty());
+}
+
+TEST_CASE("hole_centres tells how far each pass has looked, between parts of its search; a cancel there stops it") {
+    // Enough points for three parts of a pass (a part is at least 4,096 points).
+    const PointCloud cloud(shapes::random_by_name("sphere", 10000, 3));
+    const double least = 0.0085;
+    const PointSet want = hole_centres(cloud, least);
+    CHECK(want.size() > 50);
+    struct Told {
+        std::size_t done, all;
+        int pass;
+    };
+    std::vector<Told> told;
+    const PointSet got =
+        hole_centres(cloud, least, nullptr, [&told](std::size_t done, std::size_t all, int pass) {
+            told.push_back({done, all, pass});
+        });
+    CHECK(got == want);  // told or not, the same centres
+    REQUIRE(told.size() >= 3);
+    CHECK(told[0].done == 0);
+    CHECK(told[0].all == cloud.size());
+    CHECK(told[0].pass == 1);
+    std::size_t within = 0;  // lines between a pass's start and end
+    for (std::size_t k = 1; k < told.size(); ++k) {
+        CAPTURE(k);
+        const Told& a = told[k - 1];
+        const Told& b = told[k];
+        if (b.done == 0) {  // a new pass, after the last one ended
+            CHECK(a.done == a.all);
+            CHECK(b.pass == a.pass + 1);
+        } else {
+            CHECK(b.pass == a.pass);
+            CHECK(b.all == a.all);
+            CHECK(b.done > a.done);
+            within += b.done < b.all;
+        }
+    }
+    CHECK(told.back().done == told.back().all);
+    CHECK(told.back().pass >= 2);  // a later pass near the centres added
+    CHECK(within >= 1);
+    // A cancel from the callback leaves the search there.
+    int calls = 0;
+    CHECK_THROWS_AS(hole_centres(cloud, least, nullptr,
+                                 [&calls](std::size_t done, std::size_t, int) {
+                                     ++calls;
+                                     if (done > 0) throw Cancelled("cancelled in the holes' search");
+                                 }),
+                    Cancelled);
+    CHECK(calls == 2);
 }
 
 TEST_CASE("local_patch: a point of another sheet among the nearest does not tilt the plane refitted") {

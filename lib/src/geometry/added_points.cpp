@@ -30,12 +30,12 @@ PointCloud joined(const PointCloud& points, const PointSet& more) {
 }  // namespace
 
 PointCloud with_added_points(const PointCloud& points, double hole_least, double upsample_spacing, double slack,
-                             AddedPoints& added, const MakePointsBetween& make_between, const AskHoles& holes) {
+                             AddedPoints& added, const AddingWays& ways) {
     added = {};
     const std::array<Vec3, 2> box = points.box();
     PointCloud with;
     if (hole_least > 0) {
-        PointSet centres = hole_centres(points, hole_least, holes);
+        PointSet centres = hole_centres(points, hole_least, ways.holes, ways.holes_told);
         within(box, slack, centres);
         added.at_holes = centres.size();
         if (!centres.empty()) with = joined(points, centres);
@@ -43,7 +43,7 @@ PointCloud with_added_points(const PointCloud& points, double hole_least, double
     if (upsample_spacing > 0) {
         const PointCloud& so_far = with.empty() ? points : with;
         PointSet between =
-            make_between ? make_between(so_far) : upsample_surface(detail::tree_of(so_far), upsample_spacing);
+            ways.between ? ways.between(so_far) : upsample_surface(detail::tree_of(so_far), upsample_spacing);
         within(box, slack, between);
         added.between = between.size();
         if (!between.empty()) with = joined(so_far, between);

@@ -20,12 +20,17 @@ struct AddedPoints {
 // (0: none), none farther than `slack` outside the points' box (the surface between the
 // outermost points bulges out of their box a little; the grid's padding holds that much,
 // and no point far out of place). Empty when none was added (`added` says how many).
-// `between`, if given, makes the points between (upsample_surface over the cloud it is
-// given at upsample_spacing, however it shares the work); `holes`, if given, finds the
-// holes at some of the points elsewhere (hole_centres').
+// `ways` says how the work is shared and told (each optional): `between` makes the points
+// between (upsample_surface over the cloud it is given at upsample_spacing, however it
+// shares the work); `holes` finds the holes at some of the points elsewhere
+// (hole_centres'); `holes_told` hears how far their search has gone.
 using MakePointsBetween = std::function<PointSet(const PointCloud& so_far)>;
+struct AddingWays {
+    MakePointsBetween between;
+    AskHoles holes;
+    HolesTold holes_told;
+};
 PointCloud with_added_points(const PointCloud& points, double hole_least, double upsample_spacing, double slack,
-                             AddedPoints& added, const MakePointsBetween& between = {},
-                             const AskHoles& holes = nullptr);
+                             AddedPoints& added, const AddingWays& ways = {});
 
 }  // namespace snvr

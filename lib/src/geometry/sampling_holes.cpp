@@ -289,17 +289,27 @@ PointSet distinct_centres(std::vector<Hole> holes, double least) {
 
 // The holes wider than `least` at the tree's points [begin, end); where `near` has points,
 // only at those within `reach` of one of them (where the last pass changed the holes).
+// Where told, in parts of a 32nd of the points (at least kToldPart: a part takes 30-400 ms
+// at 7.5-50 us a point, a barrier between them nothing), told between them.
+constexpr std::size_t kToldPart = 4096;
 std::vector<Hole> holes_at_points(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end,
-                                  const PointSet& near_points, double reach) {
+                                  const PointSet& near_points, double reach, const HolesTold& told = nullptr,
+                                  int pass = 1) {
     const std::optional<PointCloud> near =
         near_points.empty() ? std::nullopt : std::optional<PointCloud>(PointCloud(near_points));
-    std::vector<std::vector<Hole>> at(end - begin);
-    const std::ptrdiff_t n = std::ptrdiff_t(end - begin);
-#pragma omp parallel for schedule(dynamic, 64) if (n >= detail::kParallelCostlyItems)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
-        const std::size_t k = begin + std::size_t(i);
-        if (near && !(detail::tree_of(*near).nearest(tree.point(k)).dist_sq <= reach * reach)) continue;
-        at[std::size_t(i)] = holes_at(tree, std::uint32_t(k), least, false);
+    const std::size_t n = end - begin;
+    std::vector<std::vector<Hole>> at(n);
+    const std::size_t part = told ? std::max(kToldPart, n / 32) : std::max<std::size_t>(n, 1);
+    if (told) told(0, n, pass);
+    for (std::size_t from = 0; from < n; from += part) {
+        const std::ptrdiff_t first = std::ptrdiff_t(from), last = std::ptrdiff_t(std::min(n, from + part));
+#pragma omp parallel for schedule(dynamic, 64) if (last - first >= detail::kParallelCostlyItems)
+        for (std::ptrdiff_t i = first; i < last; ++i) {
+            const std::size_t k = begin + std::size_t(i);
+            if (near && !(detail::tree_of(*near).nearest(tree.point(k)).dist_sq <= reach * reach)) continue;
+            at[std::size_t(i)] = holes_at(tree, std::uint32_t(k), least, false);
+        }
+        if (told) told(std::size_t(last), n, pass);
     }
     std::vector<Hole> holes;
     for (const std::vector<Hole>& h : at) holes.insert(holes.end(), h.begin(), h.end());
@@ -309,9 +319,9 @@ std::vector<Hole> holes_at_points(const detail::PointTree& tree, double least, s
 // A pass's centres: at every point (with `near`, within `reach` of one of its points), the
 // runs of other processes found there where asked.
 PointSet centres_of_holes(const detail::PointTree& tree, double least, const PointSet& near, double reach,
-                          const AskHoles& ask) {
+                          const AskHoles& ask, const HolesTold& told, int pass) {
     const HolesElsewhere elsewhere = ask ? ask(tree, least, near, reach) : HolesElsewhere{tree.size(), nullptr};
-    std::vector<Hole> holes = holes_at_points(tree, least, 0, elsewhere.here_end, near, reach);
+    std::vector<Hole> holes = holes_at_points(tree, least, 0, elsewhere.here_end, near, reach, told, pass);
     if (elsewhere.collect) {
         const std::vector<double> theirs = elsewhere.collect();
         if (theirs.size() % 4) throw Error("the holes found by another process are not whole");
@@ -341,18 +351,18 @@ std::vector<double> holes_in_run(const detail::PointTree& tree, double least, st
     return out;
 }
 
-PointSet hole_centres(const PointCloud& points, double least, const AskHoles& elsewhere) {
+PointSet hole_centres(const PointCloud& points, double least, const AskHoles& elsewhere, const HolesTold& told) {
     // A point at a wide hole's centre leaves narrower ones around it; a long hole may
     // need another: passes over the points and the centres so far, each looking only
     // near the last pass's centres (within the widest hole's reach: 3 least covers the
     // holes of random samplings, up to 2 least wide), until none is left.
-    PointSet centres = centres_of_holes(detail::tree_of(points), least, {}, 0, elsewhere);
+    PointSet centres = centres_of_holes(detail::tree_of(points), least, {}, 0, elsewhere, told, 1);
     PointSet last = centres;
     for (int pass = 1; pass < HoleRules::passes && !last.empty(); ++pass) {
         PointSet all = points.to_point_set();
         all.insert(all.end(), centres.begin(), centres.end());
         const PointCloud with(all);
-        last = centres_of_holes(detail::tree_of(with), least, last, 3 * least, elsewhere);
+        last = centres_of_holes(detail::tree_of(with), least, last, 3 * least, elsewhere, told, pass + 1);
         centres.insert(centres.end(), last.begin(), last.end());
     }
     return centres;

@@ -60,10 +60,15 @@ struct HolesElsewhere {
 };
 using AskHoles =
     std::function<HolesElsewhere(const detail::PointTree& tree, double least, const PointSet& near, double reach)>;
+// How far a pass (1 to HoleRules::passes) has looked: `done` of the `all` points it looks
+// at here. Told at the pass's start (done 0), then between parts of the search, never from
+// its threads, so that it may throw (a cancel).
+using HolesTold = std::function<void(std::size_t done, std::size_t all, int pass)>;
 
 // Points at the centres of the holes wider than `least` radius (on the surface their rim
 // points describe), one per hole, in passes over the points and the
 // centres added so far until no hole that wide is left (at most HoleRules::passes).
-PointSet hole_centres(const PointCloud& points, double least, const AskHoles& elsewhere = nullptr);
+PointSet hole_centres(const PointCloud& points, double least, const AskHoles& elsewhere = nullptr,
+                      const HolesTold& told = nullptr);
 
 }  // namespace snvr

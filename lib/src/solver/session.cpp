@@ -41,6 +41,9 @@ std::vector<Real> pack_band(const BrickLayout& layout, const BandDistance<Real>&
     return packed;
 }
 
+// The least time between two lines of a long search's progress.
+constexpr double kToldEverySeconds = 2;
+
 void report(const ProgressCallback& cb, const std::string& stage, const std::string& message) {
     if (!cb) return;
     Progress p;
@@ -86,8 +89,23 @@ PointCloud points_with_added(const PointCloud& points, DomainPlan& plan, TileSch
         };
         holes = holes_shared(*on, plan.holes_sought_elsewhere);
     }
-    PointCloud with_added =
-        with_added_points(points, plan.hole_least, plan.upsample_spacing, slack, added, between, holes);
+    // A pass over millions of points takes a minute: how far it has gone, every few seconds.
+    Stopwatch clock;
+    double pass_seconds = 0, quiet = 0;
+    const auto tell_holes = [&](std::size_t done, std::size_t all, int pass) {
+        const double lap = clock.lap();
+        pass_seconds = done == 0 ? 0 : pass_seconds + lap;
+        quiet += lap;
+        if (done == 0 || done == all || quiet < kToldEverySeconds) return;
+        quiet = 0;
+        char text[160];
+        std::snprintf(text, sizeof text, "holes sought at %zu of %s%zu points (pass %d), about %.0f s left", done,
+                      shared ? "this process's " : "", all, pass,
+                      std::ceil(pass_seconds / double(done) * double(all - done)));
+        report(progress, "distance", text);
+    };
+    PointCloud with_added = with_added_points(points, plan.hole_least, plan.upsample_spacing, slack, added,
+                                              {between, holes, progress ? HolesTold(tell_holes) : nullptr});
     if (shared) holes_settled();
     if (shared && !made) no_points_between(*on);
     plan.hole_fills = added.at_holes;
