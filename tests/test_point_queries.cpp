@@ -940,6 +940,47 @@ TEST_CASE("strided_sample: the points of ranks floor(s n / samples) by input ind
         }
 }
 
+TEST_CASE("strided_sample on points numbered as they came, after drops: the same ranks, no pass over the indices") {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> unit(0, 1);
+    for (const std::size_t n : {std::size_t(9), std::size_t(5000), std::size_t(70001)}) {
+        detail::PointArray<Vec3f> xyz(n);
+        for (std::size_t i = 0; i < n; ++i) xyz[i] = {unit(rng), unit(rng), unit(rng)};
+        PointTree t(xyz, {}, {0, 0, 0});
+        CHECK(t.numbering_known());
+        // Drops in rounds: the first and last inputs, then a few, then most points.
+        for (const double share : {0.0, 0.01, 0.3, 0.9}) {
+            std::vector<std::uint8_t> keep(t.size(), 1);
+            for (std::size_t k = 0; k < t.size(); ++k) {
+                const std::uint32_t i = t.input[k];
+                keep[k] = !(i == 0 || i + 1 == n || unit(rng) < share);
+            }
+            if (t.size() > 2) t.keep_only(keep);
+            CAPTURE(n);
+            CAPTURE(share);
+            REQUIRE(t.numbering_known());
+            std::vector<std::uint32_t> by_rank(t.input.begin(), t.input.end());
+            std::sort(by_rank.begin(), by_rank.end());
+            PointTree unknown = t;  // the same points, their numbering forgotten: the passes over them
+            unknown.numbered = 0;
+            for (const std::size_t samples : {std::size_t(1), std::size_t(4), std::size_t(997), t.size()}) {
+                CAPTURE(samples);
+                const std::vector<std::uint32_t> got = detail::strided_sample(t, samples);
+                CHECK(got == detail::strided_sample(unknown, samples));
+                const std::size_t m = std::min(samples, t.size());
+                REQUIRE(got.size() == m);
+                std::vector<std::uint32_t> inputs, want;
+                for (std::size_t s = 0; s < m; ++s) {
+                    inputs.push_back(t.input[got[s]]);
+                    want.push_back(by_rank[s * t.size() / m]);
+                }
+                std::sort(inputs.begin(), inputs.end());
+                CHECK(inputs == want);
+            }
+        }
+    }
+}
+
 TEST_CASE("the depth guard's search shared by the processes that filed the points: the vertices one process moves") {
     // A dense noisy sphere inside a coarse meshed ball a little wider: the flat triangles
     // and the noise bring thousands of points nearer than the depth. In millimetres and

@@ -220,9 +220,13 @@ PointTree::PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> or
     settle_threads();  // every stage's first parallel region is here or after a read
     const std::size_t n = coordinates.size();
     if (n == 0) return;
+    const bool no_order = order.empty();  // the points numbered as they come
     if (frame) {
         frame_ = *frame;
-        if (file_in_order(coordinates, order)) return;
+        if (file_in_order(coordinates, order)) {
+            if (no_order) numbered_whole();
+            return;
+        }
     }
     const Filing filing = filing_of(coordinates, frame);
     frame_ = filing.frame;
@@ -237,6 +241,7 @@ PointTree::PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> or
     PointArray<std::uint64_t> keys(n);
     filing.sort_cells(cell_start.data(), filing.cells(), xyz.data(), input.data(), keys.data());
     build_nodes(keys.data());
+    if (no_order) numbered_whole();
 }
 
 PointTree::PointTree(PointArray<Vec3f> sorted, PointArray<std::uint32_t> inputs, const Vec3& at, const Frame& frame,
@@ -278,13 +283,19 @@ void PointTree::keep_only(const std::vector<std::uint8_t>& flags) {
     std::vector<std::uint32_t> dropped;
     for (std::size_t k = 0; k < n; ++k)
         if (!flags[k]) dropped.push_back(std::uint32_t(k));
-    if (tell_dropped) {
+    const bool known = numbering_known();
+    if (tell_dropped || (known && !dropped.empty())) {
         std::vector<std::uint32_t> inputs(dropped.size());
         for (std::size_t i = 0; i < dropped.size(); ++i) inputs[i] = input[dropped[i]];
-        tell_dropped(inputs);
-    } else if (!dropped.empty()) {
-        filed_alone();  // no one told: the others' ranges are not these points any more
+        if (tell_dropped) tell_dropped(inputs);
+        if (known) {
+            std::sort(inputs.begin(), inputs.end());
+            const std::size_t had = inputs_dropped.size();
+            inputs_dropped.insert(inputs_dropped.end(), inputs.begin(), inputs.end());
+            std::inplace_merge(inputs_dropped.begin(), inputs_dropped.begin() + std::ptrdiff_t(had), inputs_dropped.end());
+        }
     }
+    if (!tell_dropped && !dropped.empty()) filed_alone();  // no one told: the others' ranges are not these points any more
     for (std::size_t i = 0; i < dropped.size(); ++i) {
         const std::size_t from = dropped[i] + 1, end = i + 1 < dropped.size() ? dropped[i + 1] : n;
         std::copy(xyz.begin() + std::ptrdiff_t(from), xyz.begin() + std::ptrdiff_t(end), xyz.begin() + std::ptrdiff_t(from - i - 1));

@@ -102,6 +102,17 @@ public:
     std::vector<double> scaled_since;
     std::function<void(const std::vector<std::uint32_t>&)> tell_dropped;
     std::size_t shared_end() const { return shared_ranges.size() > 1 ? shared_ranges[1] : 0; }
+    // Where the input indices are 0 .. numbered - 1 but those dropped since (ascending), so
+    // that a sample by input rank needs no pass over them (point_samples.hpp): set where the
+    // points were filed numbered so (the constructors, without an order; a filing by all
+    // whose parts number them so: numbered_whole), kept by keep_only; 0 where unknown.
+    std::size_t numbered = 0;
+    std::vector<std::uint32_t> inputs_dropped;
+    void numbered_whole() {
+        numbered = size();
+        inputs_dropped.clear();
+    }
+    bool numbering_known() const { return numbered > 0 && numbered - inputs_dropped.size() == size(); }
     void filed_alone() {
         shared_ranges.clear();
         scaled_since.clear();

@@ -174,6 +174,7 @@ KeptRange file_parts(TileScheduler& on, const Filing& filing, SortedPart mine, s
     }
     KeptRange whole{std::make_unique<PointTree>(std::move(xyz), std::move(input), origin, filing.frame, keys.data()), n, 0};
     for (int q = 0; q <= on.processes(); ++q) whole.tree->shared_ranges.push_back(ranges.start[ranges.first[std::size_t(q)]]);
+    whole.tree->numbered_whole();  // each part numbered by its place in the input
     return whole;
 }
 
