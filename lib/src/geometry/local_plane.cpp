@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "geometry/vec3_math.hpp"
 
@@ -111,10 +112,30 @@ bool fit_quadric(const std::vector<std::array<double, 3>>& uvw, Quadric& quadric
     return solve6(m, r, quadric.coef);
 }
 
+namespace {
+
+// The largest square whose root is at most r: square roots are correctly rounded, so a
+// squared distance d passes d <= it exactly where sqrt(d) <= r.
+double largest_square_within(double r) {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    double x = r * r;
+    while (x > 0 && std::sqrt(x) > r) x = std::nextafter(x, 0.0);
+    for (double up = std::nextafter(x, kInf); up < kInf && std::sqrt(up) <= r; up = std::nextafter(x, kInf)) x = up;
+    return x;
+}
+
+}  // namespace
+
 LocalPatch local_patch(const PointTree& tree, std::uint32_t k, std::size_t neighbours, std::size_t plane_of,
                        double off_plane, int refits, double within_only) {
     LocalPatch patch;
     const Vec3 p = tree.point(k);
+    // Whether none lies farther than within_only is a count that stops at enough, not the
+    // search: its nearest neighbours + 1 (itself and any duplicates counted, as the search
+    // counts them) within that distance exactly where sqrt(dist_sq) <= within_only (the
+    // 48 nearest of four in five points of a dense scan's cut, at the holes' search).
+    if (within_only >= 0 && tree.count_within(p, largest_square_within(within_only), neighbours + 1) > neighbours)
+        return patch;
     std::vector<Vec3> d;
     for (const auto& at : tree.nearest_points(p, neighbours + 1))
         if (at.dist_sq > 0) {

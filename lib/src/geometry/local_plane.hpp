@@ -26,7 +26,7 @@ void plane_axes(const Vec3& n, Vec3& e1, Vec3& e2);
 // of them, its axes, and those no steeper off it than asin(off_plane) (others belong to
 // another part of the surface) as (u, v, height above the plane). With `refits`, the plane
 // is fitted again (so many times at most) to all the neighbours that stand near it.
-// Where none of them lies farther than `within_only` the distances alone are given.
+// Where none of them lies farther than `within_only`, nothing is given (no distances).
 struct LocalPatch {
     Vec3 e1{0, 0, 0}, e2{0, 0, 0}, normal{0, 0, 1};
     std::vector<std::array<double, 3>> uvw;  // nearest first; the point itself is not among them
