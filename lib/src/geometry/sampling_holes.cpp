@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <optional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -288,16 +287,32 @@ PointSet distinct_centres(std::vector<Hole> holes, double least) {
 }
 
 // The holes wider than `least` at the tree's points [begin, end); where `near` has points,
-// only at those within `reach` of one of them (where the last pass changed the holes).
-// Where told, in parts of a 32nd of the points (at least kToldPart: a part takes 30-400 ms
-// at 7.5-50 us a point, a barrier between them nothing), told between them.
+// only at those within `reach` of one of them (where the last pass changed the holes):
+// found from its points, a search about each (a later pass's few thousand centres), not
+// one from each of the millions of points. Where told, in parts of a 32nd of the points
+// looked at (at least kToldPart: a part takes 30-400 ms at 7.5-50 us a point, a barrier
+// between them nothing), told between them.
 constexpr std::size_t kToldPart = 4096;
 std::vector<Hole> holes_at_points(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end,
                                   const PointSet& near_points, double reach, const HolesTold& told = nullptr,
                                   int pass = 1) {
-    const std::optional<PointCloud> near =
-        near_points.empty() ? std::nullopt : std::optional<PointCloud>(PointCloud(near_points));
-    const std::size_t n = end - begin;
+    std::vector<std::uint32_t> look;  // with `near`: the points looked at, ascending
+    if (!near_points.empty()) {
+        const PointCloud near_cloud(near_points);
+        const detail::PointTree& near = detail::tree_of(near_cloud);
+        const double r_sq = reach * reach;
+        std::vector<std::uint8_t> within(end - begin, 0);
+        for (std::size_t c = 0; c < near.size(); ++c) {
+            const Vec3 at = near.point(c);
+            // The point's distance to its nearest centre as the search from it measured it.
+            tree.for_each_within(at, std::nextafter(r_sq, std::numeric_limits<double>::infinity()), [&](std::uint32_t k) {
+                if (k >= begin && k < end && detail::PointTree::dist_sq(tree.point(k), at) <= r_sq) within[k - begin] = 1;
+            });
+        }
+        for (std::size_t i = 0; i < within.size(); ++i)
+            if (within[i]) look.push_back(std::uint32_t(begin + i));
+    }
+    const std::size_t n = near_points.empty() ? end - begin : look.size();
     std::vector<std::vector<Hole>> at(n);
     const std::size_t part = told ? std::max(kToldPart, n / 32) : std::max<std::size_t>(n, 1);
     if (told) told(0, n, pass);
@@ -305,9 +320,8 @@ std::vector<Hole> holes_at_points(const detail::PointTree& tree, double least, s
         const std::ptrdiff_t first = std::ptrdiff_t(from), last = std::ptrdiff_t(std::min(n, from + part));
 #pragma omp parallel for schedule(dynamic, 64) if (last - first >= detail::kParallelCostlyItems)
         for (std::ptrdiff_t i = first; i < last; ++i) {
-            const std::size_t k = begin + std::size_t(i);
-            if (near && !(detail::tree_of(*near).nearest(tree.point(k)).dist_sq <= reach * reach)) continue;
-            at[std::size_t(i)] = holes_at(tree, std::uint32_t(k), least, false);
+            const std::uint32_t k = look.empty() ? std::uint32_t(begin + std::size_t(i)) : look[std::size_t(i)];
+            at[std::size_t(i)] = holes_at(tree, k, least, false);
         }
         if (told) told(std::size_t(last), n, pass);
     }
