@@ -862,6 +862,46 @@ TEST_CASE("stray points tested by the processes that filed them, each its own ra
     }
 }
 
+namespace {
+
+// hole_centres over `processes` thread processes: the centres, and for each pass whether
+// the others were asked and how many holes they found.
+struct SharedHoles {
+    PointSet centres;
+    std::vector<std::size_t> theirs;  // a pass's holes found by the others; none where not asked
+    std::vector<bool> asked;
+    std::size_t sought = 0;  // the first pass's points the others looked at
+};
+SharedHoles shared_hole_centres(const PointCloud& cloud, double least, int processes) {
+    ThreadProcesses all(processes);
+    const auto each = each_of(all, processes);
+    std::vector<std::thread> others;
+    for (int p = 1; p < processes; ++p) others.emplace_back([&each, p] { holes_for_root(*each[std::size_t(p)]); });
+    SharedHoles out;
+    const AskHoles shared = holes_shared(*each[0], out.sought);
+    const AskHoles counted = [&](const PointTree& t, double at_least, const PointSet& near, double reach,
+                                 std::size_t looked_at) {
+        HolesElsewhere e = shared(t, at_least, near, reach, looked_at);
+        out.asked.push_back(bool(e.collect));
+        out.theirs.push_back(0);
+        if (!e.collect) return e;
+        const auto collect = e.collect;
+        const std::size_t pass = out.theirs.size() - 1;
+        e.collect = [&out, pass, collect] {
+            std::vector<double> got = collect();
+            out.theirs[pass] = got.size() / 4;
+            return got;
+        };
+        return e;
+    };
+    out.centres = hole_centres(cloud, least, counted);
+    holes_done(*each[0]);
+    for (std::thread& o : others) o.join();
+    return out;
+}
+
+}  // namespace
+
 TEST_CASE("a sampling's holes found by several processes, each at its run of the points: one process's centres") {
     // A random sampling of a sphere (its holes many and near every run's ends), scaled
     // after filing as to millimetres.
@@ -872,31 +912,14 @@ TEST_CASE("a sampling's holes found by several processes, each at its run of the
     CHECK(want.size() > 100);
     for (int processes : {2, 3}) {
         CAPTURE(processes);
-        ThreadProcesses all(processes);
-        const auto each = each_of(all, processes);
-        std::vector<std::thread> others;
-        for (int p = 1; p < processes; ++p) others.emplace_back([&each, p] { holes_for_root(*each[std::size_t(p)]); });
-        std::size_t sought = 0;
-        const AskHoles shared = holes_shared(*each[0], sought);
-        std::size_t theirs = 0, passes = 0, theirs_later = 0;
-        const AskHoles counted = [&](const PointTree& t, double at_least, const PointSet& near, double reach) {
-            HolesElsewhere e = shared(t, at_least, near, reach);
-            const auto collect = e.collect;
-            e.collect = [&theirs, &theirs_later, &passes, collect] {
-                std::vector<double> got = collect();
-                (passes++ ? theirs_later : theirs) += got.size() / 4;
-                return got;
-            };
-            return e;
-        };
-        const PointSet got = hole_centres(cloud, least, counted);
-        holes_done(*each[0]);
-        for (std::thread& o : others) o.join();
-        CHECK(got == want);
-        CHECK(theirs > 50);  // the others' runs held holes
-        CHECK(passes >= 2);   // and a later pass's, near the centres added
-        CHECK(theirs_later > 0);
-        CHECK(sought == cloud.size() - cloud.size() / std::size_t(processes));
+        const SharedHoles got = shared_hole_centres(cloud, least, processes);
+        CHECK(got.centres == want);
+        REQUIRE(got.asked.size() >= 2);  // a later pass, near the centres added
+        CHECK(got.asked[0]);
+        CHECK(got.theirs[0] > 50);  // the others' runs held holes
+        CHECK(got.asked[1]);        // a random sampling's later pass looks at many points
+        CHECK(got.theirs[1] > 0);
+        CHECK(got.sought == cloud.size() - cloud.size() / std::size_t(processes));
     }
     // Where no hole is looked for, the others are told and return.
     ThreadProcesses all(2);
@@ -904,6 +927,28 @@ TEST_CASE("a sampling's holes found by several processes, each at its run of the
     std::thread waiting([&other] { holes_for_root(other); });
     holes_done(root);
     waiting.join();
+}
+
+TEST_CASE("a later pass that looks at few points is not shared: the others file no cloud for it; the same centres") {
+    // A lattice of 90,000 points with four holes punched: the first pass finds them; the
+    // second looks only near their centres, a few hundred points.
+    PointSet points;
+    const std::array<std::array<double, 2>, 4> punched{{{0.7, 0.8}, {1.6, 0.9}, {2.2, 2.3}, {0.9, 2.0}}};
+    for (int i = 0; i < 300; ++i)
+        for (int j = 0; j < 300; ++j) {
+            const double u = 0.01 * i, v = 0.01 * j;
+            const auto in_hole = [&](const std::array<double, 2>& c) { return std::hypot(u - c[0], v - c[1]) < 0.03; };
+            if (std::none_of(punched.begin(), punched.end(), in_hole)) points.push_back({u, v, 0.3 * u});
+        }
+    const PointCloud cloud(points);
+    const double least = 0.02;
+    const PointSet want = hole_centres(cloud, least);
+    CHECK(want.size() >= punched.size());  // a hole may take more than one
+    const SharedHoles got = shared_hole_centres(cloud, least, 2);
+    CHECK(got.centres == want);
+    REQUIRE(got.asked.size() >= 2);
+    CHECK(got.asked[0]);
+    CHECK_FALSE(got.asked[1]);
 }
 
 TEST_CASE("strided_sample: the points of ranks floor(s n / samples) by input index, whatever the tree's order, in it") {

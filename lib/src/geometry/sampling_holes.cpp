@@ -286,33 +286,37 @@ PointSet distinct_centres(std::vector<Hole> holes, double least) {
     return centres;
 }
 
-// The holes wider than `least` at the tree's points [begin, end); where `near` has points,
-// only at those within `reach` of one of them (where the last pass changed the holes):
-// found from its points, a search about each (a later pass's few thousand centres), not
-// one from each of the millions of points. Where told, in parts of a 32nd of the points
+// The points of [begin, end) within `reach` of one of `near_points` (where the last pass
+// changed the holes), ascending: found from them, a search about each (a later pass's few
+// thousand centres), not one from each of the millions of points; a point's distance to a
+// centre measured as a search from it measures it.
+std::vector<std::uint32_t> points_near(const detail::PointTree& tree, const PointSet& near_points, double reach,
+                                       std::size_t begin, std::size_t end) {
+    const PointCloud near_cloud(near_points);
+    const detail::PointTree& near = detail::tree_of(near_cloud);
+    const double r_sq = reach * reach;
+    std::vector<std::uint8_t> within(end - begin, 0);
+    for (std::size_t c = 0; c < near.size(); ++c) {
+        const Vec3 at = near.point(c);
+        tree.for_each_within(at, std::nextafter(r_sq, std::numeric_limits<double>::infinity()), [&](std::uint32_t k) {
+            if (k >= begin && k < end && detail::PointTree::dist_sq(tree.point(k), at) <= r_sq) within[k - begin] = 1;
+        });
+    }
+    std::vector<std::uint32_t> look;
+    for (std::size_t i = 0; i < within.size(); ++i)
+        if (within[i]) look.push_back(std::uint32_t(begin + i));
+    return look;
+}
+
+// The holes wider than `least` at the tree's points [begin, end), or at those `look` lists
+// (ascending, among them) where given. Where told, in parts of a 32nd of the points
 // looked at (at least kToldPart: a part takes 30-400 ms at 7.5-50 us a point, a barrier
 // between them nothing), told between them.
 constexpr std::size_t kToldPart = 4096;
 std::vector<Hole> holes_at_points(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end,
-                                  const PointSet& near_points, double reach, const HolesTold& told = nullptr,
+                                  const std::vector<std::uint32_t>* look, const HolesTold& told = nullptr,
                                   int pass = 1) {
-    std::vector<std::uint32_t> look;  // with `near`: the points looked at, ascending
-    if (!near_points.empty()) {
-        const PointCloud near_cloud(near_points);
-        const detail::PointTree& near = detail::tree_of(near_cloud);
-        const double r_sq = reach * reach;
-        std::vector<std::uint8_t> within(end - begin, 0);
-        for (std::size_t c = 0; c < near.size(); ++c) {
-            const Vec3 at = near.point(c);
-            // The point's distance to its nearest centre as the search from it measured it.
-            tree.for_each_within(at, std::nextafter(r_sq, std::numeric_limits<double>::infinity()), [&](std::uint32_t k) {
-                if (k >= begin && k < end && detail::PointTree::dist_sq(tree.point(k), at) <= r_sq) within[k - begin] = 1;
-            });
-        }
-        for (std::size_t i = 0; i < within.size(); ++i)
-            if (within[i]) look.push_back(std::uint32_t(begin + i));
-    }
-    const std::size_t n = near_points.empty() ? end - begin : look.size();
+    const std::size_t n = look ? look->size() : end - begin;
     std::vector<std::vector<Hole>> at(n);
     const std::size_t part = told ? std::max(kToldPart, n / 32) : std::max<std::size_t>(n, 1);
     if (told) told(0, n, pass);
@@ -320,7 +324,7 @@ std::vector<Hole> holes_at_points(const detail::PointTree& tree, double least, s
         const std::ptrdiff_t first = std::ptrdiff_t(from), last = std::ptrdiff_t(std::min(n, from + part));
 #pragma omp parallel for schedule(dynamic, 64) if (last - first >= detail::kParallelCostlyItems)
         for (std::ptrdiff_t i = first; i < last; ++i) {
-            const std::uint32_t k = look.empty() ? std::uint32_t(begin + std::size_t(i)) : look[std::size_t(i)];
+            const std::uint32_t k = look ? (*look)[std::size_t(i)] : std::uint32_t(begin + std::size_t(i));
             at[std::size_t(i)] = holes_at(tree, k, least, false);
         }
         if (told) told(std::size_t(last), n, pass);
@@ -334,8 +338,13 @@ std::vector<Hole> holes_at_points(const detail::PointTree& tree, double least, s
 // runs of other processes found there where asked.
 PointSet centres_of_holes(const detail::PointTree& tree, double least, const PointSet& near, double reach,
                           const AskHoles& ask, const HolesTold& told, int pass) {
-    const HolesElsewhere elsewhere = ask ? ask(tree, least, near, reach) : HolesElsewhere{tree.size(), nullptr};
-    std::vector<Hole> holes = holes_at_points(tree, least, 0, elsewhere.here_end, near, reach, told, pass);
+    std::vector<std::uint32_t> look;  // a later pass's points
+    if (!near.empty()) look = points_near(tree, near, reach, 0, tree.size());
+    const HolesElsewhere elsewhere = ask ? ask(tree, least, near, reach, near.empty() ? tree.size() : look.size())
+                                         : HolesElsewhere{tree.size(), nullptr};
+    look.erase(std::lower_bound(look.begin(), look.end(), std::uint32_t(elsewhere.here_end)), look.end());
+    std::vector<Hole> holes =
+        holes_at_points(tree, least, 0, elsewhere.here_end, near.empty() ? nullptr : &look, told, pass);
     if (elsewhere.collect) {
         const std::vector<double> theirs = elsewhere.collect();
         if (theirs.size() % 4) throw Error("the holes found by another process are not whole");
@@ -360,7 +369,9 @@ double share_bordering_holes(const detail::PointTree& tree, double gap) {
 std::vector<double> holes_in_run(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end,
                                  const PointSet& near, double reach) {
     std::vector<double> out;
-    for (const Hole& h : holes_at_points(tree, least, begin, std::min(end, tree.size()), near, reach))
+    end = std::min(end, tree.size());
+    const std::vector<std::uint32_t> look = near.empty() ? std::vector<std::uint32_t>() : points_near(tree, near, reach, begin, end);
+    for (const Hole& h : holes_at_points(tree, least, begin, end, near.empty() ? nullptr : &look))
         out.insert(out.end(), {h.radius, h.centre[0], h.centre[1], h.centre[2]});
     return out;
 }

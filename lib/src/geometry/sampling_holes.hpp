@@ -50,16 +50,17 @@ double share_bordering_holes(const detail::PointTree& tree, double gap);
 std::vector<double> holes_in_run(const detail::PointTree& tree, double least, std::size_t begin, std::size_t end,
                                  const PointSet& near = {}, double reach = 0);
 // Where other processes find each pass's holes at runs of the points (each on the whole
-// cloud): given the pass's tree, `least` and where it looks (`near`, `reach`: as
-// holes_in_run's), it gives them their runs and returns the end of this process's own,
+// cloud): given the pass's tree, `least`, where it looks (`near`, `reach`: as
+// holes_in_run's) and how many points that is in all, it gives them their runs (or none,
+// where a pass looks at too few to be worth it) and returns the end of this process's own,
 // [0, here_end), and what then takes theirs (as holes_in_run gives them; null where none
 // was given).
 struct HolesElsewhere {
     std::size_t here_end = 0;
     std::function<std::vector<double>()> collect;
 };
-using AskHoles =
-    std::function<HolesElsewhere(const detail::PointTree& tree, double least, const PointSet& near, double reach)>;
+using AskHoles = std::function<HolesElsewhere(const detail::PointTree& tree, double least, const PointSet& near,
+                                              double reach, std::size_t looked_at)>;
 // How far a pass (1 to HoleRules::passes) has looked: `done` of the `all` points it looks
 // at here. Told at the pass's start (done 0), then between parts of the search, never from
 // its threads, so that it may throw (a cancel).

@@ -99,8 +99,8 @@ PointCloud points_with_added(const PointCloud& points, DomainPlan& plan, TileSch
         if (done == 0 || done == all || quiet < kToldEverySeconds) return;
         quiet = 0;
         char text[160];
-        std::snprintf(text, sizeof text, "holes sought at %zu of %s%zu points (pass %d), about %.0f s left", done,
-                      shared ? "this process's " : "", all, pass,
+        std::snprintf(text, sizeof text, "holes sought at %zu of %zu points%s (pass %d), about %.0f s left", done, all,
+                      shared ? " on this process" : "", pass,
                       std::ceil(pass_seconds / double(done) * double(all - done)));
         report(progress, "distance", text);
     };
