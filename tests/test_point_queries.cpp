@@ -951,6 +951,69 @@ TEST_CASE("a later pass that looks at few points is not shared: the others file 
     CHECK_FALSE(got.asked[1]);
 }
 
+namespace {
+
+// Whether two trees are the same to the last bit: origin, frame, points, inputs, nodes.
+bool same_tree(const PointTree& a, const PointTree& b) {
+    if (a.origin != b.origin || a.frame().figures() != b.frame().figures() || a.size() != b.size() ||
+        a.nodes.size() != b.nodes.size() || a.numbered != b.numbered || a.inputs_dropped != b.inputs_dropped)
+        return false;
+    for (std::size_t k = 0; k < a.size(); ++k)
+        if (a.xyz[k] != b.xyz[k] || a.input[k] != b.input[k]) return false;
+    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+        const PointTree::Node &x = a.nodes[i], &y = b.nodes[i];
+        if (x.lo != y.lo || x.hi != y.hi || x.begin != y.begin || x.end != y.end || x.child != y.child ||
+            x.children != y.children)
+            return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("cloud_with: the points and more filed as one cloud afresh would file them, to the last bit") {
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<double> unit(0, 1);
+    const auto random_points = [&](std::size_t n, double lo, double hi, const Vec3& at) {
+        PointSet p(n);
+        for (Vec3& x : p) x = {at[0] + lo + (hi - lo) * unit(rng), at[1] + lo + (hi - lo) * unit(rng), at[2] + lo + (hi - lo) * unit(rng)};
+        return p;
+    };
+    for (const Vec3 at : {Vec3{0, 0, 0}, Vec3{4.5e5, 5.2e6, 310.25}}) {  // survey coordinates: an origin of their own
+        CAPTURE(at[1]);
+        // The box's corners first (kept through the drops below, so that the box, the
+        // origin and the frame stay: the points then keep their order, merged), duplicates:
+        // ties in the keys.
+        PointSet base;
+        for (int c = 0; c < 8; ++c) base.push_back({at[0] + 10.0 * (c & 1), at[1] + 10.0 * (c >> 1 & 1), at[2] + 10.0 * (c >> 2)});
+        const PointSet inner = random_points(20000, 0, 10, at);
+        base.insert(base.end(), inner.begin(), inner.end());
+        for (int i = 0; i < 50; ++i) base.push_back(base[std::size_t(8 + i)]);
+        PointCloud cloud(base);
+        const auto check = [&](const PointCloud& c, const PointSet& more) {
+            PointSet joined = c.to_point_set();
+            joined.insert(joined.end(), more.begin(), more.end());
+            const PointCloud want(joined);
+            const PointCloud got = detail::cloud_with(c, more);
+            CHECK(same_tree(detail::tree_of(got), detail::tree_of(want)));
+        };
+        PointSet inside = random_points(300, 1, 9, at);
+        inside.push_back(base[7]);  // on a point
+        check(cloud, inside);
+        check(cloud, {});
+        check(cloud, random_points(40, -3, 13, at));  // beyond the box: another frame
+        // After drops (the ranks skip them), and after scaling as to millimetres.
+        std::vector<std::uint8_t> keep(cloud.size(), 1);
+        for (std::size_t k = 0; k < keep.size(); k += 7) keep[k] = detail::tree_of(cloud).input[k] < 8;
+        cloud.keep(keep);
+        check(cloud, inside);
+        cloud.scale(25.4);
+        PointSet scaled = inside;
+        for (Vec3& x : scaled) x = {25.4 * x[0], 25.4 * x[1], 25.4 * x[2]};
+        check(cloud, scaled);
+    }
+}
+
 TEST_CASE("strided_sample: the points of ranks floor(s n / samples) by input index, whatever the tree's order, in it") {
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> unit(0, 1);

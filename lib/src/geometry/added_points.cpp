@@ -21,12 +21,6 @@ void within(const std::array<Vec3, 2>& box, double slack, PointSet& points) {
                  points.end());
 }
 
-PointCloud joined(const PointCloud& points, const PointSet& more) {
-    PointSet all = points.to_point_set();
-    all.insert(all.end(), more.begin(), more.end());
-    return PointCloud(all);
-}
-
 }  // namespace
 
 PointCloud with_added_points(const PointCloud& points, double hole_least, double upsample_spacing, double slack,
@@ -38,7 +32,7 @@ PointCloud with_added_points(const PointCloud& points, double hole_least, double
         PointSet centres = hole_centres(points, hole_least, ways.holes, ways.holes_told);
         within(box, slack, centres);
         added.at_holes = centres.size();
-        if (!centres.empty()) with = joined(points, centres);
+        if (!centres.empty()) with = detail::cloud_with(points, centres);
     }
     if (upsample_spacing > 0) {
         const PointCloud& so_far = with.empty() ? points : with;
@@ -46,7 +40,7 @@ PointCloud with_added_points(const PointCloud& points, double hole_least, double
             ways.between ? ways.between(so_far) : upsample_surface(detail::tree_of(so_far), upsample_spacing);
         within(box, slack, between);
         added.between = between.size();
-        if (!between.empty()) with = joined(so_far, between);
+        if (!between.empty()) with = detail::cloud_with(so_far, between);
     }
     return with;
 }

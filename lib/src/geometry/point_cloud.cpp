@@ -158,6 +158,72 @@ PointCloud detail::cloud_filed(PointArray<Vec3f>&& coordinates, const Vec3& orig
     return cloud;
 }
 
+PointCloud detail::cloud_with(const PointCloud& points, const PointSet& more) {
+    const PointTree& t = tree_of(points);
+    const std::size_t n = t.size(), all = n + more.size();
+    const auto afresh = [&] {
+        PointSet joined = points.to_point_set();
+        joined.insert(joined.end(), more.begin(), more.end());
+        return PointCloud(joined);
+    };
+    // The points' ranks by input (as to_point_set numbers them) from the indices dropped.
+    if (all == 0 || !t.numbering_known() || all >= std::size_t(std::numeric_limits<std::uint32_t>::max()))
+        return afresh();
+    const auto at = [&](std::size_t i) { return i < n ? t.point(i) : more[i - n]; };
+    for (const Vec3& p : more)
+        if (!finite(p)) return afresh();  // its error, naming the point as it counts them
+    const Vec3 origin = choose_origin(all, at);
+    PointArray<Vec3f> xyz(all);
+    bool held = true;
+    const std::ptrdiff_t count = std::ptrdiff_t(all);
+#pragma omp parallel for reduction(&& : held) schedule(static) if (count > detail::kParallelCheapItems)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+        const Vec3 p = at(std::size_t(i));
+        for (int a = 0; a < 3; ++a) {
+            xyz[std::size_t(i)][a] = float(p[a] - origin[a]);
+            held = held && std::isfinite(xyz[std::size_t(i)][a]);
+        }
+    }
+    if (!held) return afresh();
+    const PointTree::Frame frame = PointTree::filing_of(xyz).frame;
+    PointArray<std::uint64_t> key(all);
+    PointArray<std::uint32_t> rank(all);
+    const std::vector<std::uint32_t>& dropped = t.inputs_dropped;
+#pragma omp parallel for schedule(static) if (count > detail::kParallelCheapItems)
+    for (std::ptrdiff_t s = 0; s < count; ++s) {
+        const std::size_t i = std::size_t(s);
+        key[i] = frame.key(xyz[i]);
+        if (i < n) {
+            const std::uint32_t in = t.input[i];
+            rank[i] = in - std::uint32_t(std::lower_bound(dropped.begin(), dropped.end(), in) - dropped.begin());
+        } else {
+            rank[i] = std::uint32_t(i);
+        }
+    }
+    // Filing sorts by key, ties by rank: the points must already be in that order.
+    for (std::size_t i = 1; i < n; ++i)
+        if (key[i] < key[i - 1] || (key[i] == key[i - 1] && rank[i] < rank[i - 1])) return afresh();
+    std::vector<std::uint32_t> extra(more.size());
+    std::iota(extra.begin(), extra.end(), std::uint32_t(n));
+    std::sort(extra.begin(), extra.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b] || (key[a] == key[b] && a < b); });
+    PointArray<Vec3f> sorted(all);
+    PointArray<std::uint32_t> input(all);
+    PointArray<std::uint64_t> keys(all);
+    std::size_t i = 0, j = 0;
+    for (std::size_t to = 0; to < all; ++to) {
+        const bool from_points =
+            j == extra.size() || (i < n && (key[i] < key[extra[j]] || (key[i] == key[extra[j]] && rank[i] < extra[j])));
+        const std::size_t from = from_points ? i++ : extra[j++];
+        sorted[to] = xyz[from];
+        input[to] = rank[from];
+        keys[to] = key[from];
+    }
+    PointCloud cloud;
+    CloudAccess::tree_of(cloud) = std::make_unique<PointTree>(std::move(sorted), std::move(input), origin, frame, keys.data());
+    CloudAccess::tree_of(cloud)->numbered_whole();
+    return cloud;
+}
+
 PointCloud detail::cloud_of_flat(std::vector<float>&& xyz, const Vec3& origin, const PointTree::Frame* frame) {
     if (xyz.size() % 3) throw InputError("points sent as x y z in turn are not whole");
     PointArray<Vec3f> points(xyz.size() / 3);

@@ -384,9 +384,7 @@ PointSet hole_centres(const PointCloud& points, double least, const AskHoles& el
     PointSet centres = centres_of_holes(detail::tree_of(points), least, {}, 0, elsewhere, told, 1);
     PointSet last = centres;
     for (int pass = 1; pass < HoleRules::passes && !last.empty(); ++pass) {
-        PointSet all = points.to_point_set();
-        all.insert(all.end(), centres.begin(), centres.end());
-        const PointCloud with(all);
+        const PointCloud with = detail::cloud_with(points, centres);
         last = centres_of_holes(detail::tree_of(with), least, last, 3 * least, elsewhere, told, pass + 1);
         centres.insert(centres.end(), last.begin(), last.end());
     }
