@@ -205,22 +205,24 @@ PointCloud detail::cloud_with(const PointCloud& points, const PointSet& more) {
         if (key[i] < key[i - 1] || (key[i] == key[i - 1] && rank[i] < rank[i - 1])) return afresh();
     std::vector<std::uint32_t> extra(more.size());
     std::iota(extra.begin(), extra.end(), std::uint32_t(n));
-    std::sort(extra.begin(), extra.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b] || (key[a] == key[b] && a < b); });
+    const auto before = [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b] || (key[a] == key[b] && a < b); };
+    std::sort(extra.begin(), extra.end(), before);
     PointArray<Vec3f> sorted(all);
     PointArray<std::uint32_t> input(all);
     PointArray<std::uint64_t> keys(all);
     std::size_t i = 0, j = 0;
     for (std::size_t to = 0; to < all; ++to) {
-        const bool from_points =
-            j == extra.size() || (i < n && (key[i] < key[extra[j]] || (key[i] == key[extra[j]] && rank[i] < extra[j])));
+        // At equal keys the points first: their ranks are below every added one's.
+        const bool from_points = j == extra.size() || (i < n && key[i] <= key[extra[j]]);
         const std::size_t from = from_points ? i++ : extra[j++];
         sorted[to] = xyz[from];
         input[to] = rank[from];
         keys[to] = key[from];
     }
     PointCloud cloud;
-    CloudAccess::tree_of(cloud) = std::make_unique<PointTree>(std::move(sorted), std::move(input), origin, frame, keys.data());
-    CloudAccess::tree_of(cloud)->numbered_whole();
+    auto& tree = CloudAccess::tree_of(cloud);
+    tree = std::make_unique<PointTree>(std::move(sorted), std::move(input), origin, frame, keys.data());
+    tree->numbered_whole();
     return cloud;
 }
 
