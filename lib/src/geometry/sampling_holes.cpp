@@ -370,7 +370,8 @@ std::vector<double> holes_in_run(const detail::PointTree& tree, double least, st
                                  const PointSet& near, double reach) {
     std::vector<double> out;
     end = std::min(end, tree.size());
-    const std::vector<std::uint32_t> look = near.empty() ? std::vector<std::uint32_t>() : points_near(tree, near, reach, begin, end);
+    std::vector<std::uint32_t> look;
+    if (!near.empty()) look = points_near(tree, near, reach, begin, end);
     for (const Hole& h : holes_at_points(tree, least, begin, end, near.empty() ? nullptr : &look))
         out.insert(out.end(), {h.radius, h.centre[0], h.centre[1], h.centre[2]});
     return out;

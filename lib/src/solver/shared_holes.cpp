@@ -18,11 +18,12 @@ namespace {
 // cloud's coordinates and those points.
 constexpr std::size_t kHeader = 12;
 // A pass sends each other process the whole cloud, which it files (about 0.15 us a point)
-// before it seeks the holes at its share of the points looked at (about 7.5 us a point):
-// a later pass, which looks only near the last centres, is shared where that share costs
-// more than the filing (the 12.5 M-point city block at 2048 cells: its second pass looks at
-// 256 k of 12.3 M points, done here in about 2 s on one thread where the other's filing
-// alone took 1.5-2 s; a random sampling's later passes look at a fifth of its points).
+// before it seeks the holes at its share of the points looked at (7.5 us a point on the
+// whole, most ruled out by a count; 15-30 us near the last centres, all in sparse parts):
+// a later pass is shared where that share, reckoned at the lower cost, outweighs the
+// filing (the 12.5 M-point city block at 2048 cells: its later passes look at 256 k and
+// 178 k of 12.3 M points and stay here, about 3-4 s each on one thread, where the other's
+// filing alone takes 1.5-2 s: about even; a random sampling's look at a fifth of its points).
 constexpr double kSeekingOverFiling = 50;
 
 }  // namespace
@@ -37,7 +38,7 @@ AskHoles holes_shared(TileScheduler& on, std::size_t& elsewhere) {
             return HolesElsewhere{n, nullptr};
         // The runs count in this tree's order, which the others file again in its frame;
         // where scaling has left a point out of that frame's order (rare), all are found here.
-        if (!tree.in_frame_order()) return HolesElsewhere{tree.size(), nullptr};
+        if (!tree.in_frame_order()) return HolesElsewhere{n, nullptr};
         const auto first = [n, processes](std::size_t p) { return n * p / processes; };  // of process p's run
         const std::array<double, 4> frame = tree.frame().figures();
         std::vector<double> near_xyz;
