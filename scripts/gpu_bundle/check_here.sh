@@ -19,7 +19,7 @@ unshare -m bash -euo pipefail -c '
     f=/usr/lib/x86_64-linux-gnu/$lib
     if [ -e "$f" ]; then mount --bind /dev/null "$f"; fi
   done
-  env -i PATH=/usr/bin:/bin HOME=/tmp SNVR_RUN_GRIDS=256 SNVR_RUN_OPENMP_GRIDS=256 SNVR_RUN_ROOFLINE=128 \
+  env -i PATH=/usr/bin:/bin HOME=/tmp SNVR_RUN_GRIDS=256 SNVR_RUN_OPENMP_GRIDS=256 SNVR_RUN_ROOFLINE=128 SNVR_RUN_SPHERE_SPACING=0.004 \
     build/gpu-bundle/run.sh "$1" "$2"' check "$out" "$driver"
 cat "$out/same_bytes.txt"
 ! grep -q different "$out/same_bytes.txt"

@@ -9,7 +9,11 @@
 # (roofline/, and roofline_planes/ for the CPU variant of the kernels); run.log. Under 5 minutes on a 16-core machine with one GPU.
 #   ./run.sh FOLDER [DRIVER_LIBRARY]      (or SNVR_OPENCL_DRIVER=path ./run.sh FOLDER)
 # Smaller runs (a CPU "driver" such as PoCL's, for a test of the bundle):
-# SNVR_RUN_GRIDS="256 1024 2048", SNVR_RUN_OPENMP_GRIDS="256 1024", SNVR_RUN_ROOFLINE=1024.
+# SNVR_RUN_GRIDS="256 1024 2048", SNVR_RUN_OPENMP_GRIDS="256 1024", SNVR_RUN_ROOFLINE=1024,
+# SNVR_RUN_SPHERE_SPACING=0.00025 (the 24.6 M-point noisy sphere, made here by the sampler;
+# "none" skips it). Each GPU grid runs twice, the second with the driver's kernel cache
+# warm (tag _warm); with nvidia-smi, the device's memory in use is sampled every 0.1 s
+# during each GPU run (TAG.gpu_memory: the most, MiB).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 out=${1:?usage: run.sh FOLDER [DRIVER_LIBRARY]}
@@ -60,15 +64,26 @@ gpu=$(awk '$1 ~ /^opencl:/ && $2 == "gpu" {print $1; exit}' "$out/devices.txt")
 run() {
   local device=$1 n=$2 tag=$3
   shift 3
-  say "bunny at $n on $device"
+  say "$(basename "${RUN_INPUT:-$bunny}") at $n on $device"
   rm -f "$out/$tag.stl" "$out/$tag.json"
   local timer=()
   [ -x /usr/bin/time ] && timer=(/usr/bin/time -v)
+  local input=${RUN_INPUT:-$bunny}
+  local sampler=
+  if [ "$device" != openmp ] && command -v nvidia-smi >/dev/null; then
+    nvidia-smi --query-gpu=memory.used --format=csv,noheader,nounits -lms 100 > "$out/$tag.gpu_samples" 2>/dev/null &
+    sampler=$!
+  fi
   local t0=$SECONDS
-  timeout 150 "${timer[@]}" "$cli" reconstruct "$bunny" -o "$out/$tag.stl" --resolution "$n" --device "$device" \
+  timeout 150 "${timer[@]}" "$cli" reconstruct "$input" -o "$out/$tag.stl" --resolution "$n" --device "$device" \
     --report "$out/$tag.json" --quiet "$@" 2> "$out/$tag.time" || say "failed: $(tail -3 "$out/$tag.time")"
   echo "wall $((SECONDS - t0)) s" >> "$out/$tag.time"
-  grep -E "Elapsed|Maximum resident|^wall" "$out/$tag.time" | sed "s/^/  $tag: /"
+  if [ -n "$sampler" ]; then
+    kill "$sampler" 2>/dev/null; wait "$sampler" 2>/dev/null
+    echo "device memory used, most: $(sort -n "$out/$tag.gpu_samples" | tail -1) MiB" >> "$out/$tag.time"
+    rm -f "$out/$tag.gpu_samples"
+  fi
+  grep -E "Elapsed|Maximum resident|^wall|^device memory" "$out/$tag.time" | sed "s/^/  $tag: /"
 }
 
 run openmp 128 b128_openmp
@@ -91,9 +106,36 @@ if [ -n "$gpu" ]; then
   say "the same with the $other variant"
   SNVR_OPENCL_KERNELS=$other "$bench" --sections roofline --devices "$gpu" --precisions float,double --repeat 5 \
     --roofline-resolution "${SNVR_RUN_ROOFLINE:-1024}" --data "$here/data" --out "$out/roofline_$other" > "$out/roofline_$other.log" 2>&1 || say "roofline ($other) failed"
-  for n in ${SNVR_RUN_GRIDS:-256 1024 2048}; do run "$gpu" "$n" "b${n}_gpu"; done
+  for n in ${SNVR_RUN_GRIDS:-256 1024 2048}; do
+    run "$gpu" "$n" "b${n}_gpu"
+    run "$gpu" "$n" "b${n}_gpu_warm"
+  done
 fi
 for n in ${SNVR_RUN_OPENMP_GRIDS:-256 1024}; do run openmp "$n" "b${n}_openmp"; done
+# The same answers at the finer grids: the GPU's STL against the host's.
+for n in ${SNVR_RUN_OPENMP_GRIDS:-256 1024}; do
+  [ -f "$out/b${n}_gpu_warm.stl" ] && [ -f "$out/b${n}_openmp.stl" ] || continue
+  if cmp -s "$out/b${n}_gpu_warm.stl" "$out/b${n}_openmp.stl"; then echo "b$n: same bytes" >> "$out/same_bytes.txt"
+  else echo "b$n: different: $(cmp "$out/b${n}_gpu_warm.stl" "$out/b${n}_openmp.stl" 2>&1 | head -1)" >> "$out/same_bytes.txt"; fi
+done
+# A large scan: the 24.6 M-point noisy sphere at 512 cells, on the GPU (twice) and on the host.
+spacing=${SNVR_RUN_SPHERE_SPACING:-0.00025}
+if [ "$spacing" != none ]; then
+  say "the noisy sphere at spacing $spacing"
+  "$cli" sample noisy-sphere --spacing "$spacing" -o "$out/sphere.ply" > /dev/null 2>&1 || say "sampler failed"
+  if [ -f "$out/sphere.ply" ]; then
+    export RUN_INPUT="$out/sphere.ply"
+    if [ -n "$gpu" ]; then run "$gpu" 512 s512_gpu; run "$gpu" 512 s512_gpu_warm; fi
+    run openmp 512 s512_openmp
+    unset RUN_INPUT
+    if [ -f "$out/s512_gpu_warm.stl" ]; then
+      if cmp -s "$out/s512_gpu_warm.stl" "$out/s512_openmp.stl"; then echo "s512: same bytes" >> "$out/same_bytes.txt"
+      else echo "s512: different: $(cmp "$out/s512_gpu_warm.stl" "$out/s512_openmp.stl" 2>&1 | head -1)" >> "$out/same_bytes.txt"; fi
+    fi
+    rm -f "$out/sphere.ply" "$out"/s512*.stl
+  fi
+fi
+[ -f "$out/same_bytes.txt" ] && say "same bytes: $(tr '\n' ' ' < "$out/same_bytes.txt")"
 rm -f "$out"/b[0-9]*_*.stl.tmp* "$out"/b256*.stl "$out"/b1024*.stl "$out"/b2048*.stl
 rm -rf "$out/kernel-cache"
 say "done: $out"
