@@ -248,22 +248,24 @@ public:
     }
 
     void give_check(int process, const snvr::CheckShare& share) override {
-        const std::int64_t sizes[6] = {std::int64_t(share.vertices.size()),     std::int64_t(share.triangles.size()),
+        const std::int64_t sizes[7] = {std::int64_t(share.vertices.size()),     std::int64_t(share.triangles.size()),
                                        std::int64_t(share.measured.size()),     std::int64_t(share.range_groups.size()),
-                                       std::int64_t(share.range_scaled.size()), std::int64_t(share.range_size)};
+                                       std::int64_t(share.range_scaled.size()), std::int64_t(share.range_size),
+                                       std::int64_t(share.point_groups.size())};
         const double figures[7] = {share.epsilon,         share.reach,           share.voxel,          share.points_frame[0],
                                    share.points_frame[1], share.points_frame[2], share.points_frame[3]};
         const auto put = [&](const void* data, std::size_t n, MPI_Datatype type) {
             check(MPI_Send(data, as_count(n, "a share of the check"), type, process, kCheckShare, MPI_COMM_WORLD),
                   "sending a share of the check");
         };
-        put(sizes, 6, MPI_INT64_T);
+        put(sizes, 7, MPI_INT64_T);
         put(figures, 7, MPI_DOUBLE);
         put(share.vertices.data(), 3 * share.vertices.size(), MPI_DOUBLE);
         put(share.triangles.data(), 3 * share.triangles.size(), MPI_UINT32_T);
         put(share.measured.data(), share.measured.size(), MPI_UINT32_T);
         put(share.range_groups.data(), 2 * share.range_groups.size(), MPI_UINT32_T);
         put(share.range_scaled.data(), share.range_scaled.size(), MPI_DOUBLE);
+        put(share.point_groups.data(), share.point_groups.size(), MPI_UINT32_T);
     }
 
     snvr::CheckShareFigures take_check(int process) override {
@@ -289,14 +291,14 @@ public:
     snvr::CheckShare check_share() override {
         snvr::CheckShare share;
         take_points_into(share.origin, share.points);
-        std::int64_t sizes[6];
+        std::int64_t sizes[7];
         double figures[7];
         const auto get = [&](void* data, std::size_t n, MPI_Datatype type) {
             check(MPI_Recv(data, as_count(n, "a share of the check"), type, 0, kCheckShare, MPI_COMM_WORLD,
                            MPI_STATUS_IGNORE),
                   "receiving a share of the check");
         };
-        get(sizes, 6, MPI_INT64_T);
+        get(sizes, 7, MPI_INT64_T);
         get(figures, 7, MPI_DOUBLE);
         share.epsilon = figures[0];
         share.reach = figures[1];
@@ -308,11 +310,13 @@ public:
         share.range_groups.resize(static_cast<std::size_t>(sizes[3]));
         share.range_scaled.resize(static_cast<std::size_t>(sizes[4]));
         share.range_size = std::uint64_t(sizes[5]);
+        share.point_groups.resize(static_cast<std::size_t>(sizes[6]));
         get(share.vertices.data(), 3 * share.vertices.size(), MPI_DOUBLE);
         get(share.triangles.data(), 3 * share.triangles.size(), MPI_UINT32_T);
         get(share.measured.data(), share.measured.size(), MPI_UINT32_T);
         get(share.range_groups.data(), 2 * share.range_groups.size(), MPI_UINT32_T);
         get(share.range_scaled.data(), share.range_scaled.size(), MPI_DOUBLE);
+        get(share.point_groups.data(), share.point_groups.size(), MPI_UINT32_T);
         return share;
     }
 

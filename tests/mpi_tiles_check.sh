@@ -147,6 +147,19 @@ sys.exit(0 if one["points_added"] == two["points_added"] > 100 and two["sought_e
          and one["sought_elsewhere"] == 0 else 1)
 PY
 rm "$tmp"/random*
+# A sparse city block (300,000 points, past the 2^18 whose groups are all sampled) at a
+# voxel finer than its scan lines' spacing: the tree's leaves run along the lines, many
+# voxels long; cut narrower, their depths are dealt too (115 k points to the other, 76 k
+# when such groups stayed with the first), in the groups the first made.
+"$cli" sample city --points 300000 -o "$tmp/city.ply" >/dev/null || fail "the sampler (city)"
+one_and_two city "$tmp/city.ply" --resolution 384 --tile-cells 64
+python3 - "$tmp/city2.json" <<'PY' || fail "the sparse block's wide groups were not dealt"
+import json, sys
+t = json.load(open(sys.argv[1]))["tiles"]
+print(f"sparse block: {t['check_points_elsewhere']} points' depths by the other ({t['check_points_back']} back)")
+sys.exit(0 if t["check_points_elsewhere"] > 100000 else 1)
+PY
+rm "$tmp"/city[12].* "$tmp/city.ply"
 # The same with six stray points far off: the outlier rules drop them and shrink the box,
 # which then is not the first process's tree's frame; the other files the points it is
 # given in that frame, so that its run of them is the first's (6,621 points added, not
@@ -161,7 +174,7 @@ rm "$tmp/two.json"
 grep -q "tile: .* s left; process 0: [0-9]* of [0-9]*, process 1: [0-9]* of [0-9]*" "$tmp/two.log" ||
     fail "the progress does not show each process's tiles: $(tail -3 "$tmp/two.log")"
 rm "$tmp/two.log"
-echo "2 processes: the same bytes and check as 1 (the bunny, a solid blob, a dense sphere, a sparse one, one with strays)"
+echo "2 processes: the same bytes and check as 1 (the bunny, a solid blob, a dense sphere, a sparse one, a sparse city block, one with strays)"
 
 out=$("${mpi[@]}" -np 2 "$cli" reconstruct "$data/bunny.ply" -o "$tmp/x.stl" --quiet 2>&1)
 [ $? -ne 0 ] || fail "no --tile-cells under mpirun was accepted"

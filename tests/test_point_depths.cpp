@@ -10,12 +10,15 @@
 
 #include "check/point_depths.hpp"
 #include "mesh/triangle_grid.hpp"
+#include "geometry/point_tree.hpp"
+#include "snvr/error.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/quality.hpp"
 #include "snvr/shell.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"
+#include "snvr/tiles.hpp"
 
 using namespace snvr;
 
@@ -182,4 +185,146 @@ TEST_CASE("point depths: points split between shares of the mesh (another proces
         CHECK(unresolved >= 2);  // the centre's points lie beyond any reach
         if (reach < l) CHECK(unresolved > 100);
     }
+}
+
+namespace {
+
+// Scan lines round the thin shell's sphere: circles of latitude 3 voxels apart, a point
+// every 0.3 voxels along each, within the wall (the tree's leaves run along the lines,
+// many voxels long).
+PointSet scan_lines(double h, double l) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> unit(-1, 1);
+    PointSet points;
+    for (double theta = 0.2; theta < M_PI - 0.2; theta += 3 * h / 0.3)
+        for (double phi = 0; phi < 2 * M_PI; phi += 0.3 * h / (0.3 * std::sin(theta))) {
+            const double radius = 0.3 + 0.5 * l * unit(rng);
+            points.push_back({0.5 + radius * std::sin(theta) * std::cos(phi), 0.5 + radius * std::sin(theta) * std::sin(phi),
+                              0.5 + radius * std::cos(theta)});
+        }
+    return points;
+}
+
+double half_diagonal(const detail::PointDepths::Span& s) {
+    return 0.5 * std::sqrt(detail::PointTree::dist_sq(s.lo, s.hi));
+}
+
+}  // namespace
+
+TEST_CASE("point depths: a sparse scan's wide groups cut narrower: the same points, the same figures") {
+    const ThinShell shell = thin_shell();
+    const Mesh& mesh = shell.mesh;
+    const double h = shell.h, l = shell.l;
+    const PointCloud cloud(scan_lines(h, l));
+    const detail::PointTree& tree = detail::tree_of(cloud);
+    std::vector<detail::PointDepths::Span> spans = detail::PointDepths::group_spans(tree, h, false);
+    // Every fifth group sampled (left whole), the rest not.
+    for (std::size_t g = 0; g < spans.size(); ++g) spans[g].sampled = g % 5 == 0;
+    std::size_t wide = 0;
+    for (const auto& s : spans) wide += !s.sampled && half_diagonal(s) > h;
+    REQUIRE(wide > 20);
+    const std::vector<detail::PointDepths::Span> cut = detail::PointDepths::narrowed(tree, h, h, spans);
+    CHECK(cut.size() > spans.size() + wide);
+    // The same points in order, each sampled group as it was, every other one narrow and
+    // holding its points in its box.
+    std::size_t at = 0, next = 0;
+    for (const auto& s : cut) {
+        REQUIRE(s.begin == next);
+        REQUIRE(s.end > s.begin);
+        next = s.end;
+        while (spans[at].end < s.end) ++at;
+        CHECK(s.sampled == spans[at].sampled);
+        if (s.sampled) {
+            CHECK(s.begin == spans[at].begin);
+            CHECK(s.end == spans[at].end);
+            continue;
+        }
+        if (half_diagonal(spans[at]) <= h) {  // left whole
+            CHECK(s.begin == spans[at].begin);
+            CHECK(s.end == spans[at].end);
+        } else {
+            CHECK(half_diagonal(s) <= 0.75 * h);
+        }
+        const detail::PointDepths::Span box = detail::PointDepths::span_of(tree, s.begin, s.end);
+        CHECK(box.lo == s.lo);
+        CHECK(box.hi == s.hi);
+    }
+    CHECK(next == tree.size());
+    // Measured in either grouping: brute force's figures, and the sampled groups' depths.
+    const Brute b = brute_force(mesh, cloud);
+    REQUIRE(b.inside > 1000);
+    const TriangleGrid grid(mesh);
+    std::vector<double> sampled[2];
+    for (int narrow = 0; narrow < 2; ++narrow) {
+        CAPTURE(narrow);
+        detail::PointDepths depths(mesh, grid, tree, h, narrow ? cut : spans, false, false, nullptr);
+        depths.bound(0, depths.groups());
+        depths.settle(0, depths.groups(), depths.shallowest());
+        detail::PointDepths::Figures f = depths.figures();
+        CHECK(f.inside == b.inside);
+        CHECK(f.depth_min == b.depth_min);
+        std::sort(f.depths.begin(), f.depths.end());
+        sampled[narrow] = f.depths;
+    }
+    CHECK(!sampled[0].empty());
+    CHECK(sampled[0] == sampled[1]);
+}
+
+TEST_CASE("point depths: another process's points measured in the groups the root dealt") {
+    const ThinShell shell = thin_shell();
+    const Mesh& mesh = shell.mesh;
+    const double h = shell.h, l = shell.l;
+    PointSet points = scan_lines(h, l);
+    points.push_back({0.5, 0.5, 0.5});  // beyond the share's reach: its group is left to the root
+    const PointCloud cloud(points);
+    const detail::PointTree& tree = detail::tree_of(cloud);
+    const Brute b = brute_force(mesh, cloud);
+    const TriangleGrid grid(mesh);
+    // The whole mesh, and every point given in the root's order and frame (kept so here).
+    const auto share_of = [&](std::vector<std::uint32_t> groups) {
+        CheckShare share;
+        share.vertices = mesh.vertices;
+        share.triangles = mesh.triangles;
+        share.reach = 2 * l;  // the wall's points are within it, not the centre
+        share.voxel = h;
+        share.origin = tree.origin;
+        share.points_frame = tree.frame().figures();
+        for (std::size_t k = 0; k < tree.size(); ++k)
+            for (int a = 0; a < 3; ++a) share.points.push_back(tree.xyz[k][std::size_t(a)]);
+        share.point_groups = std::move(groups);
+        return share;
+    };
+    // Measured in groups, those left undecided as the whole mesh decides them.
+    const auto measured = [&](const CheckShareFigures& f, std::size_t& inside, double& least) {
+        inside = f.points_inside;
+        least = f.depth_min;
+        for (std::uint32_t k : f.unresolved) {
+            REQUIRE(k < tree.size());
+            const Vec3 p = tree.point(k);
+            if (count_points_inside(mesh, {p}) != 1) continue;
+            ++inside;
+            least = std::min(least, std::sqrt(grid.closest(p).dist_sq));
+        }
+    };
+    std::vector<detail::PointDepths::Span> spans = detail::PointDepths::group_spans(tree, h, false);
+    for (auto& s : spans) s.sampled = false;
+    std::vector<std::uint32_t> narrow;
+    for (const auto& s : detail::PointDepths::narrowed(tree, h, h, spans)) narrow.push_back(s.end - s.begin);
+    const CheckShareFigures by_groups = measure_check_share(share_of(narrow));
+    std::size_t inside = 0;
+    double least = 0;
+    measured(by_groups, inside, least);
+    CHECK(inside == b.inside);
+    CHECK(least == b.depth_min);
+    CHECK(by_groups.unresolved.size() < tree.size() / 3);
+    // One group of every point: the centre's search reaches beyond the share's reach, so
+    // all are left to the root (the groups given are the ones measured, not the leaves).
+    const CheckShareFigures whole = measure_check_share(share_of({std::uint32_t(tree.size())}));
+    CHECK(whole.unresolved.size() == tree.size());
+    measured(whole, inside, least);
+    CHECK(inside == b.inside);
+    CHECK(least == b.depth_min);
+    // Groups that do not count the points given: refused.
+    CHECK_THROWS_AS(measure_check_share(share_of({std::uint32_t(tree.size() - 1)})), InputError);
+    CHECK_THROWS_AS(measure_check_share(share_of({0, std::uint32_t(tree.size())})), InputError);
 }

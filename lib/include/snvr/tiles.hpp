@@ -58,6 +58,9 @@ struct CheckShare {
     double reach = 0;
     Vec3 origin{0, 0, 0};       // the points (given or kept): float coordinates about it
     std::vector<float> points;  // x y z in turn
+    // The points given, in the root's groups: each a count of consecutive points (all of
+    // them in all); empty: grouped here as their own tree's leaves fall.
+    std::vector<std::uint32_t> point_groups;
     double voxel = 0;           // the run's (the points are measured in groups of its size)
     // The Morton frame (its low corner, then cells a unit) of the root's tree, whose order
     // the points keep: filed in it they need no sorting. A scale of 0: none.

@@ -2,6 +2,7 @@
 // measured on the triangles the root gave it, as the whole shell would measure it where
 // those triangles decide.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -48,6 +49,30 @@ void measure_kept(const CheckShare& share, const Mesh& m, const TriangleGrid& gr
     add_depths(depths, out, [](std::uint32_t k) { return k; });
 }
 
+// The root's groups of the points given (counts of consecutive points) as runs of the
+// tree's order, where the points kept the order they came in (filed in the root's frame
+// they do); else none (the tree's own leaves group them).
+std::vector<std::array<std::uint32_t, 2>> root_groups(const std::vector<std::uint32_t>& counts,
+                                                      const detail::PointTree& tree) {
+    std::vector<std::array<std::uint32_t, 2>> runs;
+    if (counts.empty()) return runs;
+    std::uint64_t all = 0;
+    for (std::uint32_t c : counts) {
+        if (c == 0) throw InputError("measure_check_share: an empty group of points");
+        all += c;
+    }
+    if (all != tree.size()) throw InputError("measure_check_share: the groups do not count the points given");
+    for (std::size_t k = 0; k < tree.size(); ++k)
+        if (tree.input[k] != k) return runs;
+    runs.reserve(counts.size());
+    std::uint32_t at = 0;
+    for (std::uint32_t c : counts) {
+        runs.push_back({at, at + c});
+        at += c;
+    }
+    return runs;
+}
+
 // The share's points' figures; those whose search or side would leave its triangles
 // (a ray's crossings, a nearest triangle beyond the reach) are named instead (after its
 // range's places).
@@ -59,8 +84,15 @@ void measure_points(CheckShare& share, const Mesh& m, const TriangleGrid& grid, 
     const detail::PointTree& tree = detail::tree_of(cloud);
     detail::PointDepths::Part part;
     part.complete_within = share.reach;
-    detail::PointDepths depths(m, grid, tree, share.voxel, false, false, nullptr, &part);
-    add_depths(depths, out, [&](std::uint32_t k) { return std::uint32_t(share.range_size + cloud.input_index(k)); });
+    const auto name = [&](std::uint32_t k) { return std::uint32_t(share.range_size + cloud.input_index(k)); };
+    const std::vector<std::array<std::uint32_t, 2>> runs = root_groups(share.point_groups, tree);
+    if (!runs.empty()) {
+        detail::PointDepths depths(m, grid, tree, share.voxel, runs, part);
+        add_depths(depths, out, name);
+    } else {
+        detail::PointDepths depths(m, grid, tree, share.voxel, false, false, nullptr, &part);
+        add_depths(depths, out, name);
+    }
 }
 
 }  // namespace

@@ -467,6 +467,43 @@ PointDepths::Span PointDepths::span_of(const PointTree& points, std::uint32_t be
     return s;
 }
 
+std::vector<PointDepths::Span> PointDepths::narrowed(const PointTree& points, double voxel, double widest,
+                                                     std::vector<Span> spans) {
+    const auto half_diagonal = [](const Vec3& lo, const Vec3& hi) { return 0.5 * std::sqrt(PointTree::dist_sq(lo, hi)); };
+    const auto wide = [&](const Span& s) { return !s.sampled && half_diagonal(s.lo, s.hi) > widest; };
+    if (std::none_of(spans.begin(), spans.end(), wide)) return spans;
+    const double most = kGroupVoxels * voxel;
+    std::vector<Span> out;
+    out.reserve(spans.size());
+    for (const Span& s : spans) {
+        if (!wide(s)) {
+            out.push_back(s);
+            continue;
+        }
+        // Consecutive points while their box stays narrow: in the tree's (Morton) order a
+        // line's points come mostly along it.
+        Span piece = span_of(points, s.begin, s.begin + 1);
+        for (std::uint32_t k = s.begin + 1; k < s.end; ++k) {
+            const Vec3 p = points.point(k);
+            Vec3 lo = piece.lo, hi = piece.hi;
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], p[a]);
+                hi[a] = std::max(hi[a], p[a]);
+            }
+            if (k - piece.begin < kGroupPoints && half_diagonal(lo, hi) <= most) {
+                piece.lo = lo;
+                piece.hi = hi;
+                piece.end = k + 1;
+                continue;
+            }
+            out.push_back(piece);
+            piece = span_of(points, k, k + 1);
+        }
+        out.push_back(piece);
+    }
+    return out;
+}
+
 namespace {
 std::vector<PointDepths::Span> spans_of(const PointTree& points, const std::vector<std::array<std::uint32_t, 2>>& runs) {
     std::vector<PointDepths::Span> spans(runs.size());

@@ -62,6 +62,11 @@ public:
     static std::vector<Span> group_spans(const PointTree& points, double voxel, bool every_point);
     // Points [begin, end) as a group (their box, as group_spans makes it from the leaves').
     static Span span_of(const PointTree& points, std::uint32_t begin, std::uint32_t end);
+    // `spans` with each group not sampled whose half diagonal exceeds `widest` cut into
+    // runs of consecutive points as narrow as group_spans makes its groups (a sparse
+    // scan's lone leaves, a scan line's 30 voxels long: measured as one they need
+    // triangles from far around, and another process's share holds only those near).
+    static std::vector<Span> narrowed(const PointTree& points, double voxel, double widest, std::vector<Span> spans);
     // The same over the groups group_spans gave for these points, voxel and every_point
     // (made once by a caller that dealt them among processes).
     PointDepths(const Mesh& mesh, const TriangleGrid& grid, const PointTree& points, double voxel,
