@@ -168,8 +168,10 @@ CheckShare mesh_share(const Mesh& mesh, const std::vector<std::uint64_t>& near, 
     const auto in_share = [&](const std::array<std::uint32_t, 3>& t) {
         return ((near[t[0]] | near[t[1]] | near[t[2]]) & bit) != 0;
     };
-    share.triangles.reserve(std::size_t(std::count_if(mesh.triangles.begin(), mesh.triangles.end(), in_share)));
-    share.vertices.reserve(share.triangles.capacity() / 2 + 64);
+    // Room for all (pages untouched cost nothing): counting them first was another pass
+    // over the triangles (0.27 s of the check's shares at 32 M triangles).
+    share.triangles.reserve(mesh.triangles.size());
+    share.vertices.reserve(mesh.vertices.size());
     for (const auto& t : mesh.triangles) {
         if (!in_share(t)) continue;
         std::array<std::uint32_t, 3> mine;
