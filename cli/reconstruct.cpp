@@ -164,7 +164,7 @@ int run_reconstruct(const std::vector<std::string>& args) {
         };
         snvr::Shell shell = snvr::make_shell(std::move(input.points), run_settings, [&](const snvr::Progress& p) {
             if (p.stage == "mesh") say("mesh: extracting the zero level set");
-            else if (p.stage == "check") say("check: the shell against the points");
+            else if (p.stage == "check" && p.message.empty()) say("check: the shell against the points");
             else if (p.stage == "outliers" && !p.message.empty())
                 say(snvr::format_text("outliers: %s (sparse, lone points standing off the surface, or in clusters of "
                                       "under %zu points apart by over 2 x offset); --keep-outliers keeps them",

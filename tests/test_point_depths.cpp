@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "check/point_depths.hpp"
+#include "check/walls.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "geometry/point_tree.hpp"
 #include "snvr/error.hpp"
@@ -327,4 +328,45 @@ TEST_CASE("point depths: another process's points measured in the groups the roo
     // Groups that do not count the points given: refused.
     CHECK_THROWS_AS(measure_check_share(share_of({std::uint32_t(tree.size() - 1)})), InputError);
     CHECK_THROWS_AS(measure_check_share(share_of({0, std::uint32_t(tree.size())})), InputError);
+}
+
+TEST_CASE("the check tells how far its walls and depths have come, and stops when told to") {
+    const ThinShell shell = thin_shell();
+    const PointCloud cloud(scan_lines(shell.h, shell.l));
+    for (bool surface : {false, true}) {
+        CAPTURE(surface);
+        const MeshQuality whole = surface ? measure_quality(shell.mesh, cloud, shell.l, shell.h)
+                                          : measure_shell(shell.mesh, cloud, shell.l, shell.h);
+        std::vector<std::array<std::size_t, 2>> calls;
+        const MeshQuality told = detail::measure_told(shell.mesh, cloud, shell.l, shell.h, surface,
+                                                      [&](std::size_t done, std::size_t all) { calls.push_back({done, all}); });
+        // Between every round, rising from none to all; the same figures as untold.
+        REQUIRE(calls.size() == std::size_t(2 * detail::kCheckRounds + 1));
+        CHECK(calls.front()[0] == 0);
+        CHECK(calls.back()[0] == calls.back()[1]);
+        const TriangleGrid grid(shell.mesh);
+        const detail::PointDepths groups(shell.mesh, grid, detail::tree_of(cloud), shell.h, surface, surface);
+        CHECK(calls.back()[1] == whole.vertices + 2 * groups.groups());  // a vertex's wall, a group's passes
+        for (std::size_t c = 1; c < calls.size(); ++c) {
+            CHECK(calls[c][1] == calls[0][1]);
+            CHECK(calls[c][0] >= calls[c - 1][0]);
+        }
+        CHECK(told.points_inside == whole.points_inside);
+        CHECK(told.depth_min == whole.depth_min);
+        CHECK(told.depth_p01 == whole.depth_p01);
+        CHECK(told.wall_min == whole.wall_min);
+        CHECK(told.wall_p01 == whole.wall_p01);
+        CHECK(told.wall_misses == whole.wall_misses);
+        CHECK(told.genus == whole.genus);
+        if (surface) CHECK(told.offset_rms == whole.offset_rms);
+        // A throw from the teller (after the first round) stops the check: told no more.
+        std::size_t heard = 0;
+        struct Stop {};
+        CHECK_THROWS_AS(detail::measure_told(shell.mesh, cloud, shell.l, shell.h, surface,
+                                             [&](std::size_t, std::size_t) {
+                                                 if (++heard == 2) throw Stop{};
+                                             }),
+                        Stop);
+        CHECK(heard == 2);
+    }
 }

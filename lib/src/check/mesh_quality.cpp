@@ -38,6 +38,7 @@ using detail::threads_here;
 using detail::unit_normals;
 using detail::wall_epsilon;
 using detail::wall_thickness;
+using detail::kCheckRounds;
 using detail::kWallChunk;
 
 using Tri = std::array<std::uint32_t, 3>;
@@ -368,7 +369,7 @@ void finish_figures(const Mesh& mesh, bool surface, const std::vector<Vec3>& nor
 // elsewhere: walls and points another process measures (or null).
 MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, double offset, double voxel,
                     bool surface, const std::function<double(const Vec3&)>& exact,
-                    const detail::CheckElsewhere* elsewhere = nullptr) {
+                    const detail::CheckElsewhere* elsewhere = nullptr, const detail::CheckTold& told = nullptr) {
     const auto started = std::chrono::steady_clock::now();
     MeshQuality q = start_figures(who, mesh, points, offset, voxel, surface);
     // Tasks on the team's threads, each part on one thread (their loops run
@@ -400,8 +401,9 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
             slot = std::current_exception();
         }
     };
+    // The caller's thread makes the tasks (and says how far they have come).
 #pragma omp parallel if (mesh.triangles.size() > 20000)
-#pragma omp single
+#pragma omp master
     {
 #pragma omp task
         guarded(failed[0], [&] {
@@ -433,25 +435,47 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
         });
         if (!failed[1]) {
             const double eps = wall_epsilon(mesh);
-            for (std::size_t first = 0; first < nv; first += kWallChunk)
-#pragma omp task firstprivate(first)
-                guarded(failed[2], [&] {
-                    wall_thickness(mesh, *grid, normals, eps, first, std::min(nv, first + kWallChunk), wall,
-                                   elsewhere ? elsewhere->vertex.data() : nullptr);
-                });
             // Chunks of neighbouring groups (they share bounds and working space), a few per
             // thread; the second pass once the first has found the shallowest measured depth.
-            const std::size_t chunk = std::max<std::size_t>(16, depths->groups() / 64);
+            const std::size_t groups = depths->groups(), chunk = std::max<std::size_t>(16, groups / 64);
+            const std::size_t wall_chunks = (nv + kWallChunk - 1) / kWallChunk, group_chunks = (groups + chunk - 1) / chunk;
+            // In rounds, each's tasks done before the next's are made, so that between them
+            // the caller can be told how far the walls and depths have come (the walls and
+            // the first pass in turn, then the second; a vertex's wall, a group's pass a
+            // unit each). The same chunks as at once: the same figures.
+            const std::size_t all = nv + 2 * groups;
+            const auto tell = [&](std::size_t done) {
+                if (told) guarded(failed[2], [&] { told(done, all); });
+                return !failed[2];
+            };
+            const auto round_of = [](std::size_t n, int r) { return n * std::size_t(r) / std::size_t(kCheckRounds); };
+            bool going = tell(0);
+            for (int r = 0; going && r < kCheckRounds; ++r) {
 #pragma omp taskgroup
-            {
-                for (std::size_t g = 0; g < depths->groups(); g += chunk)
-#pragma omp task firstprivate(g)
-                    guarded(failed[2], [&] { depths->bound(g, std::min(depths->groups(), g + chunk)); });
+                {
+                    for (std::size_t c = round_of(wall_chunks, r); c < round_of(wall_chunks, r + 1); ++c)
+#pragma omp task firstprivate(c)
+                        guarded(failed[2], [&] {
+                            wall_thickness(mesh, *grid, normals, eps, c * kWallChunk, std::min(nv, (c + 1) * kWallChunk),
+                                           wall, elsewhere ? elsewhere->vertex.data() : nullptr);
+                        });
+                    for (std::size_t c = round_of(group_chunks, r); c < round_of(group_chunks, r + 1); ++c)
+#pragma omp task firstprivate(c)
+                        guarded(failed[2], [&] { depths->bound(c * chunk, std::min(groups, (c + 1) * chunk)); });
+                }
+                going = tell(std::min(nv, round_of(wall_chunks, r + 1) * kWallChunk) +
+                             std::min(groups, round_of(group_chunks, r + 1) * chunk));
             }
-            const double shallowest = depths->shallowest();
-            for (std::size_t g = 0; g < depths->groups(); g += chunk)
-#pragma omp task firstprivate(g)
-                guarded(failed[2], [&] { depths->settle(g, std::min(depths->groups(), g + chunk), shallowest); });
+            const double shallowest = going ? depths->shallowest() : 0;
+            for (int r = 0; going && r < kCheckRounds; ++r) {
+#pragma omp taskgroup
+                {
+                    for (std::size_t c = round_of(group_chunks, r); c < round_of(group_chunks, r + 1); ++c)
+#pragma omp task firstprivate(c)
+                        guarded(failed[2], [&] { depths->settle(c * chunk, std::min(groups, (c + 1) * chunk), shallowest); });
+                }
+                going = tell(nv + groups + std::min(groups, round_of(group_chunks, r + 1) * chunk));
+            }
         }
 #pragma omp taskwait
     }
@@ -509,10 +533,16 @@ MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offse
 }
 
 MeshQuality detail::measure_sharing(const Mesh& mesh, const PointCloud& points, double offset, double voxel,
-                                    bool surface, const CheckElsewhere& elsewhere) {
+                                    bool surface, const CheckElsewhere& elsewhere, const CheckTold& told) {
     if (elsewhere.vertex.size() != mesh.vertices.size()) throw ParameterError("measure_sharing: one flag a vertex");
     return measure(surface ? "measure_quality" : "measure_shell", mesh, detail::tree_of(points), offset, voxel, surface,
-                   {}, &elsewhere);
+                   {}, &elsewhere, told);
+}
+
+MeshQuality detail::measure_told(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
+                                 const CheckTold& told) {
+    return measure(surface ? "measure_quality" : "measure_shell", mesh, detail::tree_of(points), offset, voxel, surface,
+                   {}, nullptr, told);
 }
 
 double thinnest_wall(const Mesh& mesh) {

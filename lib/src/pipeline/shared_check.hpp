@@ -5,6 +5,7 @@
 #pragma once
 #include <functional>
 
+#include "check/walls.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/quality.hpp"
@@ -21,6 +22,6 @@ namespace snvr::detail {
 // which it measures less for.
 MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
                           TileScheduler& on, TileFacts& facts, const std::function<void()>& meanwhile = {},
-                          double meanwhile_seconds = 0);
+                          double meanwhile_seconds = 0, const CheckTold& told = nullptr);
 
 }  // namespace snvr::detail

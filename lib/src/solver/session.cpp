@@ -12,6 +12,7 @@
 #include "solver/shared_holes.hpp"
 #include "solver/shared_upsampling.hpp"
 #include "process_limits.hpp"
+#include "told_pace.hpp"
 #include "solver/operations.hpp"
 #include "solver/solver_memory.hpp"
 #include "snvr/error.hpp"
@@ -40,9 +41,6 @@ std::vector<Real> pack_band(const BrickLayout& layout, const BandDistance<Real>&
     }
     return packed;
 }
-
-// The least time between two lines of a long search's progress.
-constexpr double kToldEverySeconds = 2;
 
 void report(const ProgressCallback& cb, const std::string& stage, const std::string& message) {
     if (!cb) return;
@@ -90,18 +88,13 @@ PointCloud points_with_added(const PointCloud& points, DomainPlan& plan, TileSch
         holes = holes_shared(*on, plan.holes_sought_elsewhere);
     }
     // A pass over millions of points takes a minute: how far it has gone, every few seconds.
-    Stopwatch clock;
-    double pass_seconds = 0, quiet = 0;
+    detail::ToldPace pace;
     const auto tell_holes = [&](std::size_t done, std::size_t all, int pass) {
-        const double lap = clock.lap();
-        pass_seconds = done == 0 ? 0 : pass_seconds + lap;
-        quiet += lap;
-        if (done == 0 || done == all || quiet < kToldEverySeconds) return;
-        quiet = 0;
+        double left = 0;
+        if (!pace.due(done, all, left)) return;
         char text[160];
         std::snprintf(text, sizeof text, "holes sought at %zu of %zu points%s (pass %d), about %.0f s left", done, all,
-                      shared ? " on this process" : "", pass,
-                      std::ceil(pass_seconds / double(done) * double(all - done)));
+                      shared ? " on this process" : "", pass, left);
         report(progress, "distance", text);
     };
     PointCloud with_added = with_added_points(points, plan.hole_least, plan.upsample_spacing, slack, added,
