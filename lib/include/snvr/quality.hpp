@@ -109,7 +109,8 @@ MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offse
 // whole shell measures it, NaN where the first hit lies beyond the share's reach (or none
 // lies within it), infinity where the normal vanishes; and its points' count inside and
 // least depth, as the whole shell decides them, but for those it names as unresolved.
-// Throws InputError for indices the share lacks.
+// Throws InputError for indices the share lacks, or point groups that do not count its
+// points.
 CheckShareFigures measure_check_share(CheckShare share);
 
 // Smallest wall thickness of the mesh in world units: from each vertex along its
