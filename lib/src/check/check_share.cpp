@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -84,15 +85,13 @@ void measure_points(CheckShare& share, const Mesh& m, const TriangleGrid& grid, 
     const detail::PointTree& tree = detail::tree_of(cloud);
     detail::PointDepths::Part part;
     part.complete_within = share.reach;
-    const auto name = [&](std::uint32_t k) { return std::uint32_t(share.range_size + cloud.input_index(k)); };
     const std::vector<std::array<std::uint32_t, 2>> runs = root_groups(share.point_groups, tree);
-    if (!runs.empty()) {
-        detail::PointDepths depths(m, grid, tree, share.voxel, runs, part);
-        add_depths(depths, out, name);
-    } else {
-        detail::PointDepths depths(m, grid, tree, share.voxel, false, false, nullptr, &part);
-        add_depths(depths, out, name);
-    }
+    std::optional<detail::PointDepths> depths;
+    if (!runs.empty())
+        depths.emplace(m, grid, tree, share.voxel, runs, part);
+    else
+        depths.emplace(m, grid, tree, share.voxel, false, false, nullptr, &part);
+    add_depths(*depths, out, [&](std::uint32_t k) { return std::uint32_t(share.range_size + cloud.input_index(k)); });
 }
 
 }  // namespace
