@@ -7,6 +7,15 @@ namespace cli {
 
 void warn(const std::string& message) { std::cerr << "snvr-cl: warning: " << snvr::printable(message) << std::endl; }
 
+bool ProgressPace::due(const snvr::Progress& p) {
+    quiet_ += clock_.lap();
+    const bool paced = !p.outcome && !p.message.empty() && p.stage != "step" && p.stage != "tile";
+    if (paced && p.stage == stage_ && quiet_ < kEverySeconds) return false;
+    stage_ = p.stage;
+    quiet_ = 0;
+    return true;
+}
+
 void print_progress(std::ostream& out, const snvr::Progress& p) {
     if (p.stage == "step" && p.stats) {
         const snvr::StepStats& s = *p.stats;

@@ -9,6 +9,7 @@
 
 #include "snvr/reconstruct.hpp"
 #include "snvr/report.hpp"
+#include "snvr/stopwatch.hpp"
 
 namespace cli {
 
@@ -19,5 +20,18 @@ void warn(const std::string& message);
 
 // One line per callback: stage messages and per-step solver statistics.
 void print_progress(std::ostream& out, const snvr::Progress& progress);
+
+// Which progress lines are printed: every step and tile, and what a stage did, always; a
+// stage's parts and how far it has come, its first always, then at most every few seconds.
+class ProgressPace {
+public:
+    static constexpr double kEverySeconds = 2;
+    bool due(const snvr::Progress& progress);
+
+private:
+    std::string stage_;  // of the last line printed
+    double quiet_ = 0;   // seconds since
+    snvr::Stopwatch clock_;
+};
 
 }  // namespace cli

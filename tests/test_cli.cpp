@@ -59,6 +59,12 @@ TEST_CASE("the flow in cells by default; the paper's normalised dt and free flow
     CHECK(r.output.find("6 steps of dt") != std::string::npos);
     CHECK(r.output.find("(0.25 h^2): time 1.5 h^2; surface kept between") != std::string::npos);
     CHECK(r.output.find("walls            thinnest 1%") != std::string::npos);
+    // The mesh stage's first part said, and its lines before the check's.
+    const std::size_t mesh_line = r.output.find("mesh: extracting the zero level set\n"),
+                      check_line = r.output.find("check: the shell against the points\n");
+    CHECK(mesh_line < check_line);
+    CHECK(check_line != std::string::npos);
+    CHECK(r.output.find("mesh: ", check_line) == std::string::npos);
     // The surface's figures only when asked for: they double the check's time.
     CHECK(r.output.find("surface          genus 0 (distance to the offset and smoothness: --measure)") != std::string::npos);
     fs::remove(t.out());

@@ -23,6 +23,7 @@
 #include "snvr/point_cloud.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "mesh/vertex_lists.hpp"
+#include "pipeline/shell_mesh.hpp"
 #include "geometry/vec3_math.hpp"
 
 // The library's OpenMP runtime (linked with it): the tests compare thread counts.
@@ -438,6 +439,41 @@ TEST_CASE("the depth guard moves the vertices exactly as it did before it search
     MESSAGE("scan: near " << r.near_vertices << ", moved " << r.moved_vertices << ", repairs " << r.repair_rounds);
     CHECK(r.near_vertices > 0);
     check_against_reference(shell, scan, depth, result.domain.h, 0.008);
+}
+
+TEST_CASE("the mesh passes say each part as it begins, change nothing for it, and stop where the teller throws") {
+    // A LiDAR-like scan with a thin wall: the guard lifts vertices.
+    Parameters p;
+    p.resolution = 64;
+    p.offset = 0.025;
+    p.device = "openmp";
+    const PointSet points = shapes::lidar_scan({0.5, 0.5, 0.5}, 0.7, 0.01, 0.04, 0.001);
+    const Result result = reconstruct(points, p);
+    DepthGuardReport quiet;
+    const Mesh expected = shell_mesh(result, points, &quiet);
+    REQUIRE(quiet.near_vertices > 0);
+    std::vector<std::string> parts;
+    DepthGuardReport g;
+    const Mesh got = detail::shell_mesh_of(detail::level_set_of(result), result, PointCloud(points), &g, {}, nullptr,
+                                           [&](const std::string& part) { parts.push_back(part); });
+    CHECK(got.vertices == expected.vertices);
+    CHECK(got.triangles == expected.triangles);
+    check_same(g, quiet);
+    REQUIRE(parts.size() == 3 + std::size_t(g.repair_rounds));
+    CHECK(parts[0] == "fairing the surface");
+    CHECK(parts[1] == "the depth guard: searching the points near the surface");
+    CHECK(parts[2] == "the depth guard: lifting " + std::to_string(g.near_vertices) + " vertices near points");
+    for (int r = 0; r < g.repair_rounds; ++r)
+        CHECK(parts[3 + std::size_t(r)].rfind("the depth guard: repair round " + std::to_string(r + 1) + ", ", 0) == 0);
+    // A cancel at the search stops before it.
+    std::size_t told = 0;
+    CHECK_THROWS_AS(detail::shell_mesh_of(detail::level_set_of(result), result, PointCloud(points), &g, {}, nullptr,
+                                          [&](const std::string& part) {
+                                              ++told;
+                                              if (part.find("searching") != std::string::npos) throw Cancelled("stop");
+                                          }),
+                    Cancelled);
+    CHECK(told == 2);
 }
 
 TEST_CASE("shell_mesh is extraction, fairing and the depth guard, on 1 and 2 threads alike") {

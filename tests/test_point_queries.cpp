@@ -818,6 +818,39 @@ TEST_CASE("stray points whose lonely points the processes that filed them counte
     }
 }
 
+TEST_CASE("stray points: the tests told how far they have come, in order, the same flags; a throw from the teller stops them") {
+    // Scan lines: half the points are lonely and tested; strays two to four line spacings off.
+    std::mt19937 rng(5);
+    PointSet points;
+    for (double y = 0.2; y < 0.8; y += 0.004)
+        for (double x = 0.2; x < 0.8; x += 0.001) points.push_back({x, y, 0.5});
+    std::uniform_real_distribution<double> across(0.25, 0.75), off(2, 4);
+    for (int i = 0; i < 100; ++i) points.push_back({across(rng), across(rng), 0.5 + off(rng) * 0.004});
+    const PointCloud cloud(points);
+    const std::vector<std::uint8_t> want = detail::stray_points(detail::tree_of(cloud));
+    CHECK(std::count(want.begin(), want.end(), 1) > 50);
+    std::vector<std::size_t> told;
+    const std::vector<std::uint8_t> got = detail::stray_points(
+        detail::tree_of(cloud), {}, nullptr, nullptr, [&](std::size_t done, std::size_t all) {
+            CHECK(all == points.size());
+            told.push_back(done);
+        });
+    CHECK(got == want);
+    REQUIRE(told.size() == detail::kToldPieces + 1);
+    CHECK(told.front() == 0);
+    CHECK(told.back() == points.size());
+    CHECK(std::is_sorted(told.begin(), told.end()));
+    // Stopped after the first piece: no piece more is told.
+    std::size_t calls = 0;
+    CHECK_THROWS_AS(detail::stray_points(detail::tree_of(cloud), {}, nullptr, nullptr,
+                                         [&](std::size_t done, std::size_t) {
+                                             ++calls;
+                                             if (done > 0) throw Cancelled("stop");
+                                         }),
+                    Cancelled);
+    CHECK(calls == 2);
+}
+
 TEST_CASE("stray points tested by the processes that filed them, each its own range's: every flag of one process's") {
     // Scan lines (points 1 mm apart on lines 4 mm apart, as a car's scanner leaves them):
     // half the points are lonely; strays two to four line spacings off, near the ranges'

@@ -179,13 +179,29 @@ TEST_CASE("make_shell: centred on request, refusals named, and a callback that c
         CHECK_THROWS_AS(snvr::make_shell(points, small(), progress), snvr::Cancelled);
         CHECK(last == stop);
     }
-    // And left alone, every stage is seen once (each step once).
+    // And left alone, every stage is seen once (each step once); the mesh stage says its
+    // parts as they begin, then what the depth guard did, as its outcome.
     std::string stages;
-    snvr::make_shell(points, small(), [&](const snvr::Progress& p) {
+    std::vector<std::string> mesh_parts, outcomes;
+    // A LiDAR-like scan with a thin wall: the depth guard lifts vertices.
+    snvr::ShellSettings thin = small();
+    thin.params.resolution = 64;
+    thin.params.offset = 0.025;
+    const snvr::PointSet scan = snvr::shapes::lidar_scan({0.5, 0.5, 0.5}, 0.7, 0.01, 0.04, 0.001);
+    const snvr::Shell told = snvr::make_shell(scan, thin, [&](const snvr::Progress& p) {
         if (stages.empty() || stages.substr(stages.rfind(' ') + 1) != p.stage) stages += " " + p.stage;
+        if (p.outcome) outcomes.push_back(p.stage + ": " + p.message);
+        else if (p.stage == "mesh" && !p.message.empty()) mesh_parts.push_back(p.message);
         return true;
     });
     CHECK(stages == " outliers domain distance init step mesh check");
+    REQUIRE(mesh_parts.size() >= 3);
+    CHECK(mesh_parts[0] == "extracting the zero level set");
+    CHECK(mesh_parts[1] == "fairing the surface");
+    CHECK(mesh_parts[2] == "the depth guard: searching the points near the surface");
+    REQUIRE(told.guard.moved_vertices > 0);
+    REQUIRE(outcomes.size() == 1);
+    CHECK(outcomes[0].rfind("mesh: " + snvr::grouped(told.guard.moved_vertices) + " vertices lifted along their normals", 0) == 0);
 }
 
 TEST_CASE("make_shell: mesh_ready is handed the finished mesh once, in the check stage, and what it throws is thrown") {

@@ -4,10 +4,33 @@
 #pragma once
 #include <cmath>
 #include <cstddef>
+#include <functional>
+#include <string>
 
 #include "snvr/stopwatch.hpp"
 
 namespace snvr::detail {
+
+// How far a loop has come: told(done, all) from the caller's thread, 0 first and all
+// last; what it throws stops the loop and is thrown on.
+using Told = std::function<void(std::size_t done, std::size_t all)>;
+// Which part of a stage begins (a few words), from the caller's thread; what it throws
+// stops the stage and is thrown on.
+using Begun = std::function<void(const std::string& part)>;
+
+// part(begin, end) over [0, count) in pieces run one after another (one piece without
+// `told`), told between them: a loop whose pieces' items the threads share.
+constexpr std::size_t kToldPieces = 16;
+template <class Part>
+void in_told_pieces(std::size_t count, const Told& told, const Part& part) {
+    const std::size_t pieces = told ? kToldPieces : 1;
+    if (told) told(0, count);
+    for (std::size_t r = 0; r < pieces; ++r) {
+        const std::size_t end = count * (r + 1) / pieces;
+        part(count * r / pieces, end);
+        if (told) told(end, count);
+    }
+}
 
 class ToldPace {
 public:

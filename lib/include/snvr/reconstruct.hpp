@@ -137,13 +137,17 @@ struct Result : DomainPlan {
 };
 
 // A run's progress, as each stage ends (reconstruct: "domain", "distance", "init", "step";
+// "tile" as each tile is done and "mesh" as a tiled run welds its tiles' surfaces;
 // make_shell adds its own). Returning false cancels: the call stops there, frees what it
 // holds and throws Cancelled.
 struct Progress {
     std::string stage;
     int step = 0, steps = 0;
     const StepStats* stats = nullptr;  // set for "step"
+    // How far the stage has come or which of its parts begins; with `outcome`, what the
+    // stage did (the outliers dropped, the vertices the depth guard lifted).
     std::string message;
+    bool outcome = false;
 };
 using ProgressCallback = std::function<bool(const Progress&)>;
 

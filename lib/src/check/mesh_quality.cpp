@@ -369,7 +369,7 @@ void finish_figures(const Mesh& mesh, bool surface, const std::vector<Vec3>& nor
 // elsewhere: walls and points another process measures (or null).
 MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, double offset, double voxel,
                     bool surface, const std::function<double(const Vec3&)>& exact,
-                    const detail::CheckElsewhere* elsewhere = nullptr, const detail::CheckTold& told = nullptr) {
+                    const detail::CheckElsewhere* elsewhere = nullptr, const detail::Told& told = nullptr) {
     const auto started = std::chrono::steady_clock::now();
     MeshQuality q = start_figures(who, mesh, points, offset, voxel, surface);
     // Tasks on the team's threads, each part on one thread (their loops run
@@ -533,14 +533,14 @@ MeshQuality measure_shell(const Mesh& mesh, const PointSet& points, double offse
 }
 
 MeshQuality detail::measure_sharing(const Mesh& mesh, const PointCloud& points, double offset, double voxel,
-                                    bool surface, const CheckElsewhere& elsewhere, const CheckTold& told) {
+                                    bool surface, const CheckElsewhere& elsewhere, const Told& told) {
     if (elsewhere.vertex.size() != mesh.vertices.size()) throw ParameterError("measure_sharing: one flag a vertex");
     return measure(surface ? "measure_quality" : "measure_shell", mesh, detail::tree_of(points), offset, voxel, surface,
                    {}, &elsewhere, told);
 }
 
 MeshQuality detail::measure_told(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
-                                 const CheckTold& told) {
+                                 const Told& told) {
     return measure(surface ? "measure_quality" : "measure_shell", mesh, detail::tree_of(points), offset, voxel, surface,
                    {}, nullptr, told);
 }

@@ -12,6 +12,7 @@
 #include "snvr/geometry.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/quality.hpp"
+#include "told_pace.hpp"
 
 namespace snvr::detail {
 
@@ -45,19 +46,17 @@ struct CheckElsewhere {
     std::function<void(std::vector<double>& wall, PointDepths::Figures& points)> fill;
 };
 
-// How far a check's walls and depths have come: told(done, all) from the caller's thread
-// between its rounds (kCheckRounds of the walls with the depths' first pass, as many of
-// the second; 0 first, all last); what it throws stops the check and is thrown on.
-using CheckTold = std::function<void(std::size_t done, std::size_t all)>;
+// How far a check's walls and depths have come (Told): between its rounds, kCheckRounds
+// of the walls with the depths' first pass, as many of the second.
 constexpr int kCheckRounds = 16;
 
 // measure_quality (surface) or measure_shell with the walls and depths `elsewhere` names
 // taken from `elsewhere.fill`: the same figures.
 MeshQuality measure_sharing(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
-                            const CheckElsewhere& elsewhere, const CheckTold& told = nullptr);
+                            const CheckElsewhere& elsewhere, const Told& told = nullptr);
 // measure_quality (surface) or measure_shell, told how far it has come.
 MeshQuality measure_told(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
-                         const CheckTold& told);
+                         const Told& told);
 
 struct KeptRange;  // solver/shared_filing.hpp
 // measure_check_share at another process, where it may have kept its range of the points

@@ -182,7 +182,8 @@ void OutlierSettings::validate() const {
 
 std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cloud, const OutlierSettings& s,
                                                                   const RunLengthsOf& lengths_of, double& link,
-                                                                  std::size_t& clusters, const RuleQuestions& asked) {
+                                                                  std::size_t& clusters, const RuleQuestions& asked,
+                                                                  const Told& told) {
     s.validate();
     std::vector<std::pair<std::size_t, Vec3>> out;
     link = 0;
@@ -198,7 +199,8 @@ std::vector<std::pair<std::size_t, Vec3>> detail::remove_outliers(PointCloud& cl
         plan = lengths_of(cloud);
         detail::StraySettings strays;
         strays.least_lonely = 0.5 * plan->voxel;
-        const std::vector<std::uint8_t> stray = detail::stray_points(detail::tree_of(cloud), strays, asked.short_of, asked.strays_of);
+        const std::vector<std::uint8_t> stray = detail::stray_points(detail::tree_of(cloud), strays, asked.short_of,
+                                                                       asked.strays_of, told);
         if (!stray.empty() && take(cloud, stray, out)) plan.reset();
     }
     // Among the rest, what the shell would carry as loose beads: clusters that the

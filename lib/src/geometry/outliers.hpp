@@ -33,8 +33,10 @@ struct RuleQuestions {
     RootsOf roots_of;     // clusters at a link
     AskStrays strays_of;  // the lonely points' planes
 };
+// `told`: how far the stray rule's tests have come (most of the rules' time on a sparse scan).
 std::vector<std::pair<std::size_t, Vec3>> remove_outliers(PointCloud& cloud, const OutlierSettings& settings,
                                                           const RunLengthsOf& lengths_of, double& link,
-                                                          std::size_t& clusters, const RuleQuestions& asked = {});
+                                                          std::size_t& clusters, const RuleQuestions& asked = {},
+                                                          const Told& told = nullptr);
 
 }  // namespace snvr::detail

@@ -9,6 +9,7 @@
 
 #include "geometry/neighbour_counts.hpp"
 #include "geometry/point_tree.hpp"
+#include "told_pace.hpp"
 
 namespace snvr::detail {
 
@@ -48,9 +49,11 @@ struct StraysElsewhere {
 using AskStrays =
     std::function<StraysElsewhere(const PointTree&, const StraySettings&, const std::vector<std::uint8_t>& alone)>;
 
-// The lonely points are asked of short_of where given, and tested elsewhere where asked.
+// The lonely points are asked of short_of where given, and tested elsewhere where asked;
+// `told`: how far the tests here have come (the longest of the outlier rules).
 std::vector<std::uint8_t> stray_points(const PointTree& tree, const StraySettings& settings = {},
-                                       const ShortOf& short_of = nullptr, const AskStrays& elsewhere = nullptr);
+                                       const ShortOf& short_of = nullptr, const AskStrays& elsewhere = nullptr,
+                                       const Told& told = nullptr);
 
 // Another process's answer for its range (`range`: a tree of the points whose filing keys
 // lie in [keys_lo, keys_hi), the first's whole tree being all ranges in key order;

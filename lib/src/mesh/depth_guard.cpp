@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <string>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -885,11 +886,14 @@ public:
             for (const PointTriangle& m : mine) nearest_[m.point].add(m.dist, m.triangle);
     }
 
-    void run(DepthGuardReport& report) {
+    void run(DepthGuardReport& report, const detail::Begun& begun) {
         for (report.repair_rounds = 0;; ++report.repair_rounds) {
             if (report.repair_rounds > 0) renew(stale_points());
             report.shallow_points = push_shallow();
             if (report.shallow_points == 0 || report.repair_rounds == kRepairRounds) break;
+            if (begun)
+                begun("the depth guard: repair round " + std::to_string(report.repair_rounds + 1) + ", " +
+                      std::to_string(report.shallow_points) + " points still too shallow");
             // shift += push (elsewhere both are zero: nothing to add).
             for (std::size_t i = 0; i < moving_.vertices.size(); ++i)
                 for (int d = 0; d < 3; ++d) moving_.shift[i][d] += moving_.push[i][d];
@@ -1092,7 +1096,7 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointCloud& points, double d
 // untangled), then the repair rounds' test and move.
 DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, double depth, double voxel,
                                           double lone, VertexLists rings, const VertexLists& fans,
-                                          const GuardElsewhere* elsewhere) {
+                                          const GuardElsewhere* elsewhere, const Begun& begun) {
     if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
         throw ParameterError("keep_points_deep: depth and voxel must be positive and finite");
     if (!(lone > 0)) throw ParameterError("keep_points_deep: lone must be positive");
@@ -1101,6 +1105,7 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, d
 
     const double aim = depth + kMarginVoxels * voxel;
     const double within = depth + 0.25 * voxel;
+    if (begun) begun("the depth guard: searching the points near the surface");
     // The others search their points meanwhile, on the same cells of the same mesh.
     if (elsewhere) elsewhere->ask(mesh, aim, depth);
     const std::vector<std::uint8_t> kept = covered_points(points, lone, report);
@@ -1113,6 +1118,7 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, d
     std::vector<double> lift = vertex_lifts(mesh, fans, points, kept, found.near_point, aim, negative_zero);
     for (double x : lift) report.near_vertices += x > 0;
     if (report.near_vertices == 0) return report;
+    if (begun) begun("the depth guard: lifting " + std::to_string(report.near_vertices) + " vertices near points");
     const std::vector<std::uint32_t> region = spread(mesh, rings, fans, lift);
     rings = VertexLists();  // the repairs below walk fans only
     Moving moving(mesh, fans);
@@ -1121,7 +1127,7 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, d
 
     Repairs repairs(mesh, points, kept, fans, start_cells, moving, depth, voxel, aim, within);
     repairs.find_nearest(found.close);
-    repairs.run(report);
+    repairs.run(report, begun);
     for (const Vec3& d : moving.shift) report.moved_vertices += dot(d, d) > 0;
     return report;
 }

@@ -61,16 +61,17 @@ void rings_and_fans(const Mesh& m, detail::VertexLists& ring, detail::VertexList
 }  // namespace
 
 DepthGuardReport detail::fair_and_keep_deep(Mesh& mesh, const PointCloud& points, const MeshFairing& fairing,
-                                            const KeepDeep* deep) {
+                                            const KeepDeep* deep, const Begun& begun) {
     const bool fair = fairing.passes > 0 && !mesh.triangles.empty();
     const bool lists = deep && !mesh.triangles.empty() && !points.empty();
     // Both passes walk the same triangles: their per-vertex lists are built once.
     detail::VertexLists ring, fan;
+    if (fair && begun) begun("fairing the surface");
     if (fair || lists) rings_and_fans(mesh, ring, lists ? &fan : nullptr);
     if (fair) detail::fair_mesh(mesh, fairing, ring);
     if (!deep) return {};
     return lists ? detail::keep_points_deep(mesh, detail::tree_of(points), deep->depth, deep->voxel, deep->lone, std::move(ring), fan,
-                                                     deep->elsewhere)
+                                                     deep->elsewhere, begun)
                  : keep_points_deep(mesh, points, deep->depth, deep->voxel, deep->lone);
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 #include "snvr/mesh.hpp"
 #include "snvr/point_cloud.hpp"
+#include "told_pace.hpp"
 
 namespace snvr::detail {
 
@@ -15,8 +16,9 @@ struct KeepDeep {
 };
 
 // fair_mesh, then (when `deep`) keep_points_deep: the same results as the two public
-// calls in that order, with the per-vertex lists both walk built once.
+// calls in that order, with the per-vertex lists both walk built once; `begun` told as
+// each part begins (the fairing, the guard's).
 DepthGuardReport fair_and_keep_deep(Mesh& mesh, const PointCloud& points, const MeshFairing& fairing,
-                                    const KeepDeep* deep);
+                                    const KeepDeep* deep, const Begun& begun = nullptr);
 
 }  // namespace snvr::detail

@@ -8,6 +8,7 @@
 #include "snvr/geometry.hpp"
 #include "snvr/mesh.hpp"
 #include "parallel_sizes.hpp"
+#include "told_pace.hpp"
 
 namespace snvr::detail {
 class PointTree;
@@ -61,8 +62,10 @@ inline VertexLists fans(const Mesh& m) { return VertexLists(m, fan_item()); }
 // and keep_points_deep; the mesh must be valid (every index a vertex). The guard takes
 // the rings over and frees them once the lift is spread, before its repair rounds.
 void fair_mesh(Mesh& mesh, const MeshFairing& fairing, const VertexLists& rings);
-// `elsewhere`: other processes search some of the points (guard_search.hpp), or null.
+// `elsewhere`: other processes search some of the points (guard_search.hpp), or null;
+// `begun`: told as its search, its lift and each repair round begin.
 DepthGuardReport keep_points_deep(Mesh& mesh, const PointTree& points, double depth, double voxel, double lone,
-                                  VertexLists rings, const VertexLists& fans, const GuardElsewhere* elsewhere = nullptr);
+                                  VertexLists rings, const VertexLists& fans, const GuardElsewhere* elsewhere = nullptr,
+                                  const Begun& begun = nullptr);
 
 }  // namespace snvr::detail

@@ -32,9 +32,9 @@ DroppedOutliers drop_outliers(PointCloud& points, const Parameters& params, cons
 }
 
 DroppedOutliers detail::drop_outliers_shared(PointCloud& points, const Parameters& params, const OutlierSettings& s,
-                                             const RuleQuestions& asked) {
+                                             const RuleQuestions& asked, const Told& told) {
     DroppedOutliers d;
-    for (const auto& o : detail::remove_outliers(points, s, planned_by(params), d.link, d.clusters, asked)) {
+    for (const auto& o : detail::remove_outliers(points, s, planned_by(params), d.link, d.clusters, asked, told)) {
         d.points.push_back(o.second);
         d.input_indices.push_back(o.first);
     }

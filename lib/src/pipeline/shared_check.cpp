@@ -197,7 +197,7 @@ CheckShare mesh_share(const Mesh& mesh, const std::vector<std::uint64_t>& near, 
 
 MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
                           TileScheduler& on, TileFacts& facts, const std::function<void()>& meanwhile,
-                          double meanwhile_seconds, const CheckTold& told) {
+                          double meanwhile_seconds, const Told& told) {
     const Domain& d = run.domain;
     const int core = run.tiles.core_cells;
     const std::array<int, 3> n{d.nx, d.ny, d.nz};

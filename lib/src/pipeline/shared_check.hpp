@@ -22,6 +22,6 @@ namespace snvr::detail {
 // which it measures less for.
 MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
                           TileScheduler& on, TileFacts& facts, const std::function<void()>& meanwhile = {},
-                          double meanwhile_seconds = 0, const CheckTold& told = nullptr);
+                          double meanwhile_seconds = 0, const Told& told = nullptr);
 
 }  // namespace snvr::detail

@@ -83,6 +83,41 @@ Shell make_shell(const PointSet& points, const ShellSettings& settings, const Pr
 
 namespace {
 
+// Tells `progress` (where there is one) a message of `stage`; false back cancels.
+void tell(const ProgressCallback& progress, const char* stage, std::string message, bool outcome = false) {
+    if (!progress) return;
+    Progress p;
+    p.stage = stage;
+    p.message = std::move(message);
+    p.outcome = outcome;
+    if (!progress(p)) throw Cancelled(std::string("cancelled in the ") + stage + " stage");
+}
+
+// A long loop of `stage` told as "<what> 47% <done_as>, about 13 s left", every few
+// seconds at most.
+detail::Told told_as(const ProgressCallback& progress, const char* stage, std::string what, std::string done_as) {
+    if (!progress) return nullptr;
+    return [=, pace = detail::ToldPace()](std::size_t done, std::size_t all) mutable {
+        double left = 0;
+        if (!pace.due(done, all, left)) return;
+        tell(progress, stage,
+             format_text("%s %.0f%% %s, about %.0f s left", what.c_str(), std::floor(100.0 * double(done) / double(all)),
+                         done_as.c_str(), left));
+    };
+}
+
+// What the depth guard did, the mesh stage's outcome ("" where it moved nothing).
+std::string guard_outcome(const DepthGuardReport& guard, double depth) {
+    if (!guard.moved_vertices) return "";
+    const std::string except = guard.lone_points ? " but " + grouped(guard.lone_points) +
+                                                       " with no other point within the offset (it is below the "
+                                                       "sampling gap)"
+                                                 : "";
+    return grouped(guard.moved_vertices) + " vertices lifted along their normals, around " +
+           grouped(guard.near_vertices) + " that came nearer to a point than the tube's inner wall (" +
+           format_text("%.3g", depth) + " x offset), so that every point stays that deep" + except;
+}
+
 // make_shell's stages; `now` names the one running, for an allocation that fails.
 Shell shell_stages(PointCloud points, const ShellSettings& given, const ProgressCallback& progress, const char*& now) {
     Stopwatch total, stage;
@@ -117,8 +152,9 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
         // Where the other processes filed the points too, they count part of the rules.
         detail::NeighbourCountsShared shared(settings.tiles_on.get(), points);
         if (settings.drop_outliers)
-            shell.outliers = detail::drop_outliers_shared(points, settings.params, settings.outliers,
-                                                          {shared.short_of(), shared.roots_of(), shared.strays_of()});
+            shell.outliers = detail::drop_outliers_shared(
+                points, settings.params, settings.outliers, {shared.short_of(), shared.roots_of(), shared.strays_of()},
+                told_as(progress, "outliers", "lonely points", "tested against their neighbours' planes"));
     }
     if (centre) {
         shell.shift = round_centre(points);
@@ -126,12 +162,9 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     }
     shell.points = points.size();
     shell.seconds.outliers = stage.lap();
-    if (progress && !shell.outliers.points.empty()) {  // what the stage did, before the long part
-        Progress p;
-        p.stage = "outliers";
-        p.message = std::to_string(shell.outliers.points.size()) + " dropped, " + std::to_string(shell.points) + " kept";
-        if (!progress(p)) throw Cancelled("cancelled after the outliers stage");
-    }
+    if (!shell.outliers.points.empty())  // what the stage did, before the long part
+        tell(progress, "outliers",
+             std::to_string(shell.outliers.points.size()) + " dropped, " + std::to_string(shell.points) + " kept", true);
 
     now = "reconstruction";
     shell.run = reconstruct(points, settings.params, progress, settings.tiles_on.get());
@@ -146,20 +179,30 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     shell.warnings = run.warnings;
 
     enter("mesh");
+    // Its parts said as each begins (12-22 s on the 12.5 M-point city block at 2048 cells).
+    const detail::Begun begun = [&progress](const std::string& part) { tell(progress, "mesh", part); };
     // Over several processes, each searches its range of the points for the depth guard.
     TileScheduler* on = run.tiles.core_cells > 0 ? settings.tiles_on.get() : nullptr;
     {
         detail::GuardSearchShared guard_shared(on, points, shell.run.tiles);
+        if (!run.surface_made) begun("extracting the zero level set");
         shell.mesh = detail::shell_mesh_of(run.surface_made ? std::move(surface) : detail::level_set_of(run), run, points,
-                                           &shell.guard, settings.fairing, guard_shared.elsewhere());
+                                           &shell.guard, settings.fairing, guard_shared.elsewhere(), begun);
         guard_shared.done();
     }
     const double depth = 1 - run.tube_inner / run.offset;
+    if (const std::string lifted = guard_outcome(shell.guard, depth); !lifted.empty())
+        tell(progress, "mesh", lifted, true);
     if (shell.guard.shallow_points)
         shell.warnings.push_back(std::to_string(shell.guard.shallow_points) + " points stay shallower than " +
                                  format_text("%.3g", depth) + " x offset after " +
                                  std::to_string(shell.guard.repair_rounds) + " repair rounds");
     shell.pieces = filter_pieces(shell.mesh, settings.pieces);
+    if (shell.pieces.dropped && !shell.mesh.triangles.empty())
+        tell(progress, "mesh",
+             format_text("%zu solid piece%s dropped (%.4g mm^3 in all), %zu kept", shell.pieces.dropped,
+                         shell.pieces.dropped == 1 ? "" : "s", shell.pieces.dropped_volume, shell.pieces.kept),
+             true);
     if (shell.mesh.triangles.empty() && shell.pieces.dropped)
         throw Error("every solid piece of the shell (" + std::to_string(shell.pieces.dropped) +
                     format_text(", %.4g in all) is smaller than the least volume kept, %g (--min-piece-volume): nothing "
@@ -190,17 +233,8 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     };
     // The walls and depths take a while (48 s for the 12.5 M-point city block at 2048
     // cells on one thread): how far they have come, every few seconds.
-    detail::ToldPace pace;
-    const detail::CheckTold told = [&](std::size_t done, std::size_t all) {
-        double left = 0;
-        if (!pace.due(done, all, left)) return;
-        Progress p;
-        p.stage = "check";
-        p.message = format_text("walls and depths %.0f%% measured%s, about %.0f s left",
-                                std::floor(100.0 * double(done) / double(all)),
-                                on && on->processes() > 1 ? " on this process" : "", left);
-        if (!progress(p)) throw Cancelled("cancelled in the check stage");
-    };
+    const detail::Told told =
+        told_as(progress, "check", "walls and depths", on && on->processes() > 1 ? "measured on this process" : "measured");
     // Over several processes, each measures the walls and points of its own tiles (the
     // mesh handed over once this one has measured its own part, the others finishing theirs).
     if (on && on->processes() > 1) {
@@ -208,11 +242,11 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
                                                                                   shell.mesh.triangles.size())
                                                    : 0;
         shell.quality = detail::check_sharing(shell.mesh, points, run, settings.measure, *on, shell.run.tiles,
-                                              hand_over, writing, progress ? told : nullptr);
+                                              hand_over, writing, told);
     } else {
         hand_over();
         shell.quality = detail::measure_told(shell.mesh, points, run.offset, run.domain.h, settings.measure,
-                                             progress ? told : nullptr);
+                                             told);
     }
     // The outlier rules' last count is this one when it was taken on these points (not
     // moved since) at this link (0.5-0.7 s for 1.5-25 M points, twice over).

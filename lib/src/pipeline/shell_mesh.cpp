@@ -27,7 +27,7 @@ Mesh detail::level_set_of(const Result& result) {
 }
 
 Mesh detail::shell_mesh_of(Mesh mesh, const Result& result, const PointCloud& points, DepthGuardReport* guard,
-                           const MeshFairing& fairing, const GuardElsewhere* elsewhere) {
+                           const MeshFairing& fairing, const GuardElsewhere* elsewhere, const Begun& begun) {
     fairing.validate();
     // The tube's inner wall is the depth promised. Where the offset is below the points'
     // spacing the shell is a chain of beads around single points; lifting each bead's top
@@ -40,7 +40,7 @@ Mesh detail::shell_mesh_of(Mesh mesh, const Result& result, const PointCloud& po
     deep.lone = result.offset >= result.gap ? std::numeric_limits<double>::infinity() : result.offset;
     deep.elsewhere = elsewhere;
     const DepthGuardReport report =
-        detail::fair_and_keep_deep(mesh, points, fairing, result.tube_inner > 0 ? &deep : nullptr);
+        detail::fair_and_keep_deep(mesh, points, fairing, result.tube_inner > 0 ? &deep : nullptr, begun);
     if (guard) *guard = report;
     return mesh;
 }

@@ -92,12 +92,12 @@ bool fewer_cycles(const TileRun& run, const std::vector<int>& most) {
     return false;
 }
 
-void tell(const ProgressCallback& progress, const std::string& message) {
+void tell(const ProgressCallback& progress, const char* stage, const std::string& message) {
     if (!progress) return;
     Progress p;
-    p.stage = "tile";
+    p.stage = stage;
     p.message = message;
-    if (!progress(p)) throw Cancelled("cancelled between tiles");
+    if (!progress(p)) throw Cancelled(std::string("cancelled in the ") + stage + " stage");
 }
 
 // The whole run's steps from its tiles': as many cycles as each took (the same in all),
@@ -285,6 +285,7 @@ public:
         }
         for (const TileRun& run : runs_) res_.active_bricks += run.core_bricks;
         Stopwatch clock;
+        tell(progress_, "mesh", "welding the tiles' surfaces at their seams");
         res_.surface = weld_tile_surfaces(surfaces_, tiles_, field, plan_.domain, facts.core_cells);
         res_.surface_made = true;
         res_.seconds.seams = clock.lap();
@@ -316,7 +317,7 @@ private:
             for (std::size_t p = 0; processes > 1 && root() && p < processes; ++p)
                 per += (p ? ", " : "; ") + std::string("process ") + std::to_string(p) + ": " +
                        std::to_string(finished[p]) + " of " + std::to_string(owned[p]);
-            tell(progress_, std::to_string(done) + " of " + std::to_string(all) + " tiles with points" +
+            tell(progress_, "tile", std::to_string(done) + " of " + std::to_string(all) + " tiles with points" +
                                 (on_ ? " on " + std::to_string(on_->processes()) + " processes" : std::string()) +
                                 " (" + std::to_string(tiles_.size()) + " in all), about " +
                                 std::to_string(int(std::ceil(seconds_ / double(done) * double(all - done)))) +
