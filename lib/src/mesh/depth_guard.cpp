@@ -126,19 +126,30 @@ public:
     void file(const std::vector<std::uint32_t>& cells) {
         const std::size_t all = std::size_t(n_[0]) * n_[1] * n_[2];
         if (cells.size() < all / kSparseCellsPerItem) return file_sparse(cells);
-        start_.assign(all + 1, 0);
-        for (std::uint32_t c : cells) ++start_[c + 1];
-        rank_.resize(start_.size() - 1);
-        for (std::size_t c = 0; c + 1 < start_.size(); ++c) {
-            rank_[c] = std::uint32_t(used_);
-            used_ += start_[c + 1] != 0;
-            start_[c + 1] += start_[c];
+        // Counted at c + 2 and summed, start_[c + 1] is where cell c begins; each item
+        // placed there moves it on, so that it ends where c + 1 begins. Ranks: the used
+        // cells before a cell's word of 64, and those in the word before it. (A copy of
+        // the starts and a rank a cell took 0.9 s at 17.9 M triangles, 0.3 s so.)
+        start_.assign(all + 2, 0);
+        for (std::uint32_t c : cells) ++start_[c + 2];
+        used_bits_.assign((all + 63) / 64, 0);
+        word_rank_.resize(used_bits_.size());
+        for (std::size_t c = 0; c < all; ++c) {
+            if (c % 64 == 0) word_rank_[c / 64] = std::uint32_t(used_);
+            if (start_[c + 2]) {
+                used_bits_[c / 64] |= std::uint64_t(1) << (c % 64);
+                ++used_;
+            }
+            start_[c + 2] += start_[c + 1];
         }
         order.resize(cells.size());
-        std::vector<std::uint32_t> at(start_.begin(), start_.end() - 1);
-        for (std::size_t i = 0; i < cells.size(); ++i) order[at[cells[i]]++] = std::uint32_t(i);
+        for (std::size_t i = 0; i < cells.size(); ++i) order[start_[cells[i] + 1]++] = std::uint32_t(i);
     }
-    std::uint32_t rank(std::uint32_t cell) const { return sparse_ ? find(cell) : rank_[cell]; }
+    std::uint32_t rank(std::uint32_t cell) const {
+        if (sparse_) return find(cell);
+        const std::uint64_t before = used_bits_[cell / 64] & ((std::uint64_t(1) << (cell % 64)) - 1);
+        return word_rank_[cell / 64] + std::uint32_t(__builtin_popcountll(before));
+    }
 
     std::size_t used_cells() const { return used_; }
     // Calls f(rank, begin, end) (the slots) for each non-empty cell holding keys in [a, b].
@@ -156,7 +167,8 @@ public:
                     continue;
                 }
                 for (int x = x0; x <= x1; ++x)
-                    if (start_[row + x] != start_[row + x + 1]) f(rank_[row + x], start_[row + x], start_[row + x + 1]);
+                    if (start_[row + x] != start_[row + x + 1])
+                        f(rank(std::uint32_t(row + std::size_t(x))), start_[row + x], start_[row + x + 1]);
             }
     }
     // Calls f(rank, begin, end) for every non-empty cell, in parallel if asked to.
@@ -168,10 +180,10 @@ public:
             for (std::ptrdiff_t r = 0; r < used; ++r) f(std::uint32_t(r), start_[r], start_[r + 1]);
             return;
         }
-        const std::ptrdiff_t cells = std::ptrdiff_t(start_.size() - 1);
+        const std::ptrdiff_t cells = std::ptrdiff_t(start_.size() - 2);
 #pragma omp parallel for schedule(dynamic, 4096) if (parallel && order.size() > std::size_t(detail::kParallelCheapItems))
         for (std::ptrdiff_t c = 0; c < cells; ++c)
-            if (start_[c] != start_[c + 1]) f(rank_[c], start_[c], start_[c + 1]);
+            if (start_[c] != start_[c + 1]) f(rank(std::uint32_t(c)), start_[c], start_[c + 1]);
     }
 
 private:
@@ -226,7 +238,9 @@ private:
     double size_ = 1;
     int n_[3] = {1, 1, 1};
     std::size_t used_ = 0;
-    std::vector<std::uint32_t> start_, rank_;  // rows: by cell; by used cells: by rank
+    std::vector<std::uint32_t> start_;  // rows: by cell; by used cells: by rank
+    std::vector<std::uint64_t> used_bits_;  // rows: a bit a used cell, 64 cells a word
+    std::vector<std::uint32_t> word_rank_;  // rows: the used cells before each word
     bool sparse_ = false;
     std::vector<std::uint32_t> used_id_, table_;  // by used cells only
 };
