@@ -384,6 +384,22 @@ DepthGuardReport check_against_reference(const Mesh& m, const PointSet& points, 
     return r;
 }
 
+
+// A LiDAR-like scan reconstructed with a thin wall at 64 cells: the guard lifts vertices.
+struct ThinScan {
+    PointSet points;
+    Result result;
+};
+ThinScan thin_wall_scan() {
+    Parameters p;
+    p.resolution = 64;
+    p.offset = 0.025;
+    p.device = "openmp";
+    ThinScan s{shapes::lidar_scan({0.5, 0.5, 0.5}, 0.7, 0.01, 0.04, 0.001), {}};
+    s.result = reconstruct(s.points, p);
+    return s;
+}
+
 }  // namespace
 
 TEST_CASE("the depth guard moves the vertices exactly as it did before it searched with grids") {
@@ -424,14 +440,10 @@ TEST_CASE("the depth guard moves the vertices exactly as it did before it search
         CHECK(r.near_vertices > 0);
     }
 
-    // A real shell: a LiDAR-like scan reconstructed with a thin wall, at 64 cells, and its
-    // points with a `lone` distance below their spacing.
-    Parameters p;
-    p.resolution = 64;
-    p.offset = 0.025;
-    p.device = "openmp";
-    const PointSet scan = shapes::lidar_scan({0.5, 0.5, 0.5}, 0.7, 0.01, 0.04, 0.001);
-    const Result result = reconstruct(scan, p);
+    // A real shell (thin_wall_scan), and its points with a `lone` distance below their spacing.
+    const ThinScan thin = thin_wall_scan();
+    const PointSet& scan = thin.points;
+    const Result& result = thin.result;
     Mesh shell = extract_dual_isosurface(result.phi, result.domain);
     fair_mesh(shell);
     const double depth = result.offset - result.tube_inner;
@@ -442,13 +454,9 @@ TEST_CASE("the depth guard moves the vertices exactly as it did before it search
 }
 
 TEST_CASE("the mesh passes say each part as it begins, change nothing for it, and stop where the teller throws") {
-    // A LiDAR-like scan with a thin wall: the guard lifts vertices.
-    Parameters p;
-    p.resolution = 64;
-    p.offset = 0.025;
-    p.device = "openmp";
-    const PointSet points = shapes::lidar_scan({0.5, 0.5, 0.5}, 0.7, 0.01, 0.04, 0.001);
-    const Result result = reconstruct(points, p);
+    const ThinScan thin = thin_wall_scan();
+    const PointSet& points = thin.points;
+    const Result& result = thin.result;
     DepthGuardReport quiet;
     const Mesh expected = shell_mesh(result, points, &quiet);
     REQUIRE(quiet.near_vertices > 0);
