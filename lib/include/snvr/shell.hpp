@@ -112,8 +112,10 @@ struct Shell {
 
 // Progress of make_shell (as reconstruct's, Progress in reconstruct.hpp): the stages
 // "outliers", "domain", "distance", "init", "step", "mesh" and "check" ("outliers" and
-// "mesh" and "check" as they begin; "outliers" again when points were dropped, saying
-// how many). Returning false cancels: Cancelled.
+// "mesh" and "check" as they begin, then with a message: how far the stray rule's tests
+// and the check's walls and depths have come, the mesh stage's parts as each begins;
+// with Progress::outcome, what a stage did: the outliers dropped, the vertices the depth
+// guard lifted, the pieces dropped). Returning false cancels: Cancelled.
 
 // Throws InputError, ParameterError, ResourceError or IoError naming the problem;
 // Error when the shell comes out empty (every piece below pieces.min_volume, or none at
