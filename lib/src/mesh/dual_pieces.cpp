@@ -175,9 +175,10 @@ void spread_over_rows(const std::vector<MeshPiece>& pieces, const std::vector<st
         });
     if (failed) std::rethrow_exception(failed);
     std::fill(row_start.begin(), row_start.end(), 0);
-    const auto each_row = [&](Rows& mine, auto&& f) {
+    const auto each_row = [&](Rows& mine, auto&& f) {  // in the order `at` holds them
+        std::size_t i = 0;
         for (std::size_t k = mine.k0; k < mine.k1; ++k)
-            for (std::size_t j = mine.j0; j < mine.j1; ++j) f(j + width * k, mine.at[mine.of(j + width * k, width)]);
+            for (std::size_t j = mine.j0; j < mine.j1; ++j) f(j + width * k, mine.at[i++]);
     };
     for (Rows& mine : rows) each_row(mine, [&](std::size_t r, std::size_t& count) { row_start[r + 1] += count; });
     for (std::size_t r = 1; r < row_start.size(); ++r) row_start[r] += row_start[r - 1];
