@@ -25,12 +25,6 @@ void check(int code, const char* what) {
     if (code != MPI_SUCCESS) throw snvr::Error(std::string("MPI: ") + what + " failed");
 }
 
-std::size_t type_size(MPI_Datatype type) {
-    int bytes = 0;
-    check(MPI_Type_size(type, &bytes), "sizing a type");
-    return std::size_t(bytes);
-}
-
 int as_count(std::size_t n, const char* what) {
     if (n > std::size_t(INT_MAX)) throw snvr::ResourceError(std::string("MPI: ") + what + " too large to send at once");
     return int(n);
@@ -70,8 +64,8 @@ std::vector<T> receive_parts(MPI_Datatype type, int from, int tag, const char* w
     return data;
 }
 
-enum Tag { kHeader = 1, kTable, kStored, kFigures, kPoints, kSurface, kCheckShare, kChecked, kUpsample, kUpsampled, kBytes };
-constexpr int kHeaderSize = 10;
+enum Tag { kHeader = 1, kTable, kStored, kFigures, kPoints, kCheckShare, kChecked, kUpsample, kUpsampled, kBytes };
+constexpr int kHeaderSize = 8;
 
 // A worker's results go out as it goes on (MPI_Isend), each kept until sent() has waited
 // for the root to take them; the root takes whichever comes in first.
@@ -86,14 +80,12 @@ public:
         const snvr::Field& f = out.result.field;
         const bool single = f.precision == snvr::Precision::Single;
         const std::size_t stored = single ? f.stored_f32().size() : f.stored_f64().size();
-        const snvr::TileSurface& s = out.result.surface;
         out.header = {std::int64_t(out.result.tile),          f.nx,
                       f.ny,
                       f.nz,
                       single ? 1 : 0,
                       std::int64_t(f.brick_table().size()), std::int64_t(stored),
-                      std::int64_t(out.result.figures.size()), std::int64_t(s.vertices.size()),
-                      std::int64_t(s.triangles.size())};
+                      std::int64_t(out.result.figures.size())};
         const auto post = [&](const void* data, std::size_t n, MPI_Datatype type, int tag) {
             requests_.emplace_back();
             check(MPI_Isend(data, as_count(n, "a tile"), type, 0, tag, MPI_COMM_WORLD, &requests_.back()), "sending a tile");
@@ -103,12 +95,6 @@ public:
         if (single) post(f.stored_f32().data(), stored, MPI_FLOAT, kStored);
         else post(f.stored_f64().data(), stored, MPI_DOUBLE, kStored);
         post(out.result.figures.data(), out.result.figures.size(), MPI_DOUBLE, kFigures);
-        if (s.vertices.empty()) return;
-        post(s.vertices.data(), 3 * s.vertices.size(), MPI_DOUBLE, kSurface);
-        post(s.vertex_keys.data(), s.vertex_keys.size(), MPI_UINT64_T, kSurface);
-        post(s.vertex_owned.data(), s.vertex_owned.size(), MPI_UINT8_T, kSurface);
-        post(s.triangles.data(), 3 * s.triangles.size(), MPI_UINT32_T, kSurface);
-        post(s.triangle_keys.data(), s.triangle_keys.size(), MPI_UINT64_T, kSurface);
     }
 
     void sent() override {
@@ -147,22 +133,6 @@ public:
         check(MPI_Recv(r.figures.data(), int(r.figures.size()), MPI_DOUBLE, from, kFigures, MPI_COMM_WORLD,
                        MPI_STATUS_IGNORE),
               "receiving a tile");
-        // Its part of the surface, in the order sent (messages between two processes with
-        // one tag arrive in order).
-        snvr::TileSurface& s = r.surface;
-        const auto take = [&](auto& into, std::size_t n, MPI_Datatype type) {
-            into.resize(n);
-            check(MPI_Recv(into.data(), as_count(n * sizeof(into[0]) / type_size(type), "a tile's surface"), type, from,
-                           kSurface, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
-                  "receiving a tile's surface");
-        };
-        const auto nv = static_cast<std::size_t>(header[8]), nt = static_cast<std::size_t>(header[9]);
-        if (nv == 0) return r;
-        take(s.vertices, nv, MPI_DOUBLE);
-        take(s.vertex_keys, nv, MPI_UINT64_T);
-        take(s.vertex_owned, nv, MPI_UINT8_T);
-        take(s.triangles, nt, MPI_UINT32_T);
-        take(s.triangle_keys, nt, MPI_UINT64_T);
         return r;
     }
 

@@ -273,7 +273,19 @@ TEST_CASE("dual: the same mesh on 1 and 2 threads, from doubles and from floats"
 
 // The dual mesh in pieces (what a tiled run's tiles extract) welded by the whole grid's
 // keys: the whole extraction's vertices and triangles, in its order, bit for bit.
-TEST_CASE("dual: pieces of any size and margin weld into the whole grid's mesh, bit for bit") {
+namespace {
+// Random samples in (-1, 1) inside a -1 border, voxel 0.5: every ambiguous face and tunnel.
+Grid random_signs(unsigned seed, const std::array<int, 3>& n, Precision precision) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    return make_grid(n[0], n[1], n[2], 0.5, {0.25, -1.0, 3.0}, [&](const Vec3&, int i, int j, int k) {
+        if (i == 0 || j == 0 || k == 0 || i == n[0] - 1 || j == n[1] - 1 || k == n[2] - 1) return -1.0;
+        return u(rng);
+    }, precision);
+}
+}  // namespace
+
+TEST_CASE("dual: pieces of any size and margin, and their slices of planes, weld into the whole grid's mesh, bit for bit") {
     const auto same = [](const Mesh& a, const Mesh& b) { return a.vertices == b.vertices && a.triangles == b.triangles; };
     // A smooth field across many pieces, rows of 150 samples (partial 64-bit words), floats.
     const double h = 0.02;
@@ -292,12 +304,7 @@ TEST_CASE("dual: pieces of any size and margin weld into the whole grid's mesh, 
     // Random signs: every ambiguous face and tunnel, many on the pieces' faces.
     int compared = 0, tunnels = 0;
     for (unsigned seed = 1; seed <= 12; ++seed) {
-        std::mt19937 rng(seed);
-        std::uniform_real_distribution<double> u(-1.0, 1.0);
-        const Grid g = make_grid(21, 18, 19, 0.5, {0.25, -1.0, 3.0}, [&](const Vec3&, int i, int j, int k) {
-            if (i == 0 || j == 0 || k == 0 || i == 20 || j == 17 || k == 18) return -1.0;
-            return u(rng);
-        }, seed % 2 ? Precision::Double : Precision::Single);
+        const Grid g = random_signs(seed, {21, 18, 19}, seed % 2 ? Precision::Double : Precision::Single);
         for (Interpolation mode : {Interpolation::Linear, Interpolation::PhaseField}) {
             const Mesh m = extract_dual_isosurface(g.field, g.domain, 0.0, mode);
             for (const Vec3& v : m.vertices)  // tunnel vertices lie on a face between samples
@@ -314,6 +321,37 @@ TEST_CASE("dual: pieces of any size and margin weld into the whole grid's mesh, 
     }
     CHECK(compared == 120);
     CHECK(tunnels > 0);
+    // Pieces cut in slices of planes (as a run over processes cuts its tiles' parts) weld
+    // into the same mesh; each owned vertex counted in its plane once.
+    for (unsigned seed = 1; seed <= 4; ++seed) {
+        const Grid g = random_signs(seed, {21, 18, 23}, Precision::Double);
+        const Mesh m = extract_dual_isosurface(g.field, g.domain, 0.0, Interpolation::PhaseField);
+        const std::array<int, 3> n{21, 18, 23};
+        for (int thickness : {1, 3, 8})
+            for (int margin : {0, 2}) {
+                CAPTURE(seed);
+                CAPTURE(thickness);
+                CAPTURE(margin);
+                std::vector<detail::MeshPiece> slices;
+                std::vector<std::uint64_t> by_plane(23, 0);
+                for (int k = 0; k < n[2]; k += 8)
+                    for (int i = 0; i < n[0]; i += 8) {
+                        const std::array<int, 3> lo{i, 0, k}, hi{std::min(n[0], i + 8), n[1], std::min(n[2], k + 8)};
+                        std::array<int, 3> box_lo, box_hi;
+                        detail::field_box(n, lo, hi, margin, box_lo, box_hi);
+                        for (detail::MeshPiece& p : detail::split_planes(
+                                 detail::extract_dual_piece(detail::field_part(g.field, box_lo, box_hi), g.domain,
+                                                            detail::DualRegion::around(n, lo, hi, margin, box_lo, box_hi),
+                                                            0.0, Interpolation::PhaseField),
+                                 thickness, &by_plane))
+                            slices.push_back(std::move(p));
+                    }
+                std::uint64_t counted = 0;
+                for (std::uint64_t c : by_plane) counted += c;
+                CHECK(counted == m.vertices.size());
+                CHECK(same(detail::weld_pieces(slices), m));
+            }
+    }
     // A sign change on the whole grid's boundary is still found in a piece.
     const Grid edge = make_grid(20, 20, 20, 1.0, {0, 0, 0}, [](const Vec3&, int i, int j, int) {
         return i == 19 && j == 12 ? 1.0 : -1.0;

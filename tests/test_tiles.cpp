@@ -16,8 +16,11 @@
 #include "snvr/quality.hpp"
 #include "snvr/shapes.hpp"
 #include "snvr/shell.hpp"
+#include "mesh/dual_pieces.hpp"
 #include "solver/field_assembly.hpp"
+#include "solver/slab_surface.hpp"
 #include "solver/tile_plan.hpp"
+#include "solver/tile_surface.hpp"
 
 using namespace snvr;
 
@@ -209,6 +212,11 @@ TEST_CASE("the tiles make the surface: the mesh of the field their cores make, b
                 REQUIRE(whole.triangles.size() > 1000);
                 CHECK(surface.surface.vertices == whole.vertices);
                 CHECK(surface.surface.triangles == whole.triangles);
+                // Alone, the fairing is the mesher's (several processes fair it in slabs: below).
+                p.surface_fairing = MeshFairing{};
+                const Result alone = reconstruct(points, p);
+                CHECK_FALSE(alone.surface_faired);
+                CHECK(alone.surface.vertices == whole.vertices);
             }
     // make_shell makes it so unless the field is kept: the same shell either way.
     const PointSet bunny = read_points(std::string(SNVR_DATA_DIR) + "/bunny.ply");
@@ -223,6 +231,50 @@ TEST_CASE("the tiles make the surface: the mesh of the field their cores make, b
     CHECK_FALSE(kept.run.surface_made);
     CHECK(made.mesh.vertices == kept.mesh.vertices);
     CHECK(made.mesh.triangles == kept.mesh.triangles);
+}
+
+TEST_CASE("the surface in slabs of planes: the slabs in turn are the whole mesh faired, bit for bit; a ghost plane fewer, not") {
+    // The tiles' parts and seams of a whole run's field (its bricks stand for the faces'),
+    // welded and faired slab by slab as the processes of a run do (shared_slabs.cpp), then
+    // joined: one slab, a few, and more slabs than planes of ghosts (thin and empty ones).
+    for (const char* shape : {"sheets", "torus", "mobius"}) {
+        CAPTURE(shape);
+        Parameters p;
+        p.resolution = 64;
+        p.device = "openmp";
+        const Result run = reconstruct(shapes::by_name(shape, 0.01), p);
+        const Domain& d = run.domain;
+        const MeshFairing fairing;  // the default passes
+        Mesh whole = extract_dual_isosurface(run.phi, d);
+        fair_mesh(whole, fairing);
+        const int cells = 16;
+        const std::vector<Tile> tiles = plan_tiles(d, cells, 8);
+        std::vector<std::uint64_t> by_plane(std::size_t(d.nz), 0);  // as the vertices lie
+        for (const Vec3& v : whole.vertices) ++by_plane[std::size_t((v[2] - d.origin[2]) / d.h)];
+        const FacesPart faces{run.phi, 0};
+        for (int slabs : {1, 2, 3, 40})
+            for (int fewer : {0, 1}) {
+                CAPTURE(slabs);
+                CAPTURE(fewer);
+                const SlabPlan plan = plan_slabs(by_plane, slabs, slab_ghost_planes(fairing) - fewer);
+                REQUIRE(plan.slabs() == slabs);
+                // Each tile's part in slices, as a run over processes cuts it.
+                std::vector<detail::MeshPiece> pieces;
+                for (const Tile& t : tiles)
+                    for (detail::MeshPiece& piece : tile_surface(detail::field_part(run.phi, t.lo, t.hi), t, d, kSlabSlice))
+                        pieces.push_back(std::move(piece));
+                Mesh joined;
+                for (int s = 0; s < slabs; ++s) {
+                    std::vector<detail::MeshPiece> given = pieces;
+                    const Mesh own = slab_own(weld_slab(given, faces, d, cells, plan, s, fairing), joined.vertices.size());
+                    joined.vertices.insert(joined.vertices.end(), own.vertices.begin(), own.vertices.end());
+                    joined.triangles.insert(joined.triangles.end(), own.triangles.begin(), own.triangles.end());
+                }
+                CHECK(joined.triangles == whole.triangles);
+                if (fewer && slabs > 1) CHECK(joined.vertices != whole.vertices);
+                else CHECK(joined.vertices == whole.vertices);
+            }
+    }
 }
 
 TEST_CASE("a cluster of stray points split by a tile face: dropped alike, the same shell") {

@@ -8,6 +8,7 @@
 
 #include "snvr/field.hpp"
 #include "snvr/geometry.hpp"
+#include "snvr/mesh.hpp"
 
 namespace snvr {
 
@@ -122,6 +123,11 @@ struct Parameters {
     // holds no more of the field than the bricks near the tiles' faces, which the seams
     // between them need. A run that is not tiled keeps its field either way.
     bool whole_field = true;
+    // Where the tiles make the surface over several processes (a TileScheduler): it is
+    // faired as it is welded, in slabs of planes one a process (lib/src/solver/
+    // slab_surface.hpp; the same bytes as fair_mesh on the whole), and
+    // Result::surface_faired says so. passes 0, or one process: left as extracted.
+    MeshFairing surface_fairing{0};
     // A memory budget in bytes: what the run may add to the process (the points it files and
     // everything after; lib/src/solver/memory_budget.hpp). The run goes whole where its
     // estimate fits, else in tiles of the largest size that fits, else stops with an error

@@ -89,6 +89,12 @@ struct TileFacts {
     // The depth guard's first search shared: the points the others searched (their ranges),
     // and the bytes of the mesh sent them.
     std::size_t guard_points = 0, guard_bytes = 0;
+    // The tiles making the surface: welded and faired in slabs of planes, one a process
+    // (lib/src/solver/shared_slabs.hpp): how many, the planes of ghosts on either side of
+    // each, and the bytes the processes sent each other for them (tiles' parts, faces'
+    // bricks, the slabs to the first).
+    int slabs = 0, slab_ghost = 0;
+    std::size_t slab_bytes = 0;
 };
 
 // How the run fitted its memory (Parameters::max_memory, or what the machine had free),
@@ -125,6 +131,7 @@ struct Result : DomainPlan {
                                   // (empty where the tiles made the surface instead)
     bool surface_made = false;    // the tiles made the zero level set (Parameters::whole_field false)
     Mesh surface;                 // that level set, as extract_dual_isosurface gives it from phi
+    bool surface_faired = false;  // and faired (Parameters::surface_fairing): the mesher fairs it no more
     std::string backend;          // which backend ran
     std::size_t active_cells = 0; // cells with g > 0
     std::size_t active_bricks = 0, total_bricks = 0;

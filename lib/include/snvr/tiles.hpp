@@ -6,10 +6,11 @@
 // and gives each other process the plan, which process runs which tile, and the points
 // within reach of its own tiles (reconstruct_tiles_of); each runs the tiles it owns (balanced by the points
 // near them) and sends the results to the root, which puts the cores together and goes on
-// to mesh (or, Parameters::whole_field false, each sends its part of the surface and the
-// bricks near its core's faces, and the root makes the seams and welds); on the other
-// processes the call returns once their tiles are sent, without a phase field or a mesh
-// (Result::tiles.worker). Before the plan goes out, a sparse scan's points added on the
+// to mesh (or, Parameters::whole_field false, each sends the bricks near its core's faces
+// and keeps its part of the surface; then each welds and fairs a slab of planes of the
+// surface from the parts and seams there, which the root puts together:
+// lib/src/solver/shared_slabs.hpp); on the other processes the call returns once their
+// tiles and slab are sent, without a phase field or a mesh (Result::tiles.worker). Before the plan goes out, a sparse scan's points added on the
 // surface are shared too (UpsampleShare). After the tiles the depth guard's first search
 // is shared by the ranges of the points each kept (lib/src/pipeline/shared_guard.hpp, in
 // send_bytes' messages), and make_shell's check is then shared too: each other process
@@ -31,16 +32,6 @@ namespace snvr {
 namespace detail {
 struct KeptRange;  // lib/src/solver/shared_filing.hpp
 }
-
-// A tile's own part of the surface (lib/src/solver/tile_surface.hpp): the dual mesh its
-// core alone decides, each vertex and triangle with its key in the whole grid.
-struct TileSurface {
-    std::vector<Vec3> vertices;
-    std::vector<std::uint64_t> vertex_keys;
-    std::vector<std::uint8_t> vertex_owned;  // 0: another piece's vertex, used here
-    std::vector<std::array<std::uint32_t, 3>> triangles;
-    std::vector<std::uint64_t> triangle_keys;
-};
 
 // A share of the shell's check that another process takes (lib/src/check/check_share.cpp):
 // the triangles near what it measures (in the shell's order), the vertices among them
@@ -102,7 +93,6 @@ struct TileResult {
     std::size_t tile = 0;
     Field field;                  // the tile's phase field, on the tile's own grid (without the
                                   // whole field: only the bricks near its core's faces)
-    TileSurface surface;          // without the whole field: its part of the surface
     std::vector<double> figures;  // its steps and facts, flattened (tiled_reconstruct.cpp)
 };
 

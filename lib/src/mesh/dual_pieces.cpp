@@ -86,6 +86,91 @@ bool DualRegion::owns_triangle(std::uint64_t key) const {
     return owns(int(w * 64 + bit) - offset[0], j - offset[1], k - offset[2]);
 }
 
+namespace {
+std::uint64_t vertex_plane_keys(const std::array<int, 3>& n) {  // a plane of cubes' keys
+    return std::uint64_t(std::max(1, n[0] - 1)) * std::uint64_t(std::max(1, n[1] - 1)) * kSlotsPerCube;
+}
+std::uint64_t triangle_plane_keys(const std::array<int, 3>& n) {  // a plane of samples' triangle keys
+    return std::uint64_t(n[1]) * std::uint64_t((n[0] + 63) / 64) * 3 * 64 * 8;
+}
+}  // namespace
+
+std::uint64_t first_vertex_key(int z, const std::array<int, 3>& n) { return std::uint64_t(z) * vertex_plane_keys(n); }
+std::uint64_t first_triangle_key(int z, const std::array<int, 3>& n) {
+    return std::uint64_t(z) * triangle_plane_keys(n);
+}
+
+std::vector<MeshPiece> split_planes(MeshPiece piece, int thickness, std::vector<std::uint64_t>* by_plane) {
+    if (thickness < 1) throw ParameterError("split_planes: a slice of no planes");
+    const DualRegion& r = piece.region;
+    const std::array<int, 3>& n = r.whole;
+    const int lo = r.own_lo[2] + r.offset[2], hi = r.own_hi[2] + r.offset[2];
+    const int first = lo / thickness, slices = hi > lo ? (hi - 1) / thickness - first + 1 : 0;
+    const std::size_t nv = piece.vertex_keys.size(), nt = piece.triangle_keys.size();
+    // Each owned vertex's and triangle's slice (-1: not owned here).
+    std::vector<int> vertex_slice(nv, -1), triangle_slice(nt, -1);
+    std::vector<std::size_t> owned(std::size_t(slices), 0), made(std::size_t(slices), 0);
+    const auto slice_of = [&](int z, const char* what) {
+        const int k = z / thickness - first;
+        if (k < 0 || k >= slices) throw Error(std::string("split_planes: an owned ") + what + " beyond the piece's box");
+        return k;
+    };
+    for (std::size_t v = 0; v < nv; ++v) {
+        if (!piece.vertex_owned[v]) continue;
+        const int z = int(piece.vertex_keys[v] / vertex_plane_keys(n));
+        if (by_plane) ++(*by_plane)[std::size_t(z)];
+        ++owned[std::size_t(vertex_slice[v] = slice_of(z, "vertex"))];
+    }
+    for (std::size_t t = 0; t < nt; ++t)
+        if (r.owns_triangle(piece.triangle_keys[t]))
+            ++made[std::size_t(triangle_slice[t] = slice_of(int(piece.triangle_keys[t] / triangle_plane_keys(n)), "triangle"))];
+    std::vector<MeshPiece> out(static_cast<std::size_t>(slices));
+    std::vector<std::uint32_t> number(nv);  // an owned vertex's place in its slice
+    for (int k = 0; k < slices; ++k) {
+        MeshPiece& p = out[std::size_t(k)];
+        p.region = r;
+        p.region.own_lo[2] = std::max(lo, (first + k) * thickness) - r.offset[2];
+        p.region.own_hi[2] = std::min(hi, (first + k + 1) * thickness) - r.offset[2];
+        p.mesh.vertices.reserve(owned[std::size_t(k)]);
+        p.triangle_keys.reserve(made[std::size_t(k)]);
+    }
+    for (std::size_t v = 0; v < nv; ++v)
+        if (vertex_slice[v] >= 0) {
+            MeshPiece& p = out[std::size_t(vertex_slice[v])];
+            number[v] = std::uint32_t(p.mesh.vertices.size());
+            p.mesh.vertices.push_back(piece.mesh.vertices[v]);
+            p.vertex_keys.push_back(piece.vertex_keys[v]);
+            p.vertex_owned.push_back(1);
+        }
+    // The vertices a slice's triangles use that another slice owns (or none), slice by slice.
+    std::vector<int> seen(nv, -1);
+    std::vector<std::uint32_t> extra(nv);
+    for (std::size_t t = 0; t < nt; ++t) {
+        const int k = triangle_slice[t];
+        if (k < 0) continue;
+        MeshPiece& p = out[std::size_t(k)];
+        std::array<std::uint32_t, 3> tri{};
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t v = piece.mesh.triangles[t][std::size_t(c)];
+            if (vertex_slice[v] == k) {
+                tri[std::size_t(c)] = number[v];
+                continue;
+            }
+            if (seen[v] != k) {
+                seen[v] = k;
+                extra[v] = std::uint32_t(p.mesh.vertices.size());
+                p.mesh.vertices.push_back(piece.mesh.vertices[v]);
+                p.vertex_keys.push_back(piece.vertex_keys[v]);
+                p.vertex_owned.push_back(0);
+            }
+            tri[std::size_t(c)] = extra[v];
+        }
+        p.mesh.triangles.push_back(tri);
+        p.triangle_keys.push_back(piece.triangle_keys[t]);
+    }
+    return out;
+}
+
 void field_box(const std::array<int, 3>& n, const std::array<int, 3>& lo, const std::array<int, 3>& hi, int margin,
                std::array<int, 3>& box_lo, std::array<int, 3>& box_hi) {
     for (int a = 0; a < 3; ++a) {
@@ -203,8 +288,9 @@ void spread_over_rows(const std::vector<MeshPiece>& pieces, const std::vector<st
 
 }  // namespace
 
-Mesh weld_pieces(std::vector<MeshPiece>& pieces) {
+Mesh weld_pieces(std::vector<MeshPiece>& pieces, WeldedKeys* keys_out, const Planes* planes) {
     Mesh mesh;
+    if (keys_out) *keys_out = WeldedKeys();
     if (pieces.empty()) return mesh;
     const std::array<int, 3> n = pieces[0].region.whole;
     for (const MeshPiece& p : pieces)
@@ -215,6 +301,13 @@ Mesh weld_pieces(std::vector<MeshPiece>& pieces) {
     std::stable_sort(by_x.begin(), by_x.end(), [&](std::size_t a, std::size_t b) {
         return pieces[a].region.own_lo[0] + pieces[a].region.offset[0] < pieces[b].region.own_lo[0] + pieces[b].region.offset[0];
     });
+    // The keys of the planes kept: [from, to).
+    struct Bounds {
+        std::uint64_t vertices, triangles;
+    };
+    const Bounds keys_from{planes ? first_vertex_key(planes->lo, n) : 0, planes ? first_triangle_key(planes->tri_lo, n) : 0},
+        keys_to{planes ? first_vertex_key(planes->hi, n) : ~std::uint64_t(0),
+                planes ? first_triangle_key(planes->hi, n) : ~std::uint64_t(0)};
     // The owned vertices, row of cubes by row: their keys' order.
     const auto cx = std::uint64_t(std::max(1, n[0] - 1));
     std::vector<std::size_t> row_start(std::size_t(std::max(1, n[1] - 1)) * std::size_t(std::max(1, n[2] - 1)) + 1);
@@ -226,7 +319,9 @@ Mesh weld_pieces(std::vector<MeshPiece>& pieces) {
         pieces, by_x, std::size_t(std::max(1, n[1] - 1)), row_start,
         [&](std::size_t p) { return pieces[p].vertex_keys.size(); },
         [&](std::size_t p, std::size_t v) {
-            return pieces[p].vertex_owned[v] ? (long long)(pieces[p].vertex_keys[v] / kSlotsPerCube / cx) : -1LL;
+            if (!pieces[p].vertex_owned[v]) return -1LL;
+            const std::uint64_t key = pieces[p].vertex_keys[v];
+            return key < keys_from.vertices || key >= keys_to.vertices ? -1LL : (long long)(key / kSlotsPerCube / cx);
         },
         [&](std::size_t count) {
             if (count >= std::numeric_limits<std::uint32_t>::max())
@@ -264,7 +359,9 @@ Mesh weld_pieces(std::vector<MeshPiece>& pieces) {
         pieces, by_x, std::size_t(n[1]), row_start, [&](std::size_t p) { return pieces[p].triangle_keys.size(); },
         [&](std::size_t p, std::size_t t) {
             const std::uint64_t key = pieces[p].triangle_keys[t];
-            return pieces[p].region.owns_triangle(key) ? (long long)(key / (8 * 64 * 3) / words) : -1LL;
+            if (key < keys_from.triangles || key >= keys_to.triangles || !pieces[p].region.owns_triangle(key))
+                return -1LL;
+            return (long long)(key / (8 * 64 * 3) / words);
         },
         [&](std::size_t count) {
             mesh.triangles.resize(count);
@@ -290,6 +387,15 @@ Mesh weld_pieces(std::vector<MeshPiece>& pieces) {
         }
     }
     for (MeshPiece& p : pieces) p = MeshPiece();
+    if (keys_out) {
+        // The triangles' keys in the rows' sorted order.
+#pragma omp parallel for schedule(dynamic, 4096)
+        for (std::ptrdiff_t r = 0; r < rows; ++r)
+            std::sort(tri_keys.begin() + std::ptrdiff_t(row_start[std::size_t(r)]),
+                      tri_keys.begin() + std::ptrdiff_t(row_start[std::size_t(r) + 1]));
+        keys_out->vertices = std::move(keys);
+        keys_out->triangles = std::move(tri_keys);
+    }
     return mesh;
 }
 

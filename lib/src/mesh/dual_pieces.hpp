@@ -61,6 +61,11 @@ struct DualRegion {
 // that edge's triangles.
 std::uint64_t triangle_key(const DualRegion& r, int i, int j, int k, int axis, int sub);
 
+// The first key of plane z's vertices (triangles) in a whole grid of n samples a side:
+// the whole order of each is plane by plane, and this is where the plane's begins.
+std::uint64_t first_vertex_key(int z, const std::array<int, 3>& n);
+std::uint64_t first_triangle_key(int z, const std::array<int, 3>& n);
+
 // The field's box around the owned samples [lo, hi) that a piece with `margin` needs,
 // aligned to bricks (so that it is cut from the whole field brick by brick).
 void field_box(const std::array<int, 3>& n, const std::array<int, 3>& lo, const std::array<int, 3>& hi, int margin,
@@ -81,10 +86,29 @@ struct MeshPiece {
 MeshPiece extract_dual_piece(const Field& field, const Domain& whole, const DualRegion& region, double iso,
                              Interpolation interpolation);
 
+// The piece in slices of `thickness` planes along z (slice k: the whole grid's planes from
+// k * thickness): each owns its part of the piece's box, with the piece's owned vertices
+// and triangles there and the vertices those use besides, in the piece's order; welded,
+// the slices are the piece. The plane of each owned vertex is counted in `by_plane`
+// where given (the grid's samples along z).
+std::vector<MeshPiece> split_planes(MeshPiece piece, int thickness, std::vector<std::uint64_t>* by_plane = nullptr);
+
+// Planes of the whole grid a weld keeps (solver/slab_surface.hpp's slabs): the
+// vertices of cubes in [lo, hi) and the triangles of edges in [tri_lo, hi) (a triangle
+// uses vertices of its own plane and the one below).
+struct Planes {
+    int lo = 0, hi = 0, tri_lo = 0;
+};
+
 // The whole grid's mesh from pieces that own every sample once, in the whole
 // extraction's order. Throws Error when an owned triangle uses a vertex no piece owns, or
-// two pieces own one vertex. Frees the pieces as it goes.
-Mesh weld_pieces(std::vector<MeshPiece>& pieces);
+// two pieces own one vertex. Frees the pieces as it goes. `planes`: only the items of
+// those planes, the whole mesh's run of them (the pieces may own more: the rest is left
+// out); the vertices' and triangles' keys in the mesh's order go to `keys` where given.
+struct WeldedKeys {
+    std::vector<std::uint64_t> vertices, triangles;
+};
+Mesh weld_pieces(std::vector<MeshPiece>& pieces, WeldedKeys* keys = nullptr, const Planes* planes = nullptr);
 
 // The whole extraction made in pieces owning boxes of `cells` samples a side with their
 // margin: what a tiled run computes, here from one field (tests, benchmarks).

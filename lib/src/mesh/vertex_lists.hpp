@@ -56,6 +56,9 @@ inline auto fan_item() {
     return [](std::uint32_t t, int) { return t; };
 }
 inline VertexLists fans(const Mesh& m) { return VertexLists(m, fan_item()); }
+// Each vertex's ring, and its fan where asked, as rings() and fans() make them, on the
+// team's threads (over contiguous ranges of triangles).
+void rings_and_fans(const Mesh& m, VertexLists& ring, VertexLists* fan = nullptr);
 
 // The mesh passes with lists their caller built once for both (shell_mesh): the
 // triangles, hence the lists, do not change between them. Same results as fair_mesh

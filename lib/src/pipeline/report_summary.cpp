@@ -76,7 +76,7 @@ std::string report_summary(const RunReport& report) {
                                  t.tiles, t.core_cells, t.halo_cells, t.halo_derived ? "as far as the flow reaches" : "as given",
                                  t.run, t.cells_run,
                                  t.processes > 1 ? format_text(" on %d processes (the busiest %.2f x the mean; %s points "
-                                                               "given to the others, %.3g MiB of tiles sent back%s%s%s)",
+                                                               "given to the others, %.3g MiB of tiles sent back%s%s%s%s)",
                                                                t.processes, t.busiest_over_mean,
                                                                grouped(t.points_sent).c_str(), mib(t.bytes_received),
                                                                t.faces_received
@@ -84,6 +84,13 @@ std::string report_summary(const RunReport& report) {
                                                                                  "%.3g MiB a face",
                                                                                  mib(t.face_bytes),
                                                                                  mib(t.face_bytes) / double(t.faces_received))
+                                                                         .c_str()
+                                                                   : "",
+                                                               t.slab_bytes
+                                                                   ? format_text("; the surface welded and faired in %d "
+                                                                                 "slabs of planes, %d planes of ghosts "
+                                                                                 "either side, %.3g MiB between them",
+                                                                                 t.slabs, t.slab_ghost, mib(t.slab_bytes))
                                                                          .c_str()
                                                                    : "",
                                                                t.check_bytes

@@ -145,6 +145,8 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     // A tiled run need not put the whole field together where it is not asked for: its
     // tiles make the surface.
     settings.params.whole_field = settings.keep_field;
+    // Such a surface is faired in slabs as it is welded, over the processes where there are several.
+    if (!settings.keep_field) settings.params.surface_fairing = settings.fairing;
     settings.pieces.min_volume *= to_mm * to_mm * to_mm;
 
     enter("outliers");

@@ -39,8 +39,10 @@ Mesh detail::shell_mesh_of(Mesh mesh, const Result& result, const PointCloud& po
     deep.voxel = result.domain.h;
     deep.lone = result.offset >= result.gap ? std::numeric_limits<double>::infinity() : result.offset;
     deep.elsewhere = elsewhere;
-    const DepthGuardReport report =
-        detail::fair_and_keep_deep(mesh, points, fairing, result.tube_inner > 0 ? &deep : nullptr, begun);
+    // A tiled run's surface may come faired already (Parameters::surface_fairing).
+    const MeshFairing none{0};
+    const DepthGuardReport report = detail::fair_and_keep_deep(mesh, points, result.surface_faired ? none : fairing,
+                                                               result.tube_inner > 0 ? &deep : nullptr, begun);
     if (guard) *guard = report;
     return mesh;
 }

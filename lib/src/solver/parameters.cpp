@@ -55,6 +55,7 @@ void scale_lengths(Parameters& p, double factor) {
 
 void Parameters::validate() const {
     using L = ParameterLimits;
+    surface_fairing.validate();
     require(!(offset && thickness), "give the offset or the thickness, not both");
     require_positive(offset, "the offset", "offset");
     require_positive(thickness, "the thickness", "thickness");

@@ -35,17 +35,6 @@ bool empty_box(const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
     return lo[0] >= hi[0] || lo[1] >= hi[1] || lo[2] >= hi[2];
 }
 
-detail::MeshPiece piece_of(TileSurface&& s, const detail::DualRegion& region) {
-    detail::MeshPiece p;
-    p.mesh.vertices = std::move(s.vertices);
-    p.mesh.triangles = std::move(s.triangles);
-    p.vertex_keys = std::move(s.vertex_keys);
-    p.vertex_owned = std::move(s.vertex_owned);
-    p.triangle_keys = std::move(s.triangle_keys);
-    p.region = region;
-    return p;
-}
-
 // The samples along one axis no interior owns: three about each plane between cores.
 // Returns the planes' bands and, between them, the interiors' intervals.
 void bands(int n, int core, std::vector<std::array<int, 2>>& seams, std::vector<std::array<int, 2>>& inner) {
@@ -69,11 +58,10 @@ void tile_interior(const Tile& tile, const Domain& whole, std::array<int, 3>& lo
     }
 }
 
-TileSurface tile_surface(const Field& tile_field, const Tile& tile, const Domain& whole) {
+std::vector<detail::MeshPiece> tile_surface(const Field& tile_field, const Tile& tile, const Domain& whole, int slice) {
     std::array<int, 3> lo, hi;
     tile_interior(tile, whole, lo, hi);
-    TileSurface s;
-    if (empty_box(lo, hi)) return s;
+    if (empty_box(lo, hi)) return {};
     const PieceBox b = piece_box(whole, lo, hi);
     std::array<int, 3> at_lo, at_hi;  // the box on the tile's grid: within its core
     for (std::size_t a = 0; a < 3; ++a) {
@@ -84,12 +72,10 @@ TileSurface tile_surface(const Field& tile_field, const Tile& tile, const Domain
     }
     detail::MeshPiece p = detail::extract_dual_piece(detail::field_part(tile_field, at_lo, at_hi), whole, b.region, 0.0,
                                                      Interpolation::PhaseField);
-    s.vertices = std::move(p.mesh.vertices);
-    s.triangles = std::move(p.mesh.triangles);
-    s.vertex_keys = std::move(p.vertex_keys);
-    s.vertex_owned = std::move(p.vertex_owned);
-    s.triangle_keys = std::move(p.triangle_keys);
-    return s;
+    if (slice > 0) return detail::split_planes(std::move(p), slice);
+    std::vector<detail::MeshPiece> one;
+    one.push_back(std::move(p));
+    return one;
 }
 
 Field tile_faces(const Field& tile_field, const Tile& tile, const Domain& whole) {
@@ -153,25 +139,34 @@ std::size_t stored_core_bricks(const Field& tile_field, const Tile& tile) {
     return stored;
 }
 
-Mesh weld_tile_surfaces(std::vector<TileSurface>& parts, const std::vector<Tile>& tiles, const Field& faces,
-                        const Domain& whole, int core_cells) {
+FacesPart faces_for(const Field& faces, const detail::Planes& planes) {
+    // A seam's cubes reach one sample below its planes, their samples and the tunnel test two above.
+    FacesPart part;
+    part.z = std::max(0, planes.lo - 1) / Field::kBrick * Field::kBrick;
+    const int hi = std::min(faces.nz, (planes.hi + 2 + Field::kBrick - 1) / Field::kBrick * Field::kBrick);
+    part.field = detail::field_part(faces, {0, 0, part.z}, {faces.nx, faces.ny, std::max(part.z, hi)});
+    return part;
+}
+
+std::vector<detail::MeshPiece> seam_pieces(const FacesPart& faces, const Domain& whole, int core_cells,
+                                           const detail::Planes& planes) {
     std::vector<detail::MeshPiece> pieces;
-    for (std::size_t t = 0; t < parts.size() && t < tiles.size(); ++t) {
-        std::array<int, 3> lo, hi;
-        tile_interior(tiles[t], whole, lo, hi);
-        if (parts[t].vertex_keys.empty() || empty_box(lo, hi)) continue;
-        pieces.push_back(piece_of(std::move(parts[t]), piece_box(whole, lo, hi).region));
-        parts[t] = TileSurface();
-    }
-    // The seams: about the planes across x whole; across y between them; across z in what is left.
+    // About the planes across x whole; across y between them; across z in what is left;
+    // each within the slab's planes.
     const std::array<int, 3> n = samples_of(whole);
     std::array<std::vector<std::array<int, 2>>, 3> seam, inner;
     for (std::size_t a = 0; a < 3; ++a) bands(n[a], core_cells, seam[a], inner[a]);
-    const auto add = [&](const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+    const auto add = [&](std::array<int, 3> lo, std::array<int, 3> hi) {
+        lo[2] = std::max(lo[2], planes.lo);
+        hi[2] = std::min(hi[2], planes.hi);
         if (empty_box(lo, hi)) return;
         const PieceBox b = piece_box(whole, lo, hi);
-        pieces.push_back(detail::extract_dual_piece(detail::field_part(faces, b.field_lo, b.field_hi), whole, b.region,
-                                                    0.0, Interpolation::PhaseField));
+        if (b.field_lo[2] < faces.z || b.field_hi[2] > faces.z + faces.field.nz)
+            throw Error("seam_pieces: a seam reaches beyond the faces' bricks given");
+        pieces.push_back(detail::extract_dual_piece(
+            detail::field_part(faces.field, {b.field_lo[0], b.field_lo[1], b.field_lo[2] - faces.z},
+                               {b.field_hi[0], b.field_hi[1], b.field_hi[2] - faces.z}),
+            whole, b.region, 0.0, Interpolation::PhaseField));
     };
     for (const auto& sx : seam[0]) add({sx[0], 0, 0}, {sx[1], n[1], n[2]});
     for (const auto& sy : seam[1])
@@ -179,7 +174,7 @@ Mesh weld_tile_surfaces(std::vector<TileSurface>& parts, const std::vector<Tile>
     for (const auto& sz : seam[2])
         for (const auto& ix : inner[0])
             for (const auto& iy : inner[1]) add({ix[0], iy[0], sz[0]}, {ix[1], iy[1], sz[1]});
-    return detail::weld_pieces(pieces);
+    return pieces;
 }
 
 }  // namespace snvr

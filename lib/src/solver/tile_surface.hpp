@@ -13,7 +13,7 @@
 #include "snvr/domain.hpp"
 #include "snvr/field.hpp"
 #include "snvr/mesh.hpp"
-#include "snvr/tiles.hpp"
+#include "mesh/dual_pieces.hpp"
 #include "solver/tile_plan.hpp"
 
 namespace snvr {
@@ -21,8 +21,9 @@ namespace snvr {
 // The samples [lo, hi) the tile's own part owns.
 void tile_interior(const Tile& tile, const Domain& whole, std::array<int, 3>& lo, std::array<int, 3>& hi);
 
-// The tile's own part of the surface, from its field (on the tile's own grid).
-TileSurface tile_surface(const Field& tile_field, const Tile& tile, const Domain& whole);
+// The tile's own part of the surface, from its field (on the tile's own grid), in slices
+// of `slice` planes along z (detail::split_planes; 0: one piece).
+std::vector<detail::MeshPiece> tile_surface(const Field& tile_field, const Tile& tile, const Domain& whole, int slice = 0);
 
 // The tile's field with only the bricks of its core next to a face inside the grid (the
 // rest of the tile constant): what the seams need of it.
@@ -34,10 +35,20 @@ int inner_faces(const Tile& tile, const Domain& whole);
 // The stored (not constant) bricks of the tile's core, in its field (on the tile's grid).
 std::size_t stored_core_bricks(const Field& tile_field, const Tile& tile);
 
-// The whole grid's surface: the tiles' own parts (by tile index; empty for a tile not run)
-// and the seams from `faces`, the whole grid's field where the cores' face bricks are
-// placed. Frees the parts as it goes.
-Mesh weld_tile_surfaces(std::vector<TileSurface>& parts, const std::vector<Tile>& tiles, const Field& faces,
-                        const Domain& whole, int core_cells);
+// The bricks next to the cores' faces (the whole grid's field with them placed) over the
+// whole grid's planes [z, z + field.nz), z a multiple of the brick.
+struct FacesPart {
+    Field field;
+    int z = 0;
+};
+// Those `planes` need for their seams.
+FacesPart faces_for(const Field& faces, const detail::Planes& planes);
+
+// The seams' pieces of the whole grid's surface in `planes` (no tile's interior owns
+// them), from `faces`, which must cover what faces_for gives; each owning its box within
+// the planes. With the tiles' pieces there, welded with those planes
+// (detail::weld_pieces), they are the whole grid's mesh over them, in its order.
+std::vector<detail::MeshPiece> seam_pieces(const FacesPart& faces, const Domain& whole, int core_cells,
+                                           const detail::Planes& planes);
 
 }  // namespace snvr

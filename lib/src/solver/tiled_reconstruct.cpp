@@ -15,7 +15,9 @@
 #include "solver/memory_budget.hpp"
 #include "solver/session.hpp"
 #include "solver/shared_holes.hpp"
+#include "solver/shared_slabs.hpp"
 #include "solver/shared_upsampling.hpp"
+#include "solver/slab_surface.hpp"
 #include "solver/solver_memory.hpp"
 #include "solver/tile_needs.hpp"
 #include "solver/tile_plan.hpp"
@@ -73,11 +75,6 @@ TileRun run_of(const std::vector<double>& figures) {
     return run;
 }
 
-std::size_t bytes_of(const TileSurface& s) {
-    return s.vertices.size() * sizeof(Vec3) + s.vertex_keys.size() * sizeof(std::uint64_t) + s.vertex_owned.size() +
-           s.triangles.size() * sizeof(s.triangles[0]) + s.triangle_keys.size() * sizeof(std::uint64_t);
-}
-
 // "tile 12 (cells 128-256, 0-128, 64-192)": where a warning comes from.
 std::string tile_name(const Tile& t) {
     std::string s = "tile " + std::to_string(t.index) + " (cells ";
@@ -124,18 +121,24 @@ void merge_steps(const std::vector<TileRun>& runs, int steps, Result& res) {
 }
 
 // The plan as the other processes need it (the grid, the offset, the flow, the tube), and
-// the tiles' cores and whether the root puts the whole field together (the root's word: it
-// may have chosen the tiles for a budget). The root appends its tree's frame (4 more).
-std::vector<double> plan_figures(const DomainPlan& p, int core_cells, bool whole_field) {
+// the tiles' cores, whether the root puts the whole field together and how the surface is
+// faired (the root's word: it may have chosen the tiles for a budget). The root appends its
+// tree's frame (4 more).
+constexpr std::size_t kPlanFigures = 21;
+std::vector<double> plan_figures(const DomainPlan& p, const Parameters& params) {
     const Domain& d = p.domain;
+    const MeshFairing& f = params.surface_fairing;
     return {d.origin[0], d.origin[1], d.origin[2], d.h, double(d.nx), double(d.ny), double(d.nz), double(d.levels),
             double(d.unit_cells), p.offset, p.xi, p.eps, p.dt, double(p.planned_steps), p.tube_inner, p.tube_outer,
-            double(core_cells), whole_field ? 1.0 : 0.0};
+            double(params.tile_cells), params.whole_field ? 1.0 : 0.0, double(f.passes), f.lambda, f.pass_band};
 }
 DomainPlan plan_of(const std::vector<double>& f, Parameters& params) {
-    if (f.size() != 18 + 4) throw Error("tiles: the plan from the first process is not whole");
+    if (f.size() != kPlanFigures + 4) throw Error("tiles: the plan from the first process is not whole");
     params.tile_cells = int(f[16]);
     params.whole_field = f[17] != 0;
+    params.surface_fairing.passes = int(f[18]);
+    params.surface_fairing.lambda = f[19];
+    params.surface_fairing.pass_band = f[20];
     DomainPlan p;
     Domain& d = p.domain;
     d.origin = {f[0], f[1], f[2]};
@@ -171,6 +174,9 @@ public:
         facts.tiles = tiles_.size();
         facts.processes = on ? on->processes() : 1;
         runs_.resize(tiles_.size());
+        // Alone, the mesher fairs the whole surface with the lists the depth guard walks
+        // too, built once (shell_mesh.hpp); else each process fairs its slab.
+        slab_fairing_ = facts.processes > 1 ? params.surface_fairing : MeshFairing{0};
         if (!whole_field_) surfaces_.resize(tiles_.size());
         if (owners) {
             owner_ = *owners;
@@ -182,7 +188,9 @@ public:
         needs_ = needs_of(tree, plan.domain, tiles_, facts.core_cells, facts.halo_cells, reach);
         owner_ = owners_of(needs_, facts.processes);
         if (!on) return;
-        std::vector<double> figures = plan_figures(plan, facts.core_cells, whole_field_);
+        Parameters given = params;
+        given.tile_cells = facts.core_cells;
+        std::vector<double> figures = plan_figures(plan, given);
         // The tree's frame too: each process's points go in its order, and filed in the
         // same frame they need no sorting (the city block's 30 M points 2.0 -> 1.3 s).
         const std::array<double, 4> frame = tree.frame().figures();
@@ -275,19 +283,33 @@ public:
         facts.cells_run = core_cells > 0 ? cells_run / core_cells : 0;
         merge_steps(runs_, plan_.planned_steps, res_);
         facts.owners = owner_;
-        if (!root()) return;
-        Field field = field_.take();
-        res_.total_bricks = field.brick_count();
         if (whole_field_) {
+            if (!root()) return;
+            Field field = field_.take();
+            res_.total_bricks = field.brick_count();
             res_.active_bricks = field.stored_bricks() - kConstantSlots;
             res_.phi = std::move(field);
             return;
         }
-        for (const TileRun& run : runs_) res_.active_bricks += run.core_bricks;
+        // Every process welds and fairs a slab of the surface; the root puts them together.
+        Field faces;
+        if (root()) {
+            faces = field_.take();
+            res_.total_bricks = faces.brick_count();
+            for (const TileRun& run : runs_) res_.active_bricks += run.core_bricks;
+        }
         Stopwatch clock;
-        tell(progress_, "mesh", "welding the tiles' surfaces at their seams");
-        res_.surface = weld_tile_surfaces(surfaces_, tiles_, field, plan_.domain, facts.core_cells);
-        res_.surface_made = true;
+        tell(progress_, "mesh",
+             std::string(slab_fairing_.passes ? "welding and fairing" : "welding") + " the tiles' surfaces at their seams" +
+                 (facts.processes > 1 ? ", in " + std::to_string(facts.processes) + " slabs of planes" : std::string()));
+        std::vector<detail::MeshPiece> pieces;
+        for (std::vector<detail::MeshPiece>& of_tile : surfaces_)
+            for (detail::MeshPiece& p : of_tile) pieces.push_back(std::move(p));
+        surfaces_.clear();
+        res_.surface =
+            surface_in_slabs(pieces, std::move(faces), plan_.domain, facts.core_cells, slab_fairing_, on_, facts);
+        res_.surface_made = root();
+        res_.surface_faired = root() && slab_fairing_.passes > 0;
         res_.seconds.seams = clock.lap();
     }
 
@@ -326,14 +348,13 @@ private:
         std::size_t taken = 0;
         const auto take = [&] {
             TileResult got = on_->receive();
-            res_.tiles.bytes_received += got.field.bytes() + got.figures.size() * sizeof(double) + bytes_of(got.surface);
+            res_.tiles.bytes_received += got.field.bytes() + got.figures.size() * sizeof(double);
             if (!whole_field_) {
                 res_.tiles.face_bytes += got.field.bytes();
                 res_.tiles.faces_received += inner_faces(tiles_[got.tile], plan_.domain);
             }
             runs_[got.tile] = run_of(got.figures);
             field_.place(got.field, tiles_[got.tile]);
-            if (!whole_field_) surfaces_[got.tile] = std::move(got.surface);
             ++taken;
             progress(got.tile);
         };
@@ -342,19 +363,15 @@ private:
             Field tile_field;
             runs_[t] = run_named(tiles_[t], least, tile_field);
             runs_[t].core_bricks = stored_core_bricks(tile_field, tiles_[t]);
-            // Without the whole field: the tile's own part of the surface, and of its field
-            // only the bricks the seams need.
-            TileSurface surface;
+            // Without the whole field: the tile's own part of the surface (kept here for the
+            // slabs, shared_slabs.hpp, cut in their slices where there are several
+            // processes), and of its field only the bricks the seams need.
             if (!whole_field_) {
-                surface = tile_surface(tile_field, tiles_[t], plan_.domain);
+                surfaces_[t] = tile_surface(tile_field, tiles_[t], plan_.domain, res_.tiles.processes > 1 ? kSlabSlice : 0);
                 tile_field = tile_faces(tile_field, tiles_[t], plan_.domain);
             }
-            if (root()) {
-                field_.place(tile_field, tiles_[t]);
-                if (!whole_field_) surfaces_[t] = std::move(surface);
-            } else {
-                on_->send({t, std::move(tile_field), std::move(surface), figures_of(runs_[t])});
-            }
+            if (root()) field_.place(tile_field, tiles_[t]);
+            else on_->send({t, std::move(tile_field), figures_of(runs_[t])});
             progress(t);
             while (root() && on_ && taken < theirs && on_->waiting()) take();
         }
@@ -419,7 +436,8 @@ private:
     Result& res_;
     FieldAssembly<Real> field_;  // the cores, or (without the whole field) their faces' bricks
     const bool whole_field_;
-    std::vector<TileSurface> surfaces_;  // by tile, without the whole field
+    std::vector<std::vector<detail::MeshPiece>> surfaces_;  // by tile, without the whole field
+    MeshFairing slab_fairing_;  // how the slabs of the surface are faired
     std::vector<Tile> tiles_;
     std::vector<TileNeeds> needs_;
     std::vector<int> owner_;
@@ -463,7 +481,7 @@ void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result
         xyz.resize(floats / 3);
         return xyz.empty() ? nullptr : xyz.front().data();
     });
-    const auto frame = detail::PointTree::Frame::of(&figures[18]);
+    const auto frame = detail::PointTree::Frame::of(&figures[kPlanFigures]);
     const PointCloud measured = detail::cloud_of(std::move(xyz), origin, &frame);
     static_cast<DomainPlan&>(res) = plan;
     res.tiles.core_cells = mine.tile_cells;

@@ -1,0 +1,28 @@
+// A tiled run's surface (Parameters::whole_field false) in slabs of planes over the
+// processes of a run (slab_surface.hpp), one slab a process, balanced by the tiles'
+// vertices by plane. Each process sends every other its tiles' slices that meet that
+// one's welded planes (sent whole, the tiles having cut them), and the first sends
+// each the bricks at the cores' faces over its planes (the seams' need: every tile's come
+// to the first with its figures); each welds and fairs its slab, and the slabs come to
+// the first in turn. Alone (no scheduler, or one process) the one slab is the whole surface.
+#pragma once
+#include <vector>
+
+#include "snvr/domain.hpp"
+#include "snvr/field.hpp"
+#include "snvr/mesh.hpp"
+#include "snvr/reconstruct.hpp"
+#include "snvr/tiles.hpp"
+#include "mesh/dual_pieces.hpp"
+#include "solver/slab_surface.hpp"
+
+namespace snvr {
+
+// `pieces`: this process's tiles' (tile_surface, in slices of kSlabSlice planes where there
+// are several processes; freed); `faces`: at the first, the whole grid's field with every
+// tile's face bricks placed (elsewhere unused). Returns the whole surface, faired, at the
+// first; elsewhere an empty mesh. Sets facts.slabs, slab_ghost and slab_bytes.
+Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const Domain& whole, int core_cells,
+                      const MeshFairing& fairing, TileScheduler* on, TileFacts& facts);
+
+}  // namespace snvr
