@@ -112,43 +112,43 @@ std::vector<int> owners_of(const std::vector<TileNeeds>& needs, int processes) {
 detail::PointArray<float> points_for(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
                               const std::vector<int>& owner, int process, int core_cells, int halo_cells, double reach) {
     // Each leaf's points that fall in the reach of one of the process's tiles: all of them
-    // at once when the leaf lies inside one, else one by one. Counted first, so that the
-    // copy is made once (grown as it went, the 200 M-point block's 1.4 GB for the other
-    // process held the first's peak at 6.37 GB).
-    std::vector<std::size_t> near;
-    const auto each = [&](auto&& whole_leaf, auto&& point) {
-        tree.for_each_leaf([](const detail::PointTree::Node&) { return true; }, [&](const detail::PointTree::Node& leaf) {
-            const Vec3 lo = tree.lo(leaf), hi = tree.hi(leaf);
-            near.clear();
-            bool inside = false;
-            for_tiles_near(lo, hi, whole, tiles, core_cells, halo_cells, reach, [&](std::size_t t) {
-                if (owner[t] != process || inside) return;
-                const Reach box(whole, tiles[t].lo, tiles[t].hi, reach);
-                if (box.holds(lo, hi)) inside = true;
-                if (box.meets(lo, hi)) near.push_back(t);
-            });
-            if (inside) {
-                whole_leaf(leaf);
-                return;
-            }
-            for (std::uint32_t k = leaf.begin; k < leaf.end && !near.empty(); ++k) {
-                const Vec3 p = tree.point(k);
-                for (std::size_t t : near)
-                    if (Reach(whole, tiles[t].lo, tiles[t].hi, reach).holds(p)) {
-                        point(k);
-                        break;
-                    }
-            }
-        });
+    // at once when the leaf lies inside one, else one by one. Found once as runs of the
+    // tree's order, then copied once (grown as it went, the 200 M-point block's 1.4 GB for
+    // the other process held the first's peak at 6.37 GB).
+    std::vector<std::array<std::uint32_t, 2>> runs;  // [begin, end) of the tree's points
+    const auto take = [&runs](std::uint32_t begin, std::uint32_t end) {
+        if (!runs.empty() && runs.back()[1] == begin) runs.back()[1] = end;
+        else runs.push_back({begin, end});
     };
+    std::vector<std::size_t> near;
+    tree.for_each_leaf([](const detail::PointTree::Node&) { return true; }, [&](const detail::PointTree::Node& leaf) {
+        const Vec3 lo = tree.lo(leaf), hi = tree.hi(leaf);
+        near.clear();
+        bool inside = false;
+        for_tiles_near(lo, hi, whole, tiles, core_cells, halo_cells, reach, [&](std::size_t t) {
+            if (owner[t] != process || inside) return;
+            const Reach box(whole, tiles[t].lo, tiles[t].hi, reach);
+            if (box.holds(lo, hi)) inside = true;
+            if (box.meets(lo, hi)) near.push_back(t);
+        });
+        if (inside) {
+            take(leaf.begin, leaf.end);
+            return;
+        }
+        for (std::uint32_t k = leaf.begin; k < leaf.end && !near.empty(); ++k) {
+            const Vec3 p = tree.point(k);
+            for (std::size_t t : near)
+                if (Reach(whole, tiles[t].lo, tiles[t].hi, reach).holds(p)) {
+                    take(k, k + 1);
+                    break;
+                }
+        }
+    });
     std::size_t count = 0;
-    each([&](const detail::PointTree::Node& leaf) { count += leaf.count(); }, [&](std::uint32_t) { ++count; });
+    for (const auto& r : runs) count += r[1] - r[0];
     detail::PointArray<float> xyz;
     xyz.reserve(3 * count);
-    each([&](const detail::PointTree::Node& leaf) {
-             xyz.insert(xyz.end(), tree.xyz[leaf.begin].data(), tree.xyz[leaf.begin].data() + 3 * leaf.count());
-         },
-         [&](std::uint32_t k) { xyz.insert(xyz.end(), tree.xyz[k].begin(), tree.xyz[k].end()); });
+    for (const auto& r : runs) xyz.insert(xyz.end(), tree.xyz[r[0]].data(), tree.xyz[r[0]].data() + 3 * std::size_t(r[1] - r[0]));
     return xyz;
 }
 
