@@ -1,7 +1,9 @@
 // What a tiled run's tiles need of the points, and which process runs each
 // (tiled_reconstruct.cpp).
 #pragma once
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "geometry/point_tree.hpp"
@@ -28,11 +30,16 @@ struct TileNeeds {
 std::vector<TileNeeds> needs_of(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
                                 int core_cells, int halo_cells, double reach);
 
-// The points (float coordinates about the tree's origin, x y z in turn) within `reach`
-// of a tile's box (halo included) that `process` runs: all its tiles' distances need,
-// each point once, in the tree's order.
-detail::PointArray<float> points_for(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
-                              const std::vector<int>& owner, int process, int core_cells, int halo_cells, double reach);
+// Which points each other process's tiles need (the first's own: none, it has them all):
+// those within `reach` of a tile's box (halo included) that the process runs, each once,
+// as runs [begin, end) of the tree's order (by process; found in one walk over the tree's
+// leaves, whatever the processes).
+using PointRuns = std::vector<std::array<std::uint32_t, 2>>;
+std::vector<PointRuns> point_runs(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
+                                  const std::vector<int>& owner, int processes, int core_cells, int halo_cells,
+                                  double reach);
+// Those points' float coordinates about the tree's origin, x y z in turn.
+detail::PointArray<float> points_in(const detail::PointTree& tree, const PointRuns& runs);
 
 // Which process runs each tile: the heaviest first (by the points near it), each to the
 // process with the least so far; the same on every process. -1: not run.

@@ -196,9 +196,11 @@ public:
         const std::array<double, 4> frame = tree.frame().figures();
         figures.insert(figures.end(), frame.begin(), frame.end());
         on->share(figures, owner_);
+        std::vector<PointRuns> runs =
+            point_runs(tree, plan.domain, tiles_, owner_, facts.processes, facts.core_cells, facts.halo_cells, reach);
         for (int p = 1; p < facts.processes; ++p) {
-            const detail::PointArray<float> xyz =
-                points_for(tree, plan.domain, tiles_, owner_, p, facts.core_cells, facts.halo_cells, reach);
+            const detail::PointArray<float> xyz = points_in(tree, runs[std::size_t(p)]);
+            runs[std::size_t(p)] = PointRuns();
             facts.points_sent += xyz.size() / 3;
             on->give_points(p, tree.origin, xyz.data(), xyz.size());
         }
