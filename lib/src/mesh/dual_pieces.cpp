@@ -100,7 +100,7 @@ std::uint64_t first_triangle_key(int z, const std::array<int, 3>& n) {
     return std::uint64_t(z) * triangle_plane_keys(n);
 }
 
-std::vector<MeshPiece> split_planes(MeshPiece piece, int thickness, std::vector<std::uint64_t>* by_plane) {
+std::vector<MeshPiece> split_planes(MeshPiece piece, int thickness) {
     if (thickness < 1) throw ParameterError("split_planes: a slice of no planes");
     const DualRegion& r = piece.region;
     const std::array<int, 3>& n = r.whole;
@@ -132,9 +132,7 @@ std::vector<MeshPiece> split_planes(MeshPiece piece, int thickness, std::vector<
     PlaneOf vertex_plane{vertex_plane_keys(n)}, triangle_plane{triangle_plane_keys(n)};
     for (std::size_t v = 0; v < nv; ++v) {
         if (!piece.vertex_owned[v]) continue;
-        const int z = vertex_plane(piece.vertex_keys[v]);
-        if (by_plane) ++(*by_plane)[std::size_t(z)];
-        ++owned[std::size_t(vertex_slice[v] = slice_of(z, "vertex"))];
+        ++owned[std::size_t(vertex_slice[v] = slice_of(vertex_plane(piece.vertex_keys[v]), "vertex"))];
     }
     // Without a margin for edges every triangle is the piece's own.
     const bool all_owned = r.edge_lo == r.own_lo && r.edge_hi == r.own_hi;
@@ -420,16 +418,14 @@ Mesh weld_pieces(std::vector<MeshPiece>& pieces, WeldedKeys* keys_out, const Pla
             row.clear();
             for (std::size_t t = first; t < last; ++t) row.emplace_back(tri_keys[t], mesh.triangles[t]);
             std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-            for (std::size_t t = first; t < last; ++t) mesh.triangles[t] = row[t - first].second;
+            for (std::size_t t = first; t < last; ++t) {  // the keys too: a slab's weld gives them (WeldedKeys)
+                tri_keys[t] = row[t - first].first;
+                mesh.triangles[t] = row[t - first].second;
+            }
         }
     }
     for (MeshPiece& p : pieces) p = MeshPiece();
     if (keys_out) {
-        // The triangles' keys in the rows' sorted order.
-#pragma omp parallel for schedule(dynamic, 4096)
-        for (std::ptrdiff_t r = 0; r < rows; ++r)
-            std::sort(tri_keys.begin() + std::ptrdiff_t(row_start[std::size_t(r)]),
-                      tri_keys.begin() + std::ptrdiff_t(row_start[std::size_t(r) + 1]));
         keys_out->vertices = std::move(keys);
         keys_out->triangles = std::move(tri_keys);
     }

@@ -89,9 +89,8 @@ MeshPiece extract_dual_piece(const Field& field, const Domain& whole, const Dual
 // The piece in slices of `thickness` planes along z (slice k: the whole grid's planes from
 // k * thickness): each owns its part of the piece's box, with the piece's owned vertices
 // and triangles there and the vertices those use besides, in the piece's order; welded,
-// the slices are the piece. The plane of each owned vertex is counted in `by_plane`
-// where given (the grid's samples along z).
-std::vector<MeshPiece> split_planes(MeshPiece piece, int thickness, std::vector<std::uint64_t>* by_plane = nullptr);
+// the slices are the piece.
+std::vector<MeshPiece> split_planes(MeshPiece piece, int thickness);
 
 // Planes of the whole grid a weld keeps (solver/slab_surface.hpp's slabs): the
 // vertices of cubes in [lo, hi) and the triangles of edges in [tri_lo, hi) (a triangle
