@@ -18,13 +18,40 @@
 #include "snvr/shell.hpp"
 #include "mesh/dual_pieces.hpp"
 #include "solver/field_assembly.hpp"
+#include "geometry/point_tree.hpp"
+#include "mesh/fair_and_keep_deep.hpp"
+#include "mesh/guard_search.hpp"
+#include "solver/plan_guard.hpp"
 #include "solver/slab_surface.hpp"
+#include "solver/tile_needs.hpp"
 #include "solver/tile_plan.hpp"
 #include "solver/tile_surface.hpp"
 
 using namespace snvr;
 
 namespace {
+
+// Each tile's part of a run's surface in slices, as a run over processes cuts it.
+std::vector<detail::MeshPiece> sliced_tile_surfaces(const Result& run, int cells) {
+    std::vector<detail::MeshPiece> pieces;
+    for (const Tile& t : plan_tiles(run.domain, cells, 8))
+        for (detail::MeshPiece& piece : tile_surface(detail::field_part(run.phi, t.lo, t.hi), t, run.domain, kSlabSlice))
+            pieces.push_back(std::move(piece));
+    return pieces;
+}
+// A mesh's vertices by the plane they lie in (to plan slabs on).
+std::vector<std::uint64_t> vertices_by_plane(const Mesh& mesh, const Domain& d) {
+    std::vector<std::uint64_t> by_plane(std::size_t(d.nz), 0);
+    for (const Vec3& v : mesh.vertices) ++by_plane[std::size_t((v[2] - d.origin[2]) / d.h)];
+    return by_plane;
+}
+
+// The points of a tree with z in [lo, hi], in its order and frame, as a slab's guard gets them.
+PointCloud window_cloud(const detail::PointTree& tree, double lo, double hi) {
+    const std::vector<PointRuns> runs = z_window_runs(tree, {{lo, hi}});
+    detail::PointArray<float> flat = points_in(tree, runs[0]);
+    return detail::cloud_of_flat(std::vector<float>(flat.begin(), flat.end()), tree.origin, &tree.frame());
+}
 
 Shell shell_of(const PointSet& points, int resolution, int tile_cells, std::optional<int> halo = {}) {
     ShellSettings s;
@@ -248,9 +275,8 @@ TEST_CASE("the surface in slabs of planes: the slabs in turn are the whole mesh 
         Mesh whole = extract_dual_isosurface(run.phi, d);
         fair_mesh(whole, fairing);
         const int cells = 16;
-        const std::vector<Tile> tiles = plan_tiles(d, cells, 8);
-        std::vector<std::uint64_t> by_plane(std::size_t(d.nz), 0);  // as the vertices lie
-        for (const Vec3& v : whole.vertices) ++by_plane[std::size_t((v[2] - d.origin[2]) / d.h)];
+        const std::vector<std::uint64_t> by_plane = vertices_by_plane(whole, d);
+        const std::vector<detail::MeshPiece> pieces = sliced_tile_surfaces(run, cells);
         const FacesPart faces{run.phi, 0};
         for (int slabs : {1, 2, 3, 40})
             for (int fewer : {0, 1}) {
@@ -258,11 +284,6 @@ TEST_CASE("the surface in slabs of planes: the slabs in turn are the whole mesh 
                 CAPTURE(fewer);
                 const SlabPlan plan = plan_slabs(by_plane, slabs, slab_ghost_planes(fairing) - fewer);
                 REQUIRE(plan.slabs() == slabs);
-                // Each tile's part in slices, as a run over processes cuts it.
-                std::vector<detail::MeshPiece> pieces;
-                for (const Tile& t : tiles)
-                    for (detail::MeshPiece& piece : tile_surface(detail::field_part(run.phi, t.lo, t.hi), t, d, kSlabSlice))
-                        pieces.push_back(std::move(piece));
                 Mesh joined;
                 for (int s = 0; s < slabs; ++s) {
                     std::vector<detail::MeshPiece> given = pieces;
@@ -275,6 +296,82 @@ TEST_CASE("the surface in slabs of planes: the slabs in turn are the whole mesh 
                 else CHECK(joined.vertices == whole.vertices);
             }
     }
+}
+
+TEST_CASE("the depth guard in slabs: the slabs in turn are the whole guarded mesh with its report; ghosts too few show in the check") {
+    // The bunny at 96 cells, whose guard lifts 1,513 vertices: faired and guarded slab by
+    // slab as the processes of a run do (shared_slabs.cpp: the first slab with the whole
+    // tree, the others with the points near their planes, in its frame and order).
+    const PointCloud bunny(read_points(std::string(SNVR_DATA_DIR) + "/bunny.ply"));
+    Parameters p;
+    p.resolution = 96;
+    p.device = "openmp";
+    const Result run = reconstruct(bunny, p);
+    const Domain& d = run.domain;
+    const detail::KeepDeep deep = detail::keep_deep_of(run);
+    REQUIRE(detail::has_inner_wall(run));
+    const MeshFairing fairing;
+    Mesh whole = extract_dual_isosurface(run.phi, d);
+    const DepthGuardReport guard = detail::fair_and_keep_deep(whole, bunny, fairing, &deep);
+    REQUIRE(guard.moved_vertices > 1000);
+    const detail::PointTree& tree = detail::tree_of(bunny);
+    const int cells = 32;
+    const std::vector<detail::MeshPiece> pieces = sliced_tile_surfaces(run, cells);
+    const std::vector<std::uint64_t> by_plane = vertices_by_plane(whole, d);
+    const FacesPart faces{run.phi, 0};
+    const int reach = detail::guard_reach_planes(deep.depth, deep.voxel);
+    REQUIRE(reach == 8);  // 2 voxels deep at the defaults
+    REQUIRE(guard_ghost_planes(deep) == 12);
+    // The ghosts as a run has them; then as few as the fairing's with half of them checked.
+    for (const int ghost : {slab_ghost_planes(fairing, &deep), 4})
+        for (const int slabs : {2, 3}) {
+            CAPTURE(ghost);
+            CAPTURE(slabs);
+            SlabPlan plan = plan_slabs(by_plane, slabs, ghost);
+            plan.checked = ghost == 4 ? 2 : guard_checked_planes(deep, ghost);
+            const double point_reach = detail::guard_point_reach(deep.depth, deep.voxel, deep.lone);
+            Mesh joined;
+            DepthGuardReport summed;
+            std::vector<SlabBands> bands;
+            std::vector<std::size_t> firsts;
+            for (int s = 0; s < slabs; ++s) {
+                const detail::Planes planes = plan.welded(s);
+                const PointCloud near =
+                    window_cloud(tree, d.origin[2] + planes.lo * d.h - point_reach, d.origin[2] + planes.hi * d.h + point_reach);
+                std::vector<detail::MeshPiece> given = pieces;
+                SlabWeld w = weld_slab(given, faces, d, cells, plan, s, fairing, &deep,
+                                       s == 0 ? &tree : &detail::tree_of(near));
+                summed.near_vertices += w.guard.near_vertices;
+                summed.moved_vertices += w.guard.moved_vertices;
+                summed.shallow_points += w.guard.shallow_points;
+                summed.lone_points += w.guard.lone_points;
+                summed.repair_rounds = std::max(summed.repair_rounds, w.guard.repair_rounds);
+                bands.push_back(slab_bands(w));
+                firsts.push_back(joined.vertices.size());
+                const Mesh own = slab_own(std::move(w), joined.vertices.size());
+                joined.vertices.insert(joined.vertices.end(), own.vertices.begin(), own.vertices.end());
+                joined.triangles.insert(joined.triangles.end(), own.triangles.begin(), own.triangles.end());
+            }
+            REQUIRE(joined.triangles == whole.triangles);
+            std::size_t differ = 0;
+            for (int s = 0; s < slabs; ++s) {
+                const std::size_t own = (s + 1 < slabs ? firsts[std::size_t(s) + 1] : joined.vertices.size()) - firsts[std::size_t(s)];
+                differ += bands_differing(bands[std::size_t(s)], joined.vertices, firsts[std::size_t(s)], own);
+            }
+            if (ghost == 4) {
+                // Too few: own vertices differ from the whole guard's, and the check sees it.
+                CHECK(joined.vertices != whole.vertices);
+                CHECK(differ > 0);
+                continue;
+            }
+            CHECK(differ == 0);
+            CHECK(joined.vertices == whole.vertices);
+            CHECK(summed.near_vertices == guard.near_vertices);
+            CHECK(summed.moved_vertices == guard.moved_vertices);
+            CHECK(summed.shallow_points == guard.shallow_points);
+            CHECK(summed.lone_points == guard.lone_points);
+            CHECK(summed.repair_rounds == guard.repair_rounds);
+        }
 }
 
 TEST_CASE("a cluster of stray points split by a tile face: dropped alike, the same shell") {

@@ -128,6 +128,12 @@ struct Parameters {
     // slab_surface.hpp; the same bytes as fair_mesh on the whole), and
     // Result::surface_faired says so. passes 0, or one process: left as extracted.
     MeshFairing surface_fairing{0};
+    // And then the depth guard (keep_points_deep on the points given to reconstruct, at
+    // make_shell's depth and lone distance: the tube's inner wall, the offset where it is
+    // below the gap) run on each slab with its ghosts and the points near it, the first
+    // giving each other process those; Result::surface_guarded says so. Only where the
+    // tube has an inner wall. false, or one process: left to the caller.
+    bool surface_guard = false;
     // A memory budget in bytes: what the run may add to the process (the points it files and
     // everything after; lib/src/solver/memory_budget.hpp). The run goes whole where its
     // estimate fits, else in tiles of the largest size that fits, else stops with an error

@@ -95,6 +95,11 @@ struct TileFacts {
     // bricks, the slabs to the first).
     int slabs = 0, slab_ghost = 0;
     std::size_t slab_bytes = 0;
+    // The depth guard run on the slabs as well (Parameters::surface_guard): the points the
+    // first gave the others for their slabs; and whether a slab's guard disagreed with a
+    // neighbour's on the ghosts both moved, so that the first ran the whole guard again.
+    bool guard_slabs = false, guard_rerun = false;
+    std::size_t guard_slab_points = 0;
 };
 
 // How the run fitted its memory (Parameters::max_memory, or what the machine had free),
@@ -132,6 +137,8 @@ struct Result : DomainPlan {
     bool surface_made = false;    // the tiles made the zero level set (Parameters::whole_field false)
     Mesh surface;                 // that level set, as extract_dual_isosurface gives it from phi
     bool surface_faired = false;  // and faired (Parameters::surface_fairing): the mesher fairs it no more
+    bool surface_guarded = false;  // and its points kept deep (Parameters::surface_guard): the mesher's guard
+    DepthGuardReport surface_guard;  // is not run again, its report is this one
     std::string backend;          // which backend ran
     std::size_t active_cells = 0; // cells with g > 0
     std::size_t active_bricks = 0, total_bricks = 0;

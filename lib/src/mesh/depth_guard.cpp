@@ -48,6 +48,7 @@ using detail::VertexLists;
 using detail::GuardElsewhere;
 using detail::GuardFound;
 using detail::PointTriangle;
+using detail::GuardCounted;
 
 // Vertices are aimed this far (in voxels) beyond the depth: a triangle about a voxel
 // across on a ball of radius 2 voxels sags about 0.1 voxel between its corners.
@@ -803,14 +804,20 @@ struct StartFaces {
     Vec3 operator()(std::uint32_t t) const { return face_vector(mesh, mesh.triangles[t]); }
 };
 
+bool counts_point(const GuardCounted* counted, std::size_t p) { return !counted || counted->point(std::uint32_t(p)); }
+bool counts_vertex(const GuardCounted* counted, std::size_t v) {
+    return !counted || (v >= counted->vertex_begin && v < counted->vertex_end);
+}
+
 // The points the promise covers: those with another point within `lone`.
-std::vector<std::uint8_t> covered_points(const PointTree& points, double lone, DepthGuardReport& report) {
+std::vector<std::uint8_t> covered_points(const PointTree& points, double lone, const GuardCounted* counted,
+                                         DepthGuardReport& report) {
     std::vector<std::uint8_t> kept(points.size(), 1);
     if (!std::isfinite(lone)) return kept;
     const std::ptrdiff_t np = std::ptrdiff_t(points.size());
 #pragma omp parallel for schedule(dynamic, 1024) if (np > detail::kParallelItems)
     for (std::ptrdiff_t p = 0; p < np; ++p) kept[p] = points.nearest_other(std::size_t(p)) <= lone;
-    for (std::uint8_t k : kept) report.lone_points += !k;
+    for (std::size_t p = 0; p < kept.size(); ++p) report.lone_points += !kept[p] && counts_point(counted, p);
     return kept;
 }
 
@@ -915,7 +922,8 @@ public:
     // start_cells has them. The longest edge: a root of the largest square (the root
     // is monotone).
     Repairs(Mesh& mesh, const PointTree& points, const std::vector<std::uint8_t>& kept, const VertexLists& fans,
-            const TriangleCells& start_cells, Moving& moving, double depth, double voxel, double aim, double within)
+            const TriangleCells& start_cells, Moving& moving, double depth, double voxel, double aim, double within,
+            const GuardCounted* counted)
         : mesh_(mesh),
           points_(points),
           kept_(kept),
@@ -925,6 +933,7 @@ public:
           depth_(depth),
           voxel_(voxel),
           within_(within),
+          counted_(counted),
           moved_tri_(moved_triangles(mesh, moving)),
           moved_cells_(mesh, &moving.triangles, aim),
           reach_(within + std::sqrt(std::max(start_cells.longest_sq(moving.triangles, moved_tri_),
@@ -963,11 +972,11 @@ public:
     void run(DepthGuardReport& report, const detail::Begun& begun) {
         for (report.repair_rounds = 0;; ++report.repair_rounds) {
             if (report.repair_rounds > 0) renew(stale_points());
-            report.shallow_points = push_shallow();
-            if (report.shallow_points == 0 || report.repair_rounds == kRepairRounds) break;
+            const std::size_t shallow = push_shallow(report.shallow_points);
+            if (shallow == 0 || report.repair_rounds == kRepairRounds) break;
             if (begun)
                 begun("the depth guard: repair round " + std::to_string(report.repair_rounds + 1) + ", " +
-                      std::to_string(report.shallow_points) + " points still too shallow");
+                      std::to_string(shallow) + " points still too shallow");
             // shift += push (elsewhere both are zero: nothing to add).
             for (std::size_t i = 0; i < moving_.vertices.size(); ++i)
                 for (int d = 0; d < 3; ++d) moving_.shift[i][d] += moving_.push[i][d];
@@ -1074,8 +1083,10 @@ private:
     }
 
     // The move: pushes the nearest triangle of each point shallower than the depth, the
-    // last round's pushes undone first; returns the points pushed for.
-    std::size_t push_shallow() {
+    // last round's pushes undone first; returns the points pushed for (`counted`: those the
+    // report counts).
+    std::size_t push_shallow(std::size_t& counted) {
+        counted = 0;
         for (std::uint32_t v : pushed_) moving_.push_ref(v) = {0, 0, 0};
         pushed_.clear();
         std::size_t shallow_points = 0;
@@ -1091,6 +1102,7 @@ private:
             const Vec3 n = face_vector(mesh_, t);
             if (dot(sub(mesh_.vertices[t[0]], p), n) <= 0) continue;  // the point is not under it
             ++shallow_points;
+            counted += counts_point(counted_, i);
             const double by = (depth_ - dist + 0.5 * kMarginVoxels * voxel_) / norm(n);
             for (std::uint32_t v : t)
                 if (by * norm(n) > norm(moving_.push_of(v))) {
@@ -1108,6 +1120,7 @@ private:
     const TriangleCells& start_cells_;
     Moving& moving_;
     const double depth_, voxel_, within_;
+    const GuardCounted* counted_;
     const std::vector<std::uint8_t> moved_tri_;
     const TriangleCells moved_cells_;
     const double reach_;
@@ -1170,7 +1183,8 @@ DepthGuardReport keep_points_deep(Mesh& mesh, const PointCloud& points, double d
 // untangled), then the repair rounds' test and move.
 DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, double depth, double voxel,
                                           double lone, VertexLists rings, const VertexLists& fans,
-                                          const GuardElsewhere* elsewhere, const Begun& begun) {
+                                          const GuardElsewhere* elsewhere, const Begun& begun,
+                                          const GuardCounted* counted) {
     if (!(depth > 0) || !(voxel > 0) || !std::isfinite(depth) || !std::isfinite(voxel))
         throw ParameterError("keep_points_deep: depth and voxel must be positive and finite");
     if (!(lone > 0)) throw ParameterError("keep_points_deep: lone must be positive");
@@ -1182,7 +1196,7 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, d
     if (begun) begun("the depth guard: searching the points near the surface");
     // The others search their points meanwhile, on the same cells of the same mesh.
     if (elsewhere) elsewhere->ask(mesh, aim, depth);
-    const std::vector<std::uint8_t> kept = covered_points(points, lone, report);
+    const std::vector<std::uint8_t> kept = covered_points(points, lone, counted, report);
     const TriangleCells start_cells(mesh, nullptr, aim);
     StartSearch found =
         search_start(mesh, points, start_cells, &kept, aim, depth, elsewhere ? elsewhere->here_end : points.size());
@@ -1190,20 +1204,37 @@ DepthGuardReport detail::keep_points_deep(Mesh& mesh, const PointTree& points, d
 
     std::vector<std::uint32_t> negative_zero;
     std::vector<double> lift = vertex_lifts(mesh, fans, points, kept, found.near_point, aim, negative_zero);
-    for (double x : lift) report.near_vertices += x > 0;
-    if (report.near_vertices == 0) return report;
-    if (begun) begun("the depth guard: lifting " + std::to_string(report.near_vertices) + " vertices near points");
+    std::size_t near = 0;
+    for (std::size_t v = 0; v < lift.size(); ++v) {
+        near += lift[v] > 0;
+        report.near_vertices += lift[v] > 0 && counts_vertex(counted, v);
+    }
+    if (near == 0) return report;
+    if (begun) begun("the depth guard: lifting " + std::to_string(near) + " vertices near points");
     const std::vector<std::uint32_t> region = spread(mesh, rings, fans, lift);
     rings = VertexLists();  // the repairs below walk fans only
     Moving moving(mesh, fans);
     add_lifted(moving, mesh, fans, region, negative_zero, lift);
     untangle(mesh, moving, [](std::uint32_t) {});
 
-    Repairs repairs(mesh, points, kept, fans, start_cells, moving, depth, voxel, aim, within);
+    Repairs repairs(mesh, points, kept, fans, start_cells, moving, depth, voxel, aim, within, counted);
     repairs.find_nearest(found.close);
     repairs.run(report, begun);
-    for (const Vec3& d : moving.shift) report.moved_vertices += dot(d, d) > 0;
+    for (std::size_t i = 0; i < moving.vertices.size(); ++i)
+        report.moved_vertices += dot(moving.shift[i], moving.shift[i]) > 0 && counts_vertex(counted, moving.vertices[i]);
     return report;
+}
+
+int detail::guard_reach_planes(double depth, double voxel) {
+    // A lift reaches the vertices within the aim of a point (a plane more for the cube a
+    // vertex sits in), then spreads a ring (a plane) a step, two steps a round.
+    return int(std::ceil((depth + kMarginVoxels * voxel) / voxel)) + 1 + 2 * kSpreadRounds;
+}
+
+double detail::guard_point_reach(double depth, double voxel, double lone) {
+    // The points within the aim of a vertex (and a voxel's rounding), and the neighbours
+    // that decide whether those are lone.
+    return depth + (kMarginVoxels + 1) * voxel + (std::isfinite(lone) ? lone : 0);
 }
 
 }  // namespace snvr

@@ -40,4 +40,19 @@ struct GuardElsewhere {
     std::function<GuardFound()> collect;
 };
 
+// Which of a mesh's vertices and of the points a guard's report counts: a slab's own,
+// where each process guards a slab of the surface with ghosts (solver/slab_surface.hpp).
+struct GuardCounted {
+    std::size_t vertex_begin = 0, vertex_end = 0;
+    std::function<bool(std::uint32_t point)> point;
+};
+
+// How far the guard's work on a vertex reaches, for a slab's ghosts: in planes of the
+// mesh (the lift of the vertices within the aim of a point, spread over rings), and in
+// world units from a vertex to the points that can move it (guard_point_reach: lone as
+// keep_points_deep takes it). What the repair and untangling rounds add beyond this is
+// not bounded here: a slab's guard checks its ghosts against its neighbours' own instead.
+int guard_reach_planes(double depth, double voxel);
+double guard_point_reach(double depth, double voxel, double lone);
+
 }  // namespace snvr::detail

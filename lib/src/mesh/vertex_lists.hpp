@@ -13,6 +13,7 @@
 namespace snvr::detail {
 class PointTree;
 struct GuardElsewhere;  // guard_search.hpp
+struct GuardCounted;    // guard_search.hpp
 }
 
 namespace snvr::detail {
@@ -67,8 +68,9 @@ void rings_and_fans(const Mesh& m, VertexLists& ring, VertexLists* fan = nullptr
 void fair_mesh(Mesh& mesh, const MeshFairing& fairing, const VertexLists& rings);
 // `elsewhere`: other processes search some of the points (guard_search.hpp), or null;
 // `begun`: told as its search, its lift and each repair round begin.
+// `counted`: the vertices and points its report counts (null: all).
 DepthGuardReport keep_points_deep(Mesh& mesh, const PointTree& points, double depth, double voxel, double lone,
                                   VertexLists rings, const VertexLists& fans, const GuardElsewhere* elsewhere = nullptr,
-                                  const Begun& begun = nullptr);
+                                  const Begun& begun = nullptr, const GuardCounted* counted = nullptr);
 
 }  // namespace snvr::detail

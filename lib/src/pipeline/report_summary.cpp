@@ -12,6 +12,14 @@ namespace snvr {
 namespace {
 
 double mib(std::size_t bytes) { return double(bytes) / (1024.0 * 1024.0); }
+
+// Where the slabs kept their points deep too: the points given them, and the check's outcome.
+std::string slab_guard_text(const TileFacts& t) {
+    if (!t.guard_slabs) return "";
+    return ", the points kept deep in each (" + grouped(t.guard_slab_points) + " points given the others; " +
+           (t.guard_rerun ? "their ghosts differed from their owners', so the guard ran again on the whole surface)"
+                          : "their ghosts the same as their owners')");
+}
 const char* yes_no(bool b) { return b ? "yes" : "no"; }
 
 }  // namespace
@@ -89,8 +97,9 @@ std::string report_summary(const RunReport& report) {
                                                                t.slab_bytes
                                                                    ? format_text("; the surface welded and faired in %d "
                                                                                  "slabs of planes, %d planes of ghosts "
-                                                                                 "either side, %.3g MiB between them",
-                                                                                 t.slabs, t.slab_ghost, mib(t.slab_bytes))
+                                                                                 "either side, %.3g MiB between them%s",
+                                                                                 t.slabs, t.slab_ghost, mib(t.slab_bytes),
+                                                                                 slab_guard_text(t).c_str())
                                                                          .c_str()
                                                                    : "",
                                                                t.check_bytes

@@ -146,7 +146,10 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     // tiles make the surface.
     settings.params.whole_field = settings.keep_field;
     // Such a surface is faired in slabs as it is welded, over the processes where there are several.
-    if (!settings.keep_field) settings.params.surface_fairing = settings.fairing;
+    if (!settings.keep_field) {
+        settings.params.surface_fairing = settings.fairing;
+        settings.params.surface_guard = true;
+    }
     settings.pieces.min_volume *= to_mm * to_mm * to_mm;
 
     enter("outliers");

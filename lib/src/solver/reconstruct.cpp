@@ -83,7 +83,7 @@ void plan_and_run(const PointCloud& points, const Parameters& params, const Prog
     if (memory.tile_cells > 0) {
         Parameters tiled = params;
         tiled.tile_cells = memory.tile_cells;
-        reconstruct_tiled<Real>(measured, plan, tiled, start, progress, tiles_on, res);
+        reconstruct_tiled<Real>(measured, points, plan, tiled, start, progress, tiles_on, res);
     } else {
         run<Real>(measured, plan, params, start, progress, res);
     }

@@ -1,12 +1,18 @@
 // The surface in slabs over the processes (shared_slabs.hpp).
 #include "solver/shared_slabs.hpp"
 
+#include <algorithm>
+#include <array>
 #include <limits>
 #include <utility>
 
 #include "snvr/error.hpp"
 #include "solver/sent_arrays.hpp"
 #include "solver/slab_surface.hpp"
+#include "solver/tile_needs.hpp"
+#include "geometry/point_tree.hpp"
+#include "mesh/guard_search.hpp"
+#include "mesh/vertex_lists.hpp"
 
 namespace snvr {
 namespace {
@@ -93,15 +99,114 @@ void take_pieces(TileScheduler& on, int from, std::vector<detail::MeshPiece>& in
     }
 }
 
+// The points within the guard's reach of each other process's welded planes, from the
+// first's tree, in its order, with its origin and frame (so that the other's tree keeps
+// that order: the guard's ties go by it).
+std::uint64_t give_slab_points(TileScheduler& on, const detail::PointTree& tree, const SlabPlan& plan,
+                               const Domain& whole, double reach) {
+    std::vector<std::array<double, 2>> windows(std::size_t(plan.slabs()), {1, 0});
+    for (int q = 1; q < plan.slabs(); ++q) {
+        const detail::Planes planes = plan.welded(q);
+        windows[std::size_t(q)] = {whole.origin[2] + planes.lo * whole.h - reach, whole.origin[2] + planes.hi * whole.h + reach};
+    }
+    std::vector<PointRuns> runs = z_window_runs(tree, windows);
+    std::uint64_t given = 0;
+    for (int q = 1; q < plan.slabs(); ++q) {
+        const detail::PointArray<float> xyz = points_in(tree, runs[std::size_t(q)]);
+        runs[std::size_t(q)] = PointRuns();
+        std::vector<double> head{tree.origin[0], tree.origin[1], tree.origin[2]};
+        const std::array<double, 4> frame = tree.frame().figures();
+        head.insert(head.end(), frame.begin(), frame.end());
+        detail::send_array(on, q, head.data(), head.size());
+        detail::send_array(on, q, xyz.data(), xyz.size());
+        given += xyz.size() / 3;
+    }
+    return given;
+}
+PointCloud take_slab_points(TileScheduler& on) {
+    std::vector<double> head;
+    detail::receive_array(on, 0, head);
+    if (head.size() != 7) throw Error("the points for a slab's depth guard from the first process are not whole");
+    // Straight into the cloud's own array, not copied there again.
+    detail::PointArray<Vec3f> xyz;
+    on.receive_bytes(0, [&xyz](std::size_t bytes) -> void* {
+        if (bytes % sizeof(Vec3f)) throw Error("the points for a slab's depth guard are not whole");
+        xyz.resize(bytes / sizeof(Vec3f));
+        return xyz.empty() ? nullptr : xyz.front().data();
+    });
+    const auto frame = detail::PointTree::Frame::of(head.data() + 3);
+    return detail::cloud_of(std::move(xyz), {head[0], head[1], head[2]}, &frame);
+}
+
+
+// A slab's guard figures in the counts the processes sum (each its rounds in its own place).
+constexpr std::size_t kGuardFigures = 4;
+void put_guard(const DepthGuardReport& g, int me, std::uint64_t* at) {
+    at[0] = g.near_vertices;
+    at[1] = g.moved_vertices;
+    at[2] = g.shallow_points;
+    at[3] = g.lone_points;
+    at[kGuardFigures + std::size_t(me)] = std::uint64_t(g.repair_rounds);
+}
+DepthGuardReport summed_guard(const std::uint64_t* at, std::size_t processes) {
+    DepthGuardReport g;
+    g.near_vertices = at[0];
+    g.moved_vertices = at[1];
+    g.shallow_points = at[2];
+    g.lone_points = at[3];
+    g.repair_rounds = int(*std::max_element(at + kGuardFigures, at + kGuardFigures + processes));
+    return g;
+}
+
+// At the first, the whole surface gathered: each slab's checked ghosts against their
+// owners'. Where any differs, the slabs' vertices before their guard come back and the
+// guard runs here on the whole surface. Each other process's side: slab_guard_checked.
+DepthGuardReport check_slab_guards(TileScheduler& on, Mesh& whole, const std::vector<std::size_t>& starts,
+                                   const SlabBands& bands, const std::vector<Vec3>& unguarded, const SlabsGuard& guard,
+                                   DepthGuardReport summed, TileFacts& facts) {
+    const std::size_t P = starts.size() - 1;
+    std::size_t differ = bands_differing(bands, whole.vertices, 0, starts[1]);
+    for (std::size_t q = 1; q < P; ++q) {
+        SlabBands theirs;
+        detail::receive_array(on, int(q), theirs.below);
+        detail::receive_array(on, int(q), theirs.above);
+        differ += bands_differing(theirs, whole.vertices, starts[q], starts[q + 1] - starts[q]);
+    }
+    const std::uint8_t again = differ > 0;
+    for (std::size_t q = 1; q < P; ++q) detail::send_array(on, int(q), &again, 1);
+    facts.guard_rerun = again;
+    if (!again) return summed;
+    std::copy(unguarded.begin(), unguarded.end(), whole.vertices.begin());
+    for (std::size_t q = 1; q < P; ++q)
+        detail::receive_into(on, int(q), whole.vertices.data() + starts[q], starts[q + 1] - starts[q]);
+    detail::VertexLists rings, fans;
+    detail::rings_and_fans(whole, rings, &fans);
+    const detail::KeepDeep& d = guard.deep;
+    return detail::keep_points_deep(whole, detail::tree_of(*guard.points), d.depth, d.voxel, d.lone, std::move(rings),
+                                    fans);
+}
+void slab_guard_checked(TileScheduler& on, const SlabBands& bands, const std::vector<Vec3>& unguarded) {
+    detail::send_array(on, 0, bands.below.data(), bands.below.size());
+    detail::send_array(on, 0, bands.above.data(), bands.above.size());
+    std::uint8_t again = 0;
+    detail::receive_into(on, 0, &again, 1);
+    if (again) detail::send_array(on, 0, unguarded.data(), unguarded.size());
+}
+
 }  // namespace
 
 Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const Domain& whole, int core_cells,
-                      const MeshFairing& fairing, TileScheduler* on, TileFacts& facts) {
+                      const MeshFairing& fairing, const SlabsGuard* guard, TileScheduler* on, TileFacts& facts,
+                      DepthGuardReport* report) {
     const int processes = on ? on->processes() : 1, me = on ? on->rank() : 0;
+    if (processes == 1) guard = nullptr;
+    if (guard && me == 0 && !guard->points) throw Error("surface_in_slabs: the guard's points are not given");
+    const detail::KeepDeep* deep = guard ? &guard->deep : nullptr;
     std::vector<std::uint64_t> by_plane(std::size_t(whole.nz), 0);
     for (const detail::MeshPiece& p : pieces) count_by_plane(p, by_plane);
     if (processes > 1) on->sum(by_plane);
-    const SlabPlan plan = plan_slabs(by_plane, processes, slab_ghost_planes(fairing));
+    SlabPlan plan = plan_slabs(by_plane, processes, slab_ghost_planes(fairing, deep));
+    if (deep) plan.checked = guard_checked_planes(*deep, plan.ghost);
     // This slab's pieces: its own tiles' and those the others send.
     std::vector<detail::MeshPiece> here;
     FacesPart faces_here;
@@ -120,47 +225,70 @@ Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const
         if (me < q) give(), take();
         else take(), give();
     }
+    // The guard's points: the first's own, and the others' from it.
+    PointCloud near_slab;
+    const detail::PointTree* guard_points = nullptr;
+    if (guard && me == 0) {
+        guard_points = &detail::tree_of(*guard->points);
+        facts.guard_slab_points =
+            give_slab_points(*on, *guard_points, plan, whole, detail::guard_point_reach(deep->depth, deep->voxel, deep->lone));
+    } else if (guard) {
+        near_slab = take_slab_points(*on);
+        guard_points = &detail::tree_of(near_slab);
+    }
     if (me == 0) faces_here = {std::move(faces), 0};
     for (detail::MeshPiece& p : pieces)
         if (meets(p, plan.welded(me))) here.push_back(std::move(p));
     pieces.clear();
-    SlabWeld weld = weld_slab(here, faces_here, whole, core_cells, plan, me, fairing);
+    SlabWeld weld = weld_slab(here, faces_here, whole, core_cells, plan, me, fairing, deep, guard_points);
     faces_here = FacesPart();
-    // Where each slab begins in the whole mesh: the slabs' counts, and the bytes sent.
+    near_slab = PointCloud();
+    // Where each slab begins in the whole mesh (the slabs' counts), the bytes sent, and
+    // the guard's figures over the slabs' own (summed; its rounds the most of any).
     const std::size_t P = std::size_t(processes);
-    std::vector<std::uint64_t> sizes(2 * P + 1, 0);
-    sizes[std::size_t(me)] = weld.vertices;
-    sizes[P + std::size_t(me)] = weld.triangles;
-    sizes[2 * P] = sent;
-    if (processes > 1) on->sum(sizes);
-    std::uint64_t first = 0, all_vertices = 0, all_triangles = 0;
+    std::vector<std::uint64_t> counts(2 * P + 1 + kGuardFigures + P, 0);
+    counts[std::size_t(me)] = weld.vertices;
+    counts[P + std::size_t(me)] = weld.triangles;
+    counts[2 * P] = sent;
+    put_guard(weld.guard, me, &counts[2 * P + 1]);
+    if (processes > 1) on->sum(counts);
+    std::vector<std::size_t> starts(P + 1, 0);
+    std::uint64_t all_triangles = 0;
     for (std::size_t q = 0; q < P; ++q) {
-        first += q < std::size_t(me) ? sizes[q] : 0;
-        all_vertices += sizes[q];
-        all_triangles += sizes[P + q];
+        starts[q + 1] = starts[q] + std::size_t(counts[q]);
+        all_triangles += counts[P + q];
     }
+    const std::size_t all_vertices = starts[P];
     if (all_vertices >= std::numeric_limits<std::uint32_t>::max())
         throw ResourceError("the tiles' surface: more than 2^32 vertices");
-    Mesh own = slab_own(std::move(weld), first);
+    const SlabBands bands = guard ? slab_bands(weld) : SlabBands();
+    const std::vector<Vec3> unguarded = std::move(weld.unguarded);
+    Mesh own = slab_own(std::move(weld), starts[std::size_t(me)]);
     facts.slabs = processes;
     facts.slab_ghost = plan.ghost;
+    facts.guard_slabs = guard != nullptr;
     // The slabs' own to the first as well.
-    facts.slab_bytes = sizes[2 * P] + (all_vertices - sizes[0]) * sizeof(Vec3) +
-                       (all_triangles - sizes[P]) * sizeof(std::array<std::uint32_t, 3>);
+    facts.slab_bytes = counts[2 * P] + (all_vertices - counts[0]) * sizeof(Vec3) +
+                       (all_triangles - counts[P]) * sizeof(std::array<std::uint32_t, 3>);
     if (processes == 1) return own;
     if (me != 0) {
         detail::send_array(*on, 0, own.vertices.data(), own.vertices.size());
         detail::send_array(*on, 0, own.triangles.data(), own.triangles.size());
+        if (guard) slab_guard_checked(*on, bands, unguarded);
         return Mesh();
     }
-    own.vertices.resize(std::size_t(all_vertices));
+    own.vertices.resize(all_vertices);
     own.triangles.resize(std::size_t(all_triangles));
-    std::size_t v = sizes[0], t = sizes[P];
+    std::size_t t = counts[P];
     for (std::size_t q = 1; q < P; ++q) {
-        detail::receive_into(*on, int(q), own.vertices.data() + v, std::size_t(sizes[q]));
-        detail::receive_into(*on, int(q), own.triangles.data() + t, std::size_t(sizes[P + q]));
-        v += sizes[q];
-        t += sizes[P + q];
+        detail::receive_into(*on, int(q), own.vertices.data() + starts[q], std::size_t(counts[q]));
+        detail::receive_into(*on, int(q), own.triangles.data() + t, std::size_t(counts[P + q]));
+        t += counts[P + q];
+    }
+    if (guard) {
+        const DepthGuardReport g =
+            check_slab_guards(*on, own, starts, bands, unguarded, *guard, summed_guard(&counts[2 * P + 1], P), facts);
+        if (report) *report = g;
     }
     return own;
 }

@@ -14,6 +14,7 @@
 #include "snvr/reconstruct.hpp"
 #include "snvr/tiles.hpp"
 #include "mesh/dual_pieces.hpp"
+#include "mesh/fair_and_keep_deep.hpp"
 #include "solver/slab_surface.hpp"
 
 namespace snvr {
@@ -22,7 +23,19 @@ namespace snvr {
 // are several processes; freed); `faces`: at the first, the whole grid's field with every
 // tile's face bricks placed (elsewhere unused). Returns the whole surface, faired, at the
 // first; elsewhere an empty mesh. Sets facts.slabs, slab_ghost and slab_bytes.
+//
+// With `guard` (several processes), each slab's points are kept deep as well (slab_surface.hpp):
+// `points` at the first are the run's, and it gives each other process those within the
+// guard's reach of its slab (in its tree's order and frame); elsewhere null. The first then
+// compares each slab's ghosts within half their width of its planes with their owner's
+// vertices: where any differs, it runs the guard again on the whole surface from the slabs'
+// vertices as they were before it (facts.guard_rerun). `report`: the guard's, at the first.
+struct SlabsGuard {
+    detail::KeepDeep deep;
+    const PointCloud* points = nullptr;
+};
 Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const Domain& whole, int core_cells,
-                      const MeshFairing& fairing, TileScheduler* on, TileFacts& facts);
+                      const MeshFairing& fairing, const SlabsGuard* guard, TileScheduler* on, TileFacts& facts,
+                      DepthGuardReport* report);
 
 }  // namespace snvr

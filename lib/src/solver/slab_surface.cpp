@@ -2,16 +2,29 @@
 #include "solver/slab_surface.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <tuple>
 #include <utility>
 
 #include "mesh/dual_pieces.hpp"
+#include "mesh/guard_search.hpp"
 #include "mesh/vertex_lists.hpp"
 #include "snvr/error.hpp"
 
 namespace snvr {
 
-int slab_ghost_planes(const MeshFairing& fairing) { return std::max(1, 2 * fairing.passes); }
+int slab_ghost_planes(const MeshFairing& fairing, const detail::KeepDeep* deep) {
+    return std::max({1, 2 * fairing.passes, deep ? guard_ghost_planes(*deep) : 0});
+}
+
+int guard_ghost_planes(const detail::KeepDeep& deep) {
+    const int reach = detail::guard_reach_planes(deep.depth, deep.voxel);
+    return reach + (reach + 1) / 2;
+}
+
+int guard_checked_planes(const detail::KeepDeep& deep, int ghost) {
+    return std::max(0, ghost - detail::guard_reach_planes(deep.depth, deep.voxel));
+}
 
 detail::Planes SlabPlan::welded(int s) const {
     const int lo = std::max(0, cuts[std::size_t(s)] - ghost), hi = std::min(cuts.back(), cuts[std::size_t(s) + 1] + ghost);
@@ -52,7 +65,8 @@ SlabPlan plan_slabs(const std::vector<std::uint64_t>& by_plane, int slabs, int g
 }
 
 SlabWeld weld_slab(std::vector<detail::MeshPiece>& pieces, const FacesPart& faces, const Domain& whole, int core_cells,
-                   const SlabPlan& plan, int s, const MeshFairing& fairing) {
+                   const SlabPlan& plan, int s, const MeshFairing& fairing, const detail::KeepDeep* deep,
+                   const detail::PointTree* points) {
     const detail::Planes planes = plan.welded(s);
     for (detail::MeshPiece& p : seam_pieces(faces, whole, core_cells, planes)) pieces.push_back(std::move(p));
     SlabWeld w;
@@ -75,13 +89,51 @@ SlabWeld weld_slab(std::vector<detail::MeshPiece>& pieces, const FacesPart& face
                                             last ? ~std::uint64_t(0) : detail::first_vertex_key(hi, n));
         std::tie(w.first_triangle, w.triangles) = run(keys.triangles, detail::first_triangle_key(lo, n),
                                                       last ? ~std::uint64_t(0) : detail::first_triangle_key(hi, n));
+        const auto vertex_at = [&keys](std::uint64_t key) {
+            return std::size_t(std::lower_bound(keys.vertices.begin(), keys.vertices.end(), key) - keys.vertices.begin());
+        };
+        const int band = plan.checked;
+        w.band_below = vertex_at(detail::first_vertex_key(std::max(0, lo - band), n));
+        w.band_above = hi + band >= whole.nz ? w.mesh.vertices.size() : vertex_at(detail::first_vertex_key(hi + band, n));
     }
-    if (fairing.passes > 0 && !w.mesh.triangles.empty()) {
-        detail::VertexLists rings;
-        detail::rings_and_fans(w.mesh, rings);
-        detail::fair_mesh(w.mesh, fairing, rings);
+    const bool guard = deep && points && points->size() > 0 && !w.mesh.triangles.empty();
+    detail::VertexLists rings, fans;
+    if (fairing.passes > 0 || guard) detail::rings_and_fans(w.mesh, rings, guard ? &fans : nullptr);
+    if (fairing.passes > 0 && !w.mesh.triangles.empty()) detail::fair_mesh(w.mesh, fairing, rings);
+    if (deep) {
+        const auto own = w.mesh.vertices.begin() + std::ptrdiff_t(w.below);
+        w.unguarded.assign(own, own + std::ptrdiff_t(w.vertices));
+    }
+    if (guard) {
+        // Its points are those of its own planes (the first slab's and the last's reach beyond).
+        const int lo = plan.cuts[std::size_t(s)], hi = plan.cuts[std::size_t(s) + 1];
+        const bool first = s == 0, last = s + 1 == plan.slabs();
+        detail::GuardCounted counted;
+        counted.vertex_begin = w.below;
+        counted.vertex_end = w.below + w.vertices;
+        counted.point = [&](std::uint32_t p) {
+            const double plane = std::floor((points->point(p)[2] - whole.origin[2]) / whole.h);
+            return (first || plane >= lo) && (last || plane < hi);
+        };
+        w.guard = detail::keep_points_deep(w.mesh, *points, deep->depth, deep->voxel, deep->lone, std::move(rings), fans,
+                                           nullptr, nullptr, &counted);
     }
     return w;
+}
+
+SlabBands slab_bands(const SlabWeld& w) {
+    const auto& v = w.mesh.vertices;
+    const auto at = [&v](std::size_t i) { return v.begin() + std::ptrdiff_t(i); };
+    return {{at(w.band_below), at(w.below)}, {at(w.below + w.vertices), at(w.band_above)}};
+}
+
+std::size_t bands_differing(const SlabBands& b, const std::vector<Vec3>& whole, std::size_t first, std::size_t own) {
+    if (b.below.size() > first || first + own + b.above.size() > whole.size())
+        throw Error("a slab's ghosts reach beyond the whole surface");
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < b.below.size(); ++i) differ += b.below[i] != whole[first - b.below.size() + i];
+    for (std::size_t i = 0; i < b.above.size(); ++i) differ += b.above[i] != whole[first + own + i];
+    return differ;
 }
 
 Mesh slab_own(SlabWeld weld, std::size_t first) {

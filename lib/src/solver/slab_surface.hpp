@@ -10,6 +10,18 @@
 // it; each of the fairing's 2 x passes steps takes a vertex from its ring, so a ring cut
 // short at the ghosts' edge reaches one plane further in a step: 2 x passes planes of
 // ghosts keep it from the slab (tests/test_tiles.cpp fails with one fewer).
+//
+// The depth guard (keep_points_deep) may run on a slab too, with the points near it: a
+// vertex's lift comes from the points within the aim of the vertices within 4 rings of
+// it (mesh/guard_search.hpp, guard_reach_planes: 8 planes at the default depth of 2
+// voxels). Its repair and untangling rounds, which act on the few points and triangles
+// still wrong, are not bounded so: a slab is welded with half as many ghost planes again,
+// and each slab's guard is checked, where those ghosts beyond the reach (the planes within
+// the extra of its own) must come out as the neighbour slab's own did; else the first
+// runs the guard again on the whole surface (shared_slabs.hpp). (bench_guard_slabs: the
+// reach, 8 planes, gave every vertex of the whole guard on the bunny, the sampler's lidar
+// scene and a sparse city block with 4 and 8 repair rounds; 4 planes did not, and with
+// 8 the ghosts 4 to 8 planes in differed on most of them.)
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -17,7 +29,9 @@
 
 #include "snvr/domain.hpp"
 #include "snvr/mesh.hpp"
+#include "geometry/point_tree.hpp"
 #include "mesh/dual_pieces.hpp"
+#include "mesh/fair_and_keep_deep.hpp"
 #include "solver/tile_plan.hpp"
 #include "solver/tile_surface.hpp"
 
@@ -25,12 +39,18 @@ namespace snvr {
 
 // The planes of ghosts a slab is welded and faired with on either side (at least one: a
 // triangle of the slab's first plane uses the plane below).
-int slab_ghost_planes(const MeshFairing& fairing);
+// With `deep`, the depth guard's too (guard_ghost_planes).
+int slab_ghost_planes(const MeshFairing& fairing, const detail::KeepDeep* deep = nullptr);
+// The depth guard's: its reach and half as much again; of `ghost` planes, those its check
+// compares (the planes of ghosts next to the slab's own beyond the reach).
+int guard_ghost_planes(const detail::KeepDeep& deep);
+int guard_checked_planes(const detail::KeepDeep& deep, int ghost);
 
 // Slab s owns the vertices of cube planes, and the triangles of sample planes, [cuts[s], cuts[s + 1]).
 struct SlabPlan {
     std::vector<int> cuts;  // slabs + 1 of them: 0, ..., the grid's samples along z
     int ghost = 1;
+    int checked = 0;  // of those, the planes next to the slab's own that a guard's check compares (SlabWeld)
     int slabs() const { return int(cuts.size()) - 1; }
     // The planes slab s is welded from: its own and the ghosts' (within the grid).
     detail::Planes welded(int s) const;
@@ -52,11 +72,29 @@ struct SlabWeld {
     std::size_t below = 0;                          // the ghost planes' vertices below the slab: the mesh's first
     std::size_t vertices = 0;                       // the slab's own, next
     std::size_t first_triangle = 0, triangles = 0;  // the slab's own triangles
+    // Where the guard ran: the report over the slab's own vertices and points, its own
+    // vertices before it, and the ghosts its check compares with their owners', the mesh's
+    // [band_below, below) and [below + vertices, band_above).
+    DepthGuardReport guard;
+    std::vector<Vec3> unguarded;
+    std::size_t band_below = 0, band_above = 0;
 };
 // From the tiles' pieces that meet its welded planes (they may reach beyond them) and the
-// faces over those planes. Frees the pieces.
+// faces over those planes. Frees the pieces. With `deep`, its points kept deep as well:
+// `points` those near the slab (at least within guard_point_reach of its welded planes),
+// in the whole run's tree's frame and order, their report counted over those in its planes.
 SlabWeld weld_slab(std::vector<detail::MeshPiece>& pieces, const FacesPart& faces, const Domain& whole, int core_cells,
-                   const SlabPlan& plan, int s, const MeshFairing& fairing);
+                   const SlabPlan& plan, int s, const MeshFairing& fairing, const detail::KeepDeep* deep = nullptr,
+                   const detail::PointTree* points = nullptr);
+
+// The ghosts of a slab that its guard's check compares with their owners' (SlabWeld's
+// bands), and how many of them differ from the whole surface's vertices, the slab's own
+// (`own` of them) beginning at `first` there.
+struct SlabBands {
+    std::vector<Vec3> below, above;
+};
+SlabBands slab_bands(const SlabWeld& w);
+std::size_t bands_differing(const SlabBands& b, const std::vector<Vec3>& whole, std::size_t first, std::size_t own);
 
 // The slab's own vertices and triangles, numbered as the whole mesh numbers them: the
 // slab's first vertex is the whole mesh's `first` (the count of the slabs' before it).

@@ -155,6 +155,29 @@ std::vector<PointRuns> point_runs(const detail::PointTree& tree, const Domain& w
     return runs;
 }
 
+std::vector<PointRuns> z_window_runs(const detail::PointTree& tree, const std::vector<std::array<double, 2>>& windows) {
+    std::vector<PointRuns> runs(windows.size());
+    const auto take = [&runs](std::size_t w, std::uint32_t begin, std::uint32_t end) {
+        PointRuns& r = runs[w];
+        if (!r.empty() && r.back()[1] == begin) r.back()[1] = end;
+        else r.push_back({begin, end});
+    };
+    tree.for_each_leaf([](const detail::PointTree::Node&) { return true; }, [&](const detail::PointTree::Node& leaf) {
+        const double lo = tree.lo(leaf)[2], hi = tree.hi(leaf)[2];
+        for (std::size_t w = 0; w < windows.size(); ++w) {
+            const auto [a, b] = windows[w];
+            if (hi < a || lo > b) continue;
+            if (lo >= a && hi <= b) {
+                take(w, leaf.begin, leaf.end);
+                continue;
+            }
+            for (std::uint32_t k = leaf.begin; k < leaf.end; ++k)
+                if (const double z = tree.point(k)[2]; z >= a && z <= b) take(w, k, k + 1);
+        }
+    });
+    return runs;
+}
+
 detail::PointArray<float> points_in(const detail::PointTree& tree, const PointRuns& runs) {
     std::size_t count = 0;
     for (const auto& r : runs) count += r[1] - r[0];

@@ -38,6 +38,9 @@ using PointRuns = std::vector<std::array<std::uint32_t, 2>>;
 std::vector<PointRuns> point_runs(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
                                   const std::vector<int>& owner, int processes, int core_cells, int halo_cells,
                                   double reach);
+// The points with z in each window [lo, hi] (world units; one a process, empty where
+// hi < lo), as runs of the tree's order, found in one walk over the leaves.
+std::vector<PointRuns> z_window_runs(const detail::PointTree& tree, const std::vector<std::array<double, 2>>& windows);
 // Those points' float coordinates about the tree's origin, x y z in turn.
 detail::PointArray<float> points_in(const detail::PointTree& tree, const PointRuns& runs);
 

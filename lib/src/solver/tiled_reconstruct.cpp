@@ -13,6 +13,7 @@
 #include "snvr/stopwatch.hpp"
 #include "solver/field_assembly.hpp"
 #include "solver/memory_budget.hpp"
+#include "solver/plan_guard.hpp"
 #include "solver/session.hpp"
 #include "solver/shared_holes.hpp"
 #include "solver/shared_slabs.hpp"
@@ -122,15 +123,16 @@ void merge_steps(const std::vector<TileRun>& runs, int steps, Result& res) {
 
 // The plan as the other processes need it (the grid, the offset, the flow, the tube), and
 // the tiles' cores, whether the root puts the whole field together and how the surface is
-// faired (the root's word: it may have chosen the tiles for a budget). The root appends its
-// tree's frame (4 more).
-constexpr std::size_t kPlanFigures = 21;
+// faired and guarded (the root's word: it may have chosen the tiles for a budget). The root
+// appends its tree's frame (4 more).
+constexpr std::size_t kPlanFigures = 23;
 std::vector<double> plan_figures(const DomainPlan& p, const Parameters& params) {
     const Domain& d = p.domain;
     const MeshFairing& f = params.surface_fairing;
     return {d.origin[0], d.origin[1], d.origin[2], d.h, double(d.nx), double(d.ny), double(d.nz), double(d.levels),
             double(d.unit_cells), p.offset, p.xi, p.eps, p.dt, double(p.planned_steps), p.tube_inner, p.tube_outer,
-            double(params.tile_cells), params.whole_field ? 1.0 : 0.0, double(f.passes), f.lambda, f.pass_band};
+            double(params.tile_cells), params.whole_field ? 1.0 : 0.0, double(f.passes), f.lambda, f.pass_band,
+            params.surface_guard ? 1.0 : 0.0, p.gap};
 }
 DomainPlan plan_of(const std::vector<double>& f, Parameters& params) {
     if (f.size() != kPlanFigures + 4) throw Error("tiles: the plan from the first process is not whole");
@@ -139,6 +141,7 @@ DomainPlan plan_of(const std::vector<double>& f, Parameters& params) {
     params.surface_fairing.passes = int(f[18]);
     params.surface_fairing.lambda = f[19];
     params.surface_fairing.pass_band = f[20];
+    params.surface_guard = f[21] != 0;
     DomainPlan p;
     Domain& d = p.domain;
     d.origin = {f[0], f[1], f[2]};
@@ -155,6 +158,7 @@ DomainPlan plan_of(const std::vector<double>& f, Parameters& params) {
     p.planned_steps = int(f[13]);
     p.tube_inner = f[14];
     p.tube_outer = f[15];
+    p.gap = f[22];
     return p;
 }
 
@@ -228,7 +232,9 @@ public:
     }
 
     // The run's figures from its tiles'; the whole grid's phase field on the root.
-    void finish() {
+    // `guarded`: at the root, the points the depth guard keeps deep, where the slabs run it
+    // (Parameters::surface_guard); elsewhere null.
+    void finish(const PointCloud* guarded) {
         TileFacts& facts = res_.tiles;
         facts.worker = !root();
         double cells_run = 0, core_cells = 0;
@@ -301,17 +307,22 @@ public:
             for (const TileRun& run : runs_) res_.active_bricks += run.core_bricks;
         }
         Stopwatch clock;
+        // The guard too where the slabs are several and the tube has an inner wall.
+        SlabsGuard guard{detail::keep_deep_of(plan_), guarded};
+        const bool guard_slabs = facts.processes > 1 && params_.surface_guard && detail::has_inner_wall(plan_);
         tell(progress_, "mesh",
              std::string(slab_fairing_.passes ? "welding and fairing" : "welding") + " the tiles' surfaces at their seams" +
-                 (facts.processes > 1 ? ", in " + std::to_string(facts.processes) + " slabs of planes" : std::string()));
+                 (facts.processes > 1 ? ", in " + std::to_string(facts.processes) + " slabs of planes" : std::string()) +
+                 (guard_slabs ? ", the points kept deep in each" : ""));
         std::vector<detail::MeshPiece> pieces;
         for (std::vector<detail::MeshPiece>& of_tile : surfaces_)
             for (detail::MeshPiece& p : of_tile) pieces.push_back(std::move(p));
         surfaces_.clear();
-        res_.surface =
-            surface_in_slabs(pieces, std::move(faces), plan_.domain, facts.core_cells, slab_fairing_, on_, facts);
+        res_.surface = surface_in_slabs(pieces, std::move(faces), plan_.domain, facts.core_cells, slab_fairing_,
+                                        guard_slabs ? &guard : nullptr, on_, facts, &res_.surface_guard);
         res_.surface_made = root();
         res_.surface_faired = root() && slab_fairing_.passes > 0;
+        res_.surface_guarded = root() && guard_slabs;
         res_.seconds.seams = clock.lap();
     }
 
@@ -452,9 +463,9 @@ private:
 }  // namespace
 
 template <class Real>
-void reconstruct_tiled(const PointCloud& measured, const DomainPlan& plan, const Parameters& params,
-                       BackendStart<Real>& start, const ProgressCallback& progress, TileScheduler* tiles_on,
-                       Result& res) {
+void reconstruct_tiled(const PointCloud& measured, const PointCloud& points, const DomainPlan& plan,
+                       const Parameters& params, BackendStart<Real>& start, const ProgressCallback& progress,
+                       TileScheduler* tiles_on, Result& res) {
     Stopwatch clock;
     res.tiles.core_cells = params.tile_cells;
     res.tiles.halo_cells = tile_halo(plan, params, res.tiles.halo_derived);
@@ -462,7 +473,7 @@ void reconstruct_tiled(const PointCloud& measured, const DomainPlan& plan, const
     res.seconds.distance += clock.lap();
     tiled.run();
     res.tiles.seconds = clock.lap();
-    tiled.finish();
+    tiled.finish(&points);
 }
 
 template <class Real>
@@ -494,15 +505,15 @@ void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result
     res.seconds.distance = clock.lap();
     tiled.run();
     res.tiles.seconds = clock.lap();
-    tiled.finish();
+    tiled.finish(nullptr);
 }
 
 template void reconstruct_tiles_given<double>(const Parameters&, TileScheduler&, Result&);
 template void reconstruct_tiles_given<float>(const Parameters&, TileScheduler&, Result&);
 
-template void reconstruct_tiled<double>(const PointCloud&, const DomainPlan&, const Parameters&, BackendStart<double>&,
+template void reconstruct_tiled<double>(const PointCloud&, const PointCloud&, const DomainPlan&, const Parameters&, BackendStart<double>&,
                                         const ProgressCallback&, TileScheduler*, Result&);
-template void reconstruct_tiled<float>(const PointCloud&, const DomainPlan&, const Parameters&, BackendStart<float>&,
+template void reconstruct_tiled<float>(const PointCloud&, const PointCloud&, const DomainPlan&, const Parameters&, BackendStart<float>&,
                                        const ProgressCallback&, TileScheduler*, Result&);
 
 }  // namespace snvr

@@ -13,9 +13,11 @@ namespace snvr {
 // tile's backend from `start`. `tiles_on` (tiles.hpp) spreads the tiles over processes;
 // null: all run here.
 template <class Real>
-void reconstruct_tiled(const PointCloud& measured, const DomainPlan& plan, const Parameters& params,
-                       BackendStart<Real>& start, const ProgressCallback& progress, TileScheduler* tiles_on,
-                       Result& res);
+// `points`: the run's own (measured less those added), which the slabs' depth guard keeps
+// deep (Parameters::surface_guard).
+void reconstruct_tiled(const PointCloud& measured, const PointCloud& points, const DomainPlan& plan,
+                       const Parameters& params, BackendStart<Real>& start, const ProgressCallback& progress,
+                       TileScheduler* tiles_on, Result& res);
 
 // Another process's share of a tiled run the root spreads (tiles.hpp): the plan, the
 // owners and its points from the root, its tiles run and sent.
