@@ -321,14 +321,14 @@ TEST_CASE("the depth guard in slabs: the slabs in turn are the whole guarded mes
     const FacesPart faces{run.phi, 0};
     const int reach = detail::guard_reach_planes(deep.depth, deep.voxel);
     REQUIRE(reach == 8);  // 2 voxels deep at the defaults
-    REQUIRE(guard_ghost_planes(deep) == 12);
+    REQUIRE(slab_ghost_planes(fairing, &deep) == 16);  // after the fairing's 4, and 4 checked
     // The ghosts as a run has them; then as few as the fairing's with half of them checked.
     for (const int ghost : {slab_ghost_planes(fairing, &deep), 4})
         for (const int slabs : {2, 3}) {
             CAPTURE(ghost);
             CAPTURE(slabs);
             SlabPlan plan = plan_slabs(by_plane, slabs, ghost);
-            plan.checked = ghost == 4 ? 2 : guard_checked_planes(deep, ghost);
+            plan.checked = ghost == 4 ? 2 : guard_checked_planes(deep);
             const double point_reach = detail::guard_point_reach(deep.depth, deep.voxel, deep.lone);
             Mesh joined;
             DepthGuardReport summed;

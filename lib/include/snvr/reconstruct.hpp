@@ -95,11 +95,12 @@ struct TileFacts {
     // bricks, the slabs to the first).
     int slabs = 0, slab_ghost = 0;
     std::size_t slab_bytes = 0;
-    // The depth guard run on the slabs as well (Parameters::surface_guard): the points the
-    // first gave the others for their slabs; and whether a slab's guard disagreed with a
-    // neighbour's on the ghosts both moved, so that the first ran the whole guard again.
+    // The depth guard run on the slabs as well (Parameters::surface_guard), where the points
+    // near the others' slabs (the first gives them those) are no more than the vertices they
+    // own; the slabs' checked ghosts that came out other than their owners' vertices, and
+    // so whether the first ran the whole guard again.
     bool guard_slabs = false, guard_rerun = false;
-    std::size_t guard_slab_points = 0;
+    std::size_t guard_slab_points = 0, guard_ghosts_differing = 0;
 };
 
 // How the run fitted its memory (Parameters::max_memory, or what the machine had free),

@@ -15,9 +15,13 @@ double mib(std::size_t bytes) { return double(bytes) / (1024.0 * 1024.0); }
 
 // Where the slabs kept their points deep too: the points given them, and the check's outcome.
 std::string slab_guard_text(const TileFacts& t) {
-    if (!t.guard_slabs) return "";
+    if (!t.guard_slabs)
+        return t.guard_slab_points ? ", the points kept deep by the first (" + grouped(t.guard_slab_points) +
+                                         " points near the others' slabs, more than their vertices)"
+                                   : "";
     return ", the points kept deep in each (" + grouped(t.guard_slab_points) + " points given the others; " +
-           (t.guard_rerun ? "their ghosts differed from their owners', so the guard ran again on the whole surface)"
+           (t.guard_rerun ? grouped(t.guard_ghosts_differing) +
+                                " of their ghosts differed from their owners', so the guard ran again on the whole surface)"
                           : "their ghosts the same as their owners')");
 }
 const char* yes_no(bool b) { return b ? "yes" : "no"; }

@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <limits>
+#include <numeric>
+#include <optional>
 #include <utility>
 
 #include "snvr/error.hpp"
@@ -99,29 +102,35 @@ void take_pieces(TileScheduler& on, int from, std::vector<detail::MeshPiece>& in
     }
 }
 
-// The points within the guard's reach of each other process's welded planes, from the
-// first's tree, in its order, with its origin and frame (so that the other's tree keeps
-// that order: the guard's ties go by it).
-std::uint64_t give_slab_points(TileScheduler& on, const detail::PointTree& tree, const SlabPlan& plan,
-                               const Domain& whole, double reach) {
+// The points within the guard's reach of each other process's welded planes, as runs of
+// the first's tree's order (none for the first).
+std::vector<PointRuns> slab_point_runs(const detail::PointTree& tree, const SlabPlan& plan, const Domain& whole,
+                                       double reach) {
     std::vector<std::array<double, 2>> windows(std::size_t(plan.slabs()), {1, 0});
     for (int q = 1; q < plan.slabs(); ++q) {
         const detail::Planes planes = plan.welded(q);
         windows[std::size_t(q)] = {whole.origin[2] + planes.lo * whole.h - reach, whole.origin[2] + planes.hi * whole.h + reach};
     }
-    std::vector<PointRuns> runs = z_window_runs(tree, windows);
-    std::uint64_t given = 0;
-    for (int q = 1; q < plan.slabs(); ++q) {
-        const detail::PointArray<float> xyz = points_in(tree, runs[std::size_t(q)]);
-        runs[std::size_t(q)] = PointRuns();
+    return z_window_runs(tree, windows);
+}
+std::uint64_t count_of(const PointRuns& runs) {
+    std::uint64_t n = 0;
+    for (const auto& r : runs) n += r[1] - r[0];
+    return n;
+}
+
+// Those points to each other process, with the tree's origin and frame (so that the
+// other's tree keeps its order: the guard's ties go by it). Frees the runs.
+void give_slab_points(TileScheduler& on, const detail::PointTree& tree, std::vector<PointRuns>& runs) {
+    for (std::size_t q = 1; q < runs.size(); ++q) {
+        const detail::PointArray<float> xyz = points_in(tree, runs[q]);
+        runs[q] = PointRuns();
         std::vector<double> head{tree.origin[0], tree.origin[1], tree.origin[2]};
         const std::array<double, 4> frame = tree.frame().figures();
         head.insert(head.end(), frame.begin(), frame.end());
-        detail::send_array(on, q, head.data(), head.size());
-        detail::send_array(on, q, xyz.data(), xyz.size());
-        given += xyz.size() / 3;
+        detail::send_array(on, int(q), head.data(), head.size());
+        detail::send_array(on, int(q), xyz.data(), xyz.size());
     }
-    return given;
 }
 PointCloud take_slab_points(TileScheduler& on) {
     std::vector<double> head;
@@ -138,6 +147,28 @@ PointCloud take_slab_points(TileScheduler& on) {
     return detail::cloud_of(std::move(xyz), {head[0], head[1], head[2]}, &frame);
 }
 
+
+// Whether the slabs keep their points deep, or the first the whole surface's (the others
+// searching their ranges of the points for it, where they are already: pipeline/
+// shared_guard.hpp): where the points the first would give the others for their slabs are
+// no more than the vertices those slabs own. A point given costs its process its copy, its
+// filing and its search; the slabs save the first its serial lift and repairs, which go
+// with the vertices. Measured on two processes against the first guarding: the 12.5 M-point
+// city block at 2048 cells (3.3 M points given for 8.0 M vertices, 3 repair rounds) 8.2 s
+// in the mesh stage where 14-18; the 50 M-point block at 1024 (13 M points for 2.2 M
+// vertices) 4.4-5.7 s where 3.4-5.0; the 200 M-point block at 1024 (54 M points) 9.9 s where
+// 6.5, its other process 0.8 GB more.
+bool slabs_guard(std::uint64_t points_given, std::uint64_t their_vertices) { return points_given <= their_vertices; }
+
+// For tests only: SNVR_TEST_GUARD_GHOSTS=N has the slabs guard, welded with N planes of
+// ghosts, half of them checked, so that too few fail the check (every process alike).
+std::optional<int> guard_test_ghosts(const detail::KeepDeep* deep) {
+    const char* text = deep ? std::getenv("SNVR_TEST_GUARD_GHOSTS") : nullptr;
+    if (!text) return std::nullopt;
+    const int ghosts = std::atoi(text);
+    if (ghosts < 1) throw ParameterError("SNVR_TEST_GUARD_GHOSTS: not a count of planes");
+    return ghosts;
+}
 
 // A slab's guard figures in the counts the processes sum (each its rounds in its own place).
 constexpr std::size_t kGuardFigures = 4;
@@ -172,6 +203,7 @@ DepthGuardReport check_slab_guards(TileScheduler& on, Mesh& whole, const std::ve
         detail::receive_array(on, int(q), theirs.above);
         differ += bands_differing(theirs, whole.vertices, starts[q], starts[q + 1] - starts[q]);
     }
+    facts.guard_ghosts_differing = differ;
     const std::uint8_t again = differ > 0;
     for (std::size_t q = 1; q < P; ++q) detail::send_array(on, int(q), &again, 1);
     facts.guard_rerun = again;
@@ -205,8 +237,27 @@ Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const
     std::vector<std::uint64_t> by_plane(std::size_t(whole.nz), 0);
     for (const detail::MeshPiece& p : pieces) count_by_plane(p, by_plane);
     if (processes > 1) on->sum(by_plane);
-    SlabPlan plan = plan_slabs(by_plane, processes, slab_ghost_planes(fairing, deep));
-    if (deep) plan.checked = guard_checked_planes(*deep, plan.ghost);
+    SlabPlan plan = plan_slabs(by_plane, processes, guard_test_ghosts(deep).value_or(slab_ghost_planes(fairing, deep)));
+    // Whether the slabs guard: the first's word (it holds the points), the same everywhere.
+    std::vector<PointRuns> guard_runs;
+    if (guard) {
+        std::vector<std::uint64_t> word{0, 0};
+        if (me == 0) {
+            guard_runs = slab_point_runs(detail::tree_of(*guard->points), plan, whole,
+                                         detail::guard_point_reach(deep->depth, deep->voxel, deep->lone));
+            for (const PointRuns& r : guard_runs) word[1] += count_of(r);
+            const std::uint64_t theirs = std::accumulate(by_plane.begin() + plan.cuts[1], by_plane.end(), std::uint64_t(0));
+            word[0] = slabs_guard(word[1], theirs) || guard_test_ghosts(deep);
+        }
+        on->sum(word);
+        facts.guard_slab_points = word[1];
+        if (!word[0]) {
+            guard = nullptr, deep = nullptr;
+            guard_runs.clear();
+            plan.ghost = slab_ghost_planes(fairing);
+        }
+    }
+    if (deep) plan.checked = guard_test_ghosts(deep) ? plan.ghost / 2 : guard_checked_planes(*deep);
     // This slab's pieces: its own tiles' and those the others send.
     std::vector<detail::MeshPiece> here;
     FacesPart faces_here;
@@ -230,8 +281,7 @@ Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const
     const detail::PointTree* guard_points = nullptr;
     if (guard && me == 0) {
         guard_points = &detail::tree_of(*guard->points);
-        facts.guard_slab_points =
-            give_slab_points(*on, *guard_points, plan, whole, detail::guard_point_reach(deep->depth, deep->voxel, deep->lone));
+        give_slab_points(*on, *guard_points, guard_runs);
     } else if (guard) {
         near_slab = take_slab_points(*on);
         guard_points = &detail::tree_of(near_slab);

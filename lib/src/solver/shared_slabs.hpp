@@ -24,9 +24,12 @@ namespace snvr {
 // tile's face bricks placed (elsewhere unused). Returns the whole surface, faired, at the
 // first; elsewhere an empty mesh. Sets facts.slabs, slab_ghost and slab_bytes.
 //
-// With `guard` (several processes), each slab's points are kept deep as well (slab_surface.hpp):
-// `points` at the first are the run's, and it gives each other process those within the
-// guard's reach of its slab (in its tree's order and frame); elsewhere null. The first then
+// With `guard` (several processes), each slab's points are kept deep as well (slab_surface.hpp),
+// where the points near the others' slabs are no more than the vertices they own (else the
+// first guards the whole surface as before, the others searching their ranges of the points
+// for it; facts.guard_slabs says which): `points` at the first are the run's, and it gives
+// each other process those within the guard's reach of its slab (in its tree's order and
+// frame); elsewhere null. The first then
 // compares each slab's ghosts within half their width of its planes with their owner's
 // vertices: where any differs, it runs the guard again on the whole surface from the slabs'
 // vertices as they were before it (facts.guard_rerun). `report`: the guard's, at the first.

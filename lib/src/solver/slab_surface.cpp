@@ -14,16 +14,14 @@
 namespace snvr {
 
 int slab_ghost_planes(const MeshFairing& fairing, const detail::KeepDeep* deep) {
-    return std::max({1, 2 * fairing.passes, deep ? guard_ghost_planes(*deep) : 0});
+    // The fairing's steps, then the guard's reach on the faired vertices, then those checked.
+    const int faired = 2 * fairing.passes;
+    return deep ? faired + detail::guard_reach_planes(deep->depth, deep->voxel) + guard_checked_planes(*deep)
+                : std::max(1, faired);
 }
 
-int guard_ghost_planes(const detail::KeepDeep& deep) {
-    const int reach = detail::guard_reach_planes(deep.depth, deep.voxel);
-    return reach + (reach + 1) / 2;
-}
-
-int guard_checked_planes(const detail::KeepDeep& deep, int ghost) {
-    return std::max(0, ghost - detail::guard_reach_planes(deep.depth, deep.voxel));
+int guard_checked_planes(const detail::KeepDeep& deep) {
+    return (detail::guard_reach_planes(deep.depth, deep.voxel) + 1) / 2;
 }
 
 detail::Planes SlabPlan::welded(int s) const {

@@ -14,14 +14,17 @@
 // The depth guard (keep_points_deep) may run on a slab too, with the points near it: a
 // vertex's lift comes from the points within the aim of the vertices within 4 rings of
 // it (mesh/guard_search.hpp, guard_reach_planes: 8 planes at the default depth of 2
-// voxels). Its repair and untangling rounds, which act on the few points and triangles
-// still wrong, are not bounded so: a slab is welded with half as many ghost planes again,
-// and each slab's guard is checked, where those ghosts beyond the reach (the planes within
-// the extra of its own) must come out as the neighbour slab's own did; else the first
-// runs the guard again on the whole surface (shared_slabs.hpp). (bench_guard_slabs: the
-// reach, 8 planes, gave every vertex of the whole guard on the bunny, the sampler's lidar
-// scene and a sparse city block with 4 and 8 repair rounds; 4 planes did not, and with
-// 8 the ghosts 4 to 8 planes in differed on most of them.)
+// voxels) on vertices whose fairing is exact (beyond the fairing's ghosts). Its repair and
+// untangling rounds, which act on the few points and triangles still wrong, are not
+// bounded so: a slab is welded with half the reach more ghost planes, and each slab's
+// guard is checked, where those ghosts (the planes next to its own) must come out as the
+// neighbour slab's own did; else the first runs the guard again on the whole surface
+// (shared_slabs.hpp). (bench_guard_slabs: 8 planes of ghosts, fairing and guard on them,
+// gave every vertex of the whole guard on the bunny, the sampler's lidar scene and a
+// sparse city block with 4 and 8 repair rounds, 4 planes did not; with 12, the 4 next to
+// the slab differed from their owners' on the bunny faired in 5 passes, where the fairing
+// alone reaches 10, and in 3 vertices of the 12.5 M-point city block at 2048 cells, each
+// slab's own vertices the whole guard's all the same.)
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -39,12 +42,11 @@ namespace snvr {
 
 // The planes of ghosts a slab is welded and faired with on either side (at least one: a
 // triangle of the slab's first plane uses the plane below).
-// With `deep`, the depth guard's too (guard_ghost_planes).
+// With `deep`, the depth guard's as well: the fairing's, then the guard's reach over the
+// vertices so faired, then the planes its check compares (guard_checked_planes: half the
+// reach, the ghosts next to the slab's own).
 int slab_ghost_planes(const MeshFairing& fairing, const detail::KeepDeep* deep = nullptr);
-// The depth guard's: its reach and half as much again; of `ghost` planes, those its check
-// compares (the planes of ghosts next to the slab's own beyond the reach).
-int guard_ghost_planes(const detail::KeepDeep& deep);
-int guard_checked_planes(const detail::KeepDeep& deep, int ghost);
+int guard_checked_planes(const detail::KeepDeep& deep);
 
 // Slab s owns the vertices of cube planes, and the triangles of sample planes, [cuts[s], cuts[s + 1]).
 struct SlabPlan {

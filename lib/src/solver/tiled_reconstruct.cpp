@@ -307,13 +307,13 @@ public:
             for (const TileRun& run : runs_) res_.active_bricks += run.core_bricks;
         }
         Stopwatch clock;
-        // The guard too where the slabs are several and the tube has an inner wall.
+        // The guard too where the slabs are several and the tube has an inner wall (where
+        // that pays: shared_slabs.hpp, facts.guard_slabs).
         SlabsGuard guard{detail::keep_deep_of(plan_), guarded};
         const bool guard_slabs = facts.processes > 1 && params_.surface_guard && detail::has_inner_wall(plan_);
         tell(progress_, "mesh",
              std::string(slab_fairing_.passes ? "welding and fairing" : "welding") + " the tiles' surfaces at their seams" +
-                 (facts.processes > 1 ? ", in " + std::to_string(facts.processes) + " slabs of planes" : std::string()) +
-                 (guard_slabs ? ", the points kept deep in each" : ""));
+                 (facts.processes > 1 ? ", in " + std::to_string(facts.processes) + " slabs of planes" : std::string()));
         std::vector<detail::MeshPiece> pieces;
         for (std::vector<detail::MeshPiece>& of_tile : surfaces_)
             for (detail::MeshPiece& p : of_tile) pieces.push_back(std::move(p));
@@ -322,7 +322,7 @@ public:
                                         guard_slabs ? &guard : nullptr, on_, facts, &res_.surface_guard);
         res_.surface_made = root();
         res_.surface_faired = root() && slab_fairing_.passes > 0;
-        res_.surface_guarded = root() && guard_slabs;
+        res_.surface_guarded = root() && facts.guard_slabs;
         res_.seconds.seams = clock.lap();
     }
 
