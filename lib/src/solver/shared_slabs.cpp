@@ -154,8 +154,9 @@ PointCloud take_slab_points(TileScheduler& on) {
 // no more than the vertices those slabs own. A point given costs its process its copy, its
 // filing and its search; the slabs save the first its serial lift and repairs, which go
 // with the vertices. Measured on two processes against the first guarding: the 12.5 M-point
-// city block at 2048 cells (3.3 M points given for 8.0 M vertices, 3 repair rounds) 8.2 s
-// in the mesh stage where 14-18; the 50 M-point block at 1024 (13 M points for 2.2 M
+// city block at 2048 cells (3.3 M points given for 8.0 M vertices, 3 repair rounds) 8.2 and
+// 11.5 s in the mesh stage where 17.0 and 15.7, the bunny at 512 0.85 and 0.79 where 1.09
+// and 1.02; the 50 M-point block at 1024 (13 M points for 2.2 M
 // vertices) 3.4-5.7 s where 3.9-5.0; the 200 M-point block at 1024 (54 M points) 9.9 s where
 // 6.5, its other process 0.8 GB more.
 bool slabs_guard(std::uint64_t points_given, std::uint64_t their_vertices) { return points_given <= their_vertices; }
