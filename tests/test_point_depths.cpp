@@ -53,10 +53,10 @@ struct ThinShell {
     Mesh mesh;
     double h = 0, l = 0;
 };
-ThinShell thin_shell() {
+ThinShell thin_shell(int resolution = 40) {
     const PointSet seeds = shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.02);
     Parameters p;
-    p.resolution = 40;
+    p.resolution = resolution;
     p.device = "openmp";
     const Result r = reconstruct(seeds, p);
     return {shell_mesh(r, seeds), r.domain.h, r.offset};
@@ -111,6 +111,41 @@ TEST_CASE("point depths: groups, runs and bounds give brute force's figures, den
     const detail::PointDepths::Figures f = every.figures();
     CHECK(f.inside == b.inside);
     CHECK(f.depth_min == b.depth_min);
+}
+
+TEST_CASE("point depths: triangle frames made again where the search keeps another in their slot") {
+    // The search keeps the frames of the triangles it gathered lately, a slot each by a
+    // hash: patches of points all round a finer shell gather thousands of triangles, and
+    // two of them share a slot some tens of times (the frame made again each time).
+    const ThinShell shell = thin_shell(80);
+    const Mesh& mesh = shell.mesh;
+    REQUIRE(mesh.triangles.size() > 20000);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(0, 1);
+    PointSet points;
+    for (int patch = 0; patch < 60; ++patch) {  // runs of groups, which gather in lanes
+        const double theta = std::acos(2 * unit(rng) - 1), phi = 2 * M_PI * unit(rng);
+        const double depth = 1.2 * shell.l * (2 * unit(rng) - 1), across = 0.5 * shell.h / 0.3;  // half a voxel
+        for (int n = 0; n < 24; ++n) {
+            const double t = theta + across * (unit(rng) - 0.5), f = phi + across * (unit(rng) - 0.5);
+            const double radius = 0.3 + depth + 0.5 * shell.h * (unit(rng) - 0.5);
+            points.push_back({0.5 + radius * std::sin(t) * std::cos(f), 0.5 + radius * std::sin(t) * std::sin(f),
+                              0.5 + radius * std::cos(t)});
+        }
+    }
+    const PointCloud cloud(points);
+    const Brute b = brute_force(mesh, cloud);
+    REQUIRE(b.inside > 0);
+    REQUIRE(b.inside < cloud.size());
+    const TriangleGrid grid(mesh);
+    detail::PointDepths depths(mesh, grid, detail::tree_of(cloud), shell.h, true, false);
+    depths.bound(0, depths.groups());
+    depths.settle(0, depths.groups(), depths.shallowest());
+    detail::PointDepths::Figures f = depths.figures();
+    CHECK(f.inside == b.inside);
+    CHECK(f.depth_min == b.depth_min);
+    std::sort(f.depths.begin(), f.depths.end());
+    CHECK(f.depths == b.depths);
 }
 
 TEST_CASE("point depths: points split between shares of the mesh (another process's check) give the whole's") {

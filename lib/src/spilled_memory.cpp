@@ -216,7 +216,7 @@ void* spill_allocate(std::size_t bytes) {
 }
 
 void* heap_allocate(std::size_t bytes) {
-    // Plain malloc: on huge pages (as large_array's) the 98.5 M-point sphere peaked 0.29 GB
+    // Plain malloc: on huge pages (advised) the 98.5 M-point sphere peaked 0.29 GB
     // higher.
     if (void* p = std::malloc(std::max<std::size_t>(bytes, 1))) return p;
     throw std::bad_alloc();

@@ -17,7 +17,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "large_array.hpp"
+#include "unset_vector.hpp"
 
 namespace snvr::detail {
 
@@ -65,7 +65,7 @@ struct SpillFacts {
 };
 SpillFacts spill_facts();
 
-// UnsetAllocator (large_array.hpp, new elements left unset) that spills large arrays
+// UnsetAllocator (unset_vector.hpp, new elements left unset) that spills large arrays
 // under a SpillScope.
 template <class T>
 struct PointsAllocator : UnsetAllocator<T> {

@@ -6,13 +6,12 @@
 #include "check/point_depths.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
-#include <thread>
 
 #include "geometry/vec3_math.hpp"
 
@@ -375,10 +374,38 @@ __attribute__((target_clones("avx2", "default"))) float least_over_triangles(con
     return m;
 }
 
-// A group's working space, kept from group to group.
-struct Scratch {
-    std::vector<std::uint32_t> near, seen;
-    std::uint32_t mark = 0;
+// The frames of the triangles a pass's runs gathered lately, a slot each by a hash of the
+// triangle's number: the next run, beside the last, finds most of its own there. (A frame
+// a triangle of the whole mesh, made on first use, was 72 bytes a triangle at the check's
+// peak, 2.3 GB at 32 M triangles, and a fresh page's fault each 57 of them.)
+class FrameCache {
+public:
+    const TriangleFrame& of(std::uint32_t t, const Mesh& mesh) {
+        if (held_.empty()) held_.assign(kSlots, kNone), frames_.resize(kSlots);
+        const std::size_t slot = (std::uint64_t(t) * 0x9E3779B97F4A7C15ull) >> (64 - kSlotBits);
+        if (held_[slot] != t) {
+            const auto& tri = mesh.triangles[t];
+            frames_[slot] = triangle_frame(mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]);
+            held_[slot] = t;
+        }
+        return frames_[slot];
+    }
+
+private:
+    static constexpr int kSlotBits = 16;  // 64 K frames, 5 MB: a run gathers a few hundred
+    static constexpr std::size_t kSlots = std::size_t(1) << kSlotBits;
+    std::vector<std::uint32_t> held_;  // the triangle in each slot (kNone: none)
+    std::vector<TriangleFrame> frames_;
+};
+
+}  // namespace
+
+// A group's working space, kept from group to group (and its arrays from pass to pass:
+// PointDepths::scratches_).
+struct DepthScratch {
+    std::vector<std::uint32_t> near;
+    std::vector<std::uint64_t> seen;  // TriangleGrid::near's
+    FrameCache frames;
     // The run's candidates about its centre.
     LaneTriangles kept;
     Vec3 run_centre{0, 0, 0};
@@ -389,7 +416,17 @@ struct Scratch {
     double shallowest = kInf;  // the least depth this pass has measured inside
     bool run_unsure = false;   // a part's run reached beyond its triangles
     bool unsure = false;       // the group being visited cannot be decided here
+    // As made, its arrays' room kept.
+    void start_pass() {
+        kept.reset(0);
+        run_centre = {0, 0, 0};
+        run_reach = run_distance = 0;
+        shallowest = kInf;
+        run_unsure = unsure = false;
+    }
 };
+
+namespace {
 
 // Inside or not by the parity of crossings along a ray in a direction that no
 // grid-aligned edge of a marching-cubes mesh is parallel to, heading for the nearer face
@@ -544,10 +581,6 @@ PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const Point
         group.sampled = spans[g].sampled && !part;
     }
 
-    // Frames are made when a run first needs them (a sparse scan needs few): their
-    // memory is untouched until then.
-    frames_ = large_array<TriangleFrame>(mesh.triangles.size());
-    frame_state_.reset(new std::atomic<std::uint8_t>[mesh.triangles.size()]());
     if (!mesh.vertices.empty()) {
         lo_ = hi_ = mesh.vertices[0];
         for (const Vec3& v : mesh.vertices)
@@ -576,7 +609,17 @@ void PointDepths::settle(std::size_t first, std::size_t last, double shallowest)
 }
 
 void PointDepths::pass(const std::vector<std::uint32_t>& ids, double settle_below) {
-    Scratch s;
+    std::unique_ptr<DepthScratch> taken;
+    {
+        const std::lock_guard<std::mutex> lock(scratch_lock_);
+        if (!scratches_.empty()) {
+            taken = std::move(scratches_.back());
+            scratches_.pop_back();
+        }
+    }
+    if (!taken) taken = std::make_unique<DepthScratch>();
+    DepthScratch& s = *taken;
+    s.start_pass();
     double before = kInf;  // a bound on the last run's centre's distance to the surface
     Vec3 before_at{0, 0, 0};
     for (std::size_t i = 0, end = 0; i < ids.size(); ++i) {
@@ -612,10 +655,12 @@ void PointDepths::pass(const std::vector<std::uint32_t>& ids, double settle_belo
         group.unresolved = s.unsure;
         if (!group.unresolved) s.shallowest = std::min(s.shallowest, group.shallowest);
     }
+    const std::lock_guard<std::mutex> lock(scratch_lock_);
+    scratches_.push_back(std::move(taken));
 }
 
 double PointDepths::gather(void* scratch, const Vec3& centre, double radius, double bound, bool lanes) const {
-    Scratch& s = *static_cast<Scratch*>(scratch);
+    DepthScratch& s = *static_cast<DepthScratch*>(scratch);
     // Each group's nearest triangles lie within d_g + 2 r_g of its centre c_g, and
     // d_g <= d + |c_g - c| for d the run centre's distance: within d + 2 R of the run's
     // centre c, R = |c_g - c| + r_g at most the run box's half diagonal. Any d above the
@@ -643,32 +688,16 @@ double PointDepths::gather(void* scratch, const Vec3& centre, double radius, dou
     s.run_reach = (d + 2 * radius) * (1 + 1e-9) + 1e-12 * (radius + 1);
     const auto& V = mesh_.vertices;
     const auto& T = mesh_.triangles;
-    if (s.seen.size() != T.size()) s.seen.assign(T.size(), 0);
-    grid_.near(s.run_centre, s.run_reach, s.near, s.seen, ++s.mark);
+    grid_.near(s.run_centre, s.run_reach, s.near, s.seen);
     s.kept.reset(s.near.size());
     for (std::uint32_t t : s.near) {
-        const TriangleFrame& f = frame(t);
+        const TriangleFrame& f = s.frames.of(t, mesh_);
         const Vec3 corner = sub(V[T[t][std::size_t(f.first)]], s.run_centre);
         s.kept.reach = std::max(s.kept.reach, f.radius + norm(corner));
         s.kept.add(t, f, corner);
     }
     s.kept.pad();
     return d;
-}
-
-const TriangleFrame& PointDepths::frame(std::uint32_t t) const {
-    std::atomic<std::uint8_t>& state = frame_state_[t];  // 0 none, 1 being made, 2 made
-    if (state.load(std::memory_order_acquire) != 2) {
-        std::uint8_t none = 0;
-        if (state.compare_exchange_strong(none, 1, std::memory_order_acq_rel)) {
-            const auto& tri = mesh_.triangles[t];
-            frames_[t] = triangle_frame(mesh_.vertices[tri[0]], mesh_.vertices[tri[1]], mesh_.vertices[tri[2]]);
-            state.store(2, std::memory_order_release);
-        } else {
-            while (state.load(std::memory_order_acquire) != 2) std::this_thread::yield();
-        }
-    }
-    return frames_[t];
 }
 
 double PointDepths::shallowest() const {
@@ -698,7 +727,7 @@ PointDepths::Figures PointDepths::figures() const {
 // double for the least (and any that the floats could not tell from it).
 void PointDepths::nearest(const Vec3& p, const Vec3& centre, double within, const void* scratch, double slack,
                           float margin, double& d2, std::uint32_t& triangle) const {
-    const Scratch& s = *static_cast<const Scratch*>(scratch);
+    const DepthScratch& s = *static_cast<const DepthScratch*>(scratch);
     const auto& V = mesh_.vertices;
     const auto& T = mesh_.triangles;
     d2 = kInf;
@@ -745,7 +774,7 @@ class PointDepths::Visit {
 public:
     // The group's candidates from its run's: those within d + 2 r of its centre, d its
     // centre's distance (the least over the run's, all within reach of the run's centre).
-    Visit(const PointDepths& depths, Group& group, Scratch& s)
+    Visit(const PointDepths& depths, Group& group, DepthScratch& s)
         : pd_(depths), group_(group), s_(s), centre_(group.centre()) {
         double radius = 0;
         for (std::uint32_t k = group.begin; k < group.end; ++k)
@@ -937,7 +966,7 @@ private:
 
     const PointDepths& pd_;
     Group& group_;
-    Scratch& s_;
+    DepthScratch& s_;
     const Vec3 centre_;
     double radius_ = 0;
     Vec3 off_{};           // the centre from the run's centre
@@ -952,7 +981,7 @@ private:
 // The steps: the run's candidates, unless they miss some; every point where asked;
 // point by point for settle(); else the group's bound, every point where it fails.
 void PointDepths::visit(Group& group, bool every_point, double settle_below, void* scratch) const {
-    Visit v(*this, group, *static_cast<Scratch*>(scratch));
+    Visit v(*this, group, *static_cast<DepthScratch*>(scratch));
     every_point = every_point || every_point_ || group.sampled;
     if (!v.run_covers()) {
         v.search_each();

@@ -2,21 +2,20 @@
 // (point_depths.cpp).
 #pragma once
 #include <array>
-#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "geometry/point_tree.hpp"
-#include "large_array.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "snvr/geometry.hpp"
 
 namespace snvr::detail {
 
-struct TriangleFrame;  // point_depths.cpp
+struct DepthScratch;   // point_depths.cpp
 
 // The points in groups of neighbours (leaves of the tree, consecutive in its order), each
 // group with the triangles that can be nearest to one of its points: within d + 2 r of
@@ -141,11 +140,11 @@ private:
     double jump_;      // beyond this from the last run, a fresh search
     double run_most_;  // the half diagonal of a run's box, at most
     std::vector<Group> groups_;
-    // Triangle t's frame, as the lanes take it, made on first use (by one thread).
-    const TriangleFrame& frame(std::uint32_t t) const;
-    mutable LargeArray<TriangleFrame> frames_;
-    mutable std::unique_ptr<std::atomic<std::uint8_t>[]> frame_state_;
     Vec3 lo_{0, 0, 0}, hi_{0, 0, 0};  // the mesh's box, for the rays' directions
+    // The passes' working spaces, each taken by one pass at a time and kept for the next
+    // (their arrays grow to a run's triangles once, not in every chunk of groups).
+    mutable std::mutex scratch_lock_;
+    mutable std::vector<std::unique_ptr<DepthScratch>> scratches_;
 };
 
 }  // namespace snvr::detail

@@ -558,9 +558,10 @@ TriangleGrid::Closest TriangleGrid::closest(const Vec3& p, double bound_sq) cons
     }
 }
 
-void TriangleGrid::near(const Vec3& p, double r, std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& seen,
-                        std::uint32_t mark) const {
+void TriangleGrid::near(const Vec3& p, double r, std::vector<std::uint32_t>& out, std::vector<std::uint64_t>& seen) const {
     out.clear();
+    const std::size_t words = (mesh_.triangles.size() + 63) / 64;
+    if (seen.size() < words) seen.assign(words, 0);
     if (start_.empty() || !(r >= 0)) return;
     PointBoxes boxes(*this, p);
     const F4 limit = boxes.limit(r * r);
@@ -580,9 +581,12 @@ void TriangleGrid::near(const Vec3& p, double r, std::vector<std::uint32_t>& out
                 for (std::uint32_t k = start_[i]; k < last; k += 4)
                     for (unsigned m = boxes.near(k, limit) & valid_lanes(last - k); m; m &= m - 1) {
                         const std::uint32_t t = items_[k + std::uint32_t(lowest_lane(m))];
-                        if (seen[t] != mark) seen[t] = mark, out.push_back(t);
+                        std::uint64_t& word = seen[t >> 6];
+                        const std::uint64_t bit = std::uint64_t(1) << (t & 63);
+                        if (!(word & bit)) word |= bit, out.push_back(t);
                     }
             }
+    for (std::uint32_t t : out) seen[t >> 6] &= ~(std::uint64_t(1) << (t & 63));
 }
 
 template <class Visit>

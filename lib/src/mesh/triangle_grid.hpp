@@ -33,10 +33,10 @@ public:
     Closest closest(const Vec3& p, double bound_sq = std::numeric_limits<double>::infinity()) const;
 
     // The triangles whose box may come within r of p (every triangle within r, and a
-    // few more), each once, into `out`. seen: one slot per triangle, none of them `mark`
-    // yet (those listed get it).
-    void near(const Vec3& p, double r, std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& seen,
-              std::uint32_t mark) const;
+    // few more), each once, into `out`. seen: a bit a triangle, every one clear (and so
+    // again on return), kept by the caller from call to call: made afresh for each, it
+    // cost a page fault per 32 K triangles every time.
+    void near(const Vec3& p, double r, std::vector<std::uint32_t>& out, std::vector<std::uint64_t>& seen) const;
 
     struct Hit {
         double t;                // ray parameter of the hit (distance for a unit dir)

@@ -27,21 +27,20 @@ namespace {
 // at 256, the 200 M-point city block at 1024 and 2048): the solver held 2.6-4.2 x 512 r a
 // near brick (most near bricks are in the band); the meshes had 45-87 triangles a near
 // brick; the mesh stage and the check peaked 49-87 bytes a triangle above where they
-// began (the field then held beside them), and where points cover every triangle (the
-// city block at 2048: 38.5 M triangles, 200 M points) their frames for the depth search,
-// 72 bytes each, came on top: 5.8 GB, about 150 bytes a triangle; the check's points a few
-// bytes each at most (2026-11-29, anonymous memory sampled through the check: the 98.5
-// M-point sphere at 256, 1.07 M triangles, 256 MB, 0.6 a point beyond the triangles'
-// model; the 50 M-point city block at 1024, 8.8 M triangles, 1.48 GB, under the
-// triangles' model alone). Where the tiles make the surface no field is held then, and the mesh stage
-// and the check, measured from a clean start, peaked at 108-110 bytes a triangle (the
-// bunny and igea at 512, 3.3-3.4 M triangles): the check's, once the field is freed. Each
-// is taken with a margin.
+// began (the field then held beside them); the check's points a few bytes each at most
+// (2026-11-29, anonymous memory sampled through the check: the 98.5 M-point sphere at
+// 256, 1.07 M triangles, 256 MB, 0.6 a point beyond the triangles' model; the 50 M-point
+// city block at 1024, 8.8 M triangles, 1.48 GB, under the triangles' model alone). Where
+// the tiles make the surface no field is held then, and the mesh stage and the check,
+// measured from a clean start, peaked at 108-110 bytes a triangle (the bunny and igea at
+// 512, 3.3-3.4 M triangles): the check's, once the field is freed. Each is taken with a
+// margin. (The depth search's triangle frames, 72 bytes a triangle where points cover
+// them all, came on top until they were cached a few MB a thread: the 12.5 M-point city
+// block at 1024, 1.80 GB peak where 1.24.)
 constexpr double kSolverCopies = 5;
 constexpr std::size_t kTrianglesPerBrick = 90;
 constexpr std::size_t kMeshBytesPerTriangle = 90;    // beside the field (extraction, fairing, guard)
 constexpr std::size_t kCheckBytesPerTriangle = 110;  // alone, the field freed (the check)
-constexpr std::size_t kFrameBytes = 72, kFramesPerPoint = 2;  // at most this many frames a point makes
 constexpr std::size_t kCheckBytesPerPoint = 2;
 // A tile's part of the surface (tile_surface.hpp), a triangle's share: its corners, keys
 // and the half vertex each triangle has (24 + 8 + 1 bytes), 33 bytes; with a margin.
@@ -175,8 +174,7 @@ MemoryChoice fit_memory(const PointCloud& measured, const DomainPlan& plan, cons
     const std::size_t field = f.near_bricks * kBrickCells * real;
     f.field = field;
     const std::size_t triangles = f.near_bricks * kTrianglesPerBrick;
-    f.mesh = triangles * kCheckBytesPerTriangle + std::min(triangles, kFramesPerPoint * measured.size()) * kFrameBytes +
-             measured.size() * kCheckBytesPerPoint;
+    f.mesh = triangles * kCheckBytesPerTriangle + measured.size() * kCheckBytesPerPoint;
     f.grid = plan.estimated_bytes;
     f.runtime = params.device == "openmp" ? 0 : kDeviceRuntimeBytes;
     f.budget_given = bool(params.max_memory);
