@@ -1,8 +1,10 @@
 // Judges a shell mesh (ours or another program's) against the points it was built
 // from: prints measure_quality's block, then the same figures as one JSON line.
 //
-//   snvr_quality MESH POINTS --offset L --voxel H [--exact sphere:cx,cy,cz,R,l]
+//   snvr_quality MESH POINTS --offset L --voxel H [--exact sphere:cx,cy,cz,R,l] [--shell]
 //
+// --shell measures as make_shell's check does (measure_shell: no surface figures), to
+// time that check alone.
 // --exact sphere:... compares the vertices with the exact offset surfaces of a
 // sphere of centre c and radius R: the spheres of radii R + l and R - l, i.e. the
 // error at p is | |p - c| - R | - l.
@@ -21,7 +23,7 @@
 namespace {
 
 void usage(const char* argv0) {
-    std::fprintf(stderr, "usage: %s MESH POINTS --offset L --voxel H [--exact sphere:cx,cy,cz,R,l]\n", argv0);
+    std::fprintf(stderr, "usage: %s MESH POINTS --offset L --voxel H [--exact sphere:cx,cy,cz,R,l] [--shell]\n", argv0);
 }
 
 bool parse_positive(const std::string& text, double& out) {
@@ -59,11 +61,16 @@ int main(int argc, char** argv) {
     std::vector<std::string> files;
     double offset = 0, voxel = 0;
     std::function<double(const snvr::Vec3&)> exact;
+    bool shell = false;
     for (int a = 1; a < argc; ++a) {
         const std::string arg = argv[a];
         if (arg == "--help" || arg == "-h") {
             usage(argv[0]);
             return 0;
+        }
+        if (arg == "--shell") {
+            shell = true;
+            continue;
         }
         if (arg.rfind("--", 0) != 0) {
             files.push_back(arg);
@@ -93,7 +100,9 @@ int main(int argc, char** argv) {
         const snvr::Mesh mesh = snvr::read_mesh(files[0]);
         const snvr::PointSet points = snvr::read_points(files[1]);
         const double read_s = clock.lap();
-        const snvr::MeshQuality q = snvr::measure_quality(mesh, points, offset, voxel, exact);
+        const snvr::PointCloud cloud(points);
+        const snvr::MeshQuality q = shell ? snvr::measure_shell(mesh, cloud, offset, voxel)
+                                          : snvr::measure_quality(mesh, cloud, offset, voxel, exact);
         std::printf("%s against %s\n%s", files[0].c_str(), files[1].c_str(), snvr::format_quality(q).c_str());
         std::printf("read %.2f s, measured %.2f s\n", read_s, q.seconds);
         std::printf("%s\n", snvr::quality_json(q).c_str());
