@@ -650,7 +650,7 @@ void PointDepths::pass(const std::vector<std::uint32_t>& ids, double settle_belo
             const double way = norm(sub(centre, before_at));
             const double half = 0.5 * norm(sub(hi, lo));
             // A lone leaf wider than a run (a sparse scan) would gather far too many.
-            before = gather(&s, centre, half, way <= jump_ ? before + way : kInf,
+            before = gather(s, centre, half, way <= jump_ ? before + way : kInf,
                             points >= kFewPoints && half <= run_most_);
             before_at = centre;
             // A part's search that went farther than its triangles reach may have missed one.
@@ -658,7 +658,7 @@ void PointDepths::pass(const std::vector<std::uint32_t>& ids, double settle_belo
         }
         Group& group = groups_[ids[i]];
         s.unsure = s.run_unsure;
-        visit(group, false, settle_below, &s);
+        visit(group, false, settle_below, s);
         group.unresolved = s.unsure;
         if (!group.unresolved) s.shallowest = std::min(s.shallowest, group.shallowest);
     }
@@ -666,8 +666,7 @@ void PointDepths::pass(const std::vector<std::uint32_t>& ids, double settle_belo
     scratches_.push_back(std::move(taken));
 }
 
-double PointDepths::gather(void* scratch, const Vec3& centre, double radius, double bound, bool lanes) const {
-    DepthScratch& s = *static_cast<DepthScratch*>(scratch);
+double PointDepths::gather(DepthScratch& s, const Vec3& centre, double radius, double bound, bool lanes) const {
     // Each group's nearest triangles lie within d_g + 2 r_g of its centre c_g, and
     // d_g <= d + |c_g - c| for d the run centre's distance: within d + 2 R of the run's
     // centre c, R = |c_g - c| + r_g at most the run box's half diagonal. Any d above the
@@ -732,9 +731,8 @@ PointDepths::Figures PointDepths::figures() const {
 // The distance from p to the surface squared and its nearest triangle, among the kept
 // candidates (all within reach of p's group), exactly: in float and lanes first, then in
 // double for the least (and any that the floats could not tell from it).
-void PointDepths::nearest(const Vec3& p, const Vec3& centre, double within, const void* scratch, double slack,
+void PointDepths::nearest(const Vec3& p, const Vec3& centre, double within, const DepthScratch& s, double slack,
                           float margin, double& d2, std::uint32_t& triangle) const {
-    const DepthScratch& s = *static_cast<const DepthScratch*>(scratch);
     const auto& V = mesh_.vertices;
     const auto& T = mesh_.triangles;
     d2 = kInf;
@@ -841,7 +839,7 @@ public:
             if (!last_.is(p)) {
                 double d2;
                 std::uint32_t t;
-                pd_.nearest(p, centre_, within(k), &s_, slack_, margin_, d2, t);
+                pd_.nearest(p, centre_, within(k), s_, slack_, margin_, d2, t);
                 last_ = Last{p, d2, t, 0, true};
             }
             measured(k, last_.d2, last_.triangle);
@@ -874,7 +872,7 @@ public:
             }
             double d2;
             std::uint32_t t;
-            pd_.nearest(p, centre_, within(k), &s_, slack_, margin_, d2, t);
+            pd_.nearest(p, centre_, within(k), s_, slack_, margin_, d2, t);
             group_.shallowest = std::min(group_.shallowest, std::sqrt(d2));
         }
         return rest;
@@ -910,7 +908,7 @@ public:
         // bounds the shallowest from above (the tighter, the fewer groups settle() measures).
         double d2;
         std::uint32_t t;
-        pd_.nearest(pd_.points_.point(ref), centre_, within(ref), &s_, slack_, margin_, d2, t);
+        pd_.nearest(pd_.points_.point(ref), centre_, within(ref), s_, slack_, margin_, d2, t);
         const int ref_side = pd_.side(pd_.points_.point(ref), t);
         if (ref_side == 0) return false;  // a part's: a ray would tell, the points one by one
         // Nothing crosses the group when no surface comes within r of its centre (the points
@@ -987,8 +985,8 @@ private:
 
 // The steps: the run's candidates, unless they miss some; every point where asked;
 // point by point for settle(); else the group's bound, every point where it fails.
-void PointDepths::visit(Group& group, bool every_point, double settle_below, void* scratch) const {
-    Visit v(*this, group, *static_cast<DepthScratch*>(scratch));
+void PointDepths::visit(Group& group, bool every_point, double settle_below, DepthScratch& s) const {
+    Visit v(*this, group, s);
     every_point = every_point || every_point_ || group.sampled;
     if (!v.run_covers()) {
         v.search_each();

@@ -117,15 +117,15 @@ private:
     // `radius` of `centre`, given a bound on the centre's distance to the surface (or
     // infinity); without `lanes`, only that bound (the groups then search point by point).
     // Returns a (tighter) bound on that distance.
-    double gather(void* scratch, const Vec3& centre, double radius, double bound, bool lanes) const;
+    double gather(DepthScratch& scratch, const Vec3& centre, double radius, double bound, bool lanes) const;
     // One group of the gathered run; every_point to measure each point. With settle_below
     // finite, a group known to lie inside as a whole: each point whose bound lies below
     // it is measured, for the shallowest.
-    void visit(Group& group, bool every_point, double settle_below, void* scratch) const;
+    void visit(Group& group, bool every_point, double settle_below, DepthScratch& scratch) const;
     class Visit;  // one visit's state and steps
     // p's exact squared distance to the surface and nearest triangle, among the
     // candidates the scratch holds for p's group (centre), p's distance at most `within`.
-    void nearest(const Vec3& p, const Vec3& centre, double within, const void* scratch, double slack, float margin,
+    void nearest(const Vec3& p, const Vec3& centre, double within, const DepthScratch& scratch, double slack, float margin,
                  double& d2, std::uint32_t& triangle) const;
     // -1 inside, +1 outside: by the nearest triangle's side where p's foot lies clear
     // inside its face, else (or always, by_rays) by a ray's crossings; 0 where a part
