@@ -48,6 +48,15 @@ Brute brute_force(const Mesh& mesh, const PointCloud& cloud) {
     return b;
 }
 
+// Both passes over all the groups at once; the figures, their depths sorted.
+detail::PointDepths::Figures both_passes(detail::PointDepths& depths) {
+    depths.bound(0, depths.groups());
+    depths.settle(0, depths.groups(), depths.shallowest());
+    detail::PointDepths::Figures f = depths.figures();
+    std::sort(f.depths.begin(), f.depths.end());
+    return f;
+}
+
 // A thin shell around a sphere, from the library itself: its mesh, voxel and offset.
 struct ThinShell {
     Mesh mesh;
@@ -106,9 +115,7 @@ TEST_CASE("point depths: groups, runs and bounds give brute force's figures, den
     // Every point measured (measure_quality's way): the same.
     const TriangleGrid grid(mesh);
     detail::PointDepths every(mesh, grid, detail::tree_of(cloud), h, true, false);
-    every.bound(0, every.groups());
-    every.settle(0, every.groups(), every.shallowest());
-    const detail::PointDepths::Figures f = every.figures();
+    const detail::PointDepths::Figures f = both_passes(every);
     CHECK(f.inside == b.inside);
     CHECK(f.depth_min == b.depth_min);
 }
@@ -139,12 +146,9 @@ TEST_CASE("point depths: triangle frames made again where the search keeps anoth
     REQUIRE(b.inside < cloud.size());
     const TriangleGrid grid(mesh);
     detail::PointDepths depths(mesh, grid, detail::tree_of(cloud), shell.h, true, false);
-    depths.bound(0, depths.groups());
-    depths.settle(0, depths.groups(), depths.shallowest());
-    detail::PointDepths::Figures f = depths.figures();
+    const detail::PointDepths::Figures f = both_passes(depths);
     CHECK(f.inside == b.inside);
     CHECK(f.depth_min == b.depth_min);
-    std::sort(f.depths.begin(), f.depths.end());
     CHECK(f.depths == b.depths);
 }
 
@@ -294,12 +298,9 @@ TEST_CASE("point depths: a sparse scan's wide groups cut narrower: the same poin
     for (int narrow = 0; narrow < 2; ++narrow) {
         CAPTURE(narrow);
         detail::PointDepths depths(mesh, grid, tree, h, narrow ? cut : spans, false, false, nullptr);
-        depths.bound(0, depths.groups());
-        depths.settle(0, depths.groups(), depths.shallowest());
-        detail::PointDepths::Figures f = depths.figures();
+        const detail::PointDepths::Figures f = both_passes(depths);
         CHECK(f.inside == b.inside);
         CHECK(f.depth_min == b.depth_min);
-        std::sort(f.depths.begin(), f.depths.end());
         sampled[narrow] = f.depths;
     }
     CHECK(!sampled[0].empty());
