@@ -97,6 +97,8 @@ cmp "$tmp/dense1.stl" "$tmp/dense3.stl" || fail "dense: other bytes on three pro
 same_check "$tmp/dense1.json" "$tmp/dense3.json"
 python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["tiles"]["guard_points_elsewhere"] > 150000 else 1)' \
     "$tmp/dense3.json" || fail "three processes: the others searched too few points for the depth guard"
+python3 -c 'import json, sys; t = json.load(open(sys.argv[1]))["tiles"]; sys.exit(0 if t["points_sent"] > 0 and t["points_from_ranges"] > 0 else 1)' \
+    "$tmp/dense3.json" || fail "three processes: the tiles' points did not go by the ranges the others kept"
 rm "$tmp"/dense3.*
 # A scan sparse beside its surface (the sampler's lidar scene, 10 k points): the points
 # near the other's slab are fewer than its vertices, so each slab keeps its points deep, its

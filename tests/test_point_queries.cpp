@@ -37,7 +37,10 @@
 #include "snvr/point_io.hpp"
 #include "snvr/shapes.hpp"
 #include "snvr/tiles.hpp"
+#include "solver/ranged_tile_points.hpp"
 #include "solver/shared_filing.hpp"
+#include "solver/tile_needs.hpp"
+#include "solver/tile_plan.hpp"
 #include "solver/shared_holes.hpp"
 #include "temp_dir.hpp"
 
@@ -1193,3 +1196,78 @@ TEST_CASE("the depth guard's search shared by the processes that filed the point
     }
 }
 
+
+TEST_CASE("the tiles' needs and points by the ranges the processes kept: the first's alone, each point in its order") {
+    // The dense noisy sphere in tiles of 16 cells with halos of 8 (a quarter of the points
+    // near a tile's reach, every tile's points crossing ranges), in millimetres and moved
+    // after the filing, as make_shell's points are.
+    const PointSet points = noisy_dense_sphere();
+    const double mm = 25.4;
+    const Vec3 shift{-10, -10, -10};
+    Domain whole;
+    whole.h = 0.016 * mm;
+    whole.nx = whole.ny = whole.nz = 64;
+    whole.origin = {shift[0] - 0.01 * mm, shift[1] - 0.01 * mm, shift[2] - 0.01 * mm};
+    const std::vector<Tile> tiles = plan_tiles(whole, 16, 8);
+    const double reach = 3 * whole.h;
+    PointCloud alone(points);
+    alone.scale(mm);
+    alone.translate(shift);
+    const PointTree& t = detail::tree_of(alone);
+    const std::vector<TileNeeds> want_needs = needs_of(t, whole, tiles, 16, 8, reach);
+    for (int processes : {2, 3}) {
+        CAPTURE(processes);
+        const std::vector<int> want_owner = owners_of(want_needs, processes);
+        ThreadProcesses all(processes);
+        const auto each = each_of(all, processes);
+        std::vector<detail::PointArray<Vec3f>> got(static_cast<std::size_t>(processes));
+        std::vector<std::vector<int>> owners(static_cast<std::size_t>(processes));
+        std::vector<std::thread> others;
+        for (int p = 1; p < processes; ++p)
+            others.emplace_back([&, p] {
+                TileScheduler& mine = *each[std::size_t(p)];
+                const std::shared_ptr<detail::KeptRange> kept = detail::file_for_root(mine);
+                const OwnRange own = told_range(mine, kept.get());
+                owners[std::size_t(p)] = owners_of(ranged_needs(mine, own, whole, tiles, 16, 8, reach), processes);
+                RangedPointsFacts unused;
+                got[std::size_t(p)] = ranged_points(mine, own, whole, tiles, owners[std::size_t(p)], 16, 8, reach, unused);
+            });
+        const PointCloud as_given(points);
+        const PointTree& given = detail::tree_of(as_given);
+        detail::PointArray<Vec3f> as_read(given.size());
+        for (std::size_t k = 0; k < given.size(); ++k) as_read[given.input[k]] = given.xyz[k];
+        PointCloud filed = detail::cloud_filed_with(*each[0], std::move(as_read), given.origin);
+        { const detail::NeighbourCountsShared unasked(each[0].get(), filed); }
+        filed.scale(mm);
+        filed.translate(shift);
+        const PointTree& tree = detail::tree_of(filed);
+        REQUIRE(tiles_by_ranges(tree, processes));
+        const OwnRange own = tell_ranges(*each[0], tree);
+        const std::vector<TileNeeds> needs = ranged_needs(*each[0], own, whole, tiles, 16, 8, reach);
+        owners[0] = owners_of(needs, processes);
+        RangedPointsFacts facts;
+        got[0] = ranged_points(*each[0], own, whole, tiles, owners[0], 16, 8, reach, facts);
+        for (std::thread& o : others) o.join();
+        REQUIRE(needs.size() == want_needs.size());
+        for (std::size_t k = 0; k < needs.size(); ++k) {
+            CHECK(needs[k].points == want_needs[k].points);
+            CHECK(needs[k].core_near == want_needs[k].core_near);
+        }
+        for (int p = 0; p < processes; ++p) CHECK(owners[std::size_t(p)] == want_owner);
+        CHECK(got[0].empty());
+        // Each other's points: those the first gives it alone, in its order, to the bit.
+        const std::vector<PointRuns> runs = point_runs(tree, whole, tiles, want_owner, processes, 16, 8, reach);
+        std::size_t given_all = 0;
+        for (int p = 1; p < processes; ++p) {
+            const detail::PointArray<float> want = points_in(tree, runs[std::size_t(p)]);
+            const detail::PointArray<Vec3f>& have = got[std::size_t(p)];
+            REQUIRE(have.size() * 3 == want.size());
+            CHECK(std::equal(have.begin(), have.end(), reinterpret_cast<const Vec3f*>(want.data())));
+            given_all += have.size();
+        }
+        CHECK(given_all > points.size() / 4);
+        CHECK(facts.given + facts.own == given_all);
+        CHECK(facts.own > 0);
+        CHECK(facts.given > 0);
+    }
+}

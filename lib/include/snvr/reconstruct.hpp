@@ -82,7 +82,9 @@ struct TileFacts {
     std::size_t face_bytes = 0;          // of which the bricks next to their cores' faces (the seams' need)
     std::size_t faces_received = 0;      // those tiles' faces inside the grid
     std::vector<int> owners;             // the process that ran each tile (-1: none, no points near)
-    std::size_t points_sent = 0;         // points the first process gave the others (each its tiles' own)
+    std::size_t points_sent = 0;         // points given the others for their tiles (by the first, or, where
+                                         // they kept their ranges of the points, by each from its range)
+    std::size_t points_from_ranges = 0;  // and those the others took from their own ranges
     // The check shared (make_shell): what the others measured, the bytes of their shares,
     // and the points they left to the first (their side a ray would tell, or beyond reach).
     std::size_t check_walls = 0, check_points = 0, check_bytes = 0, check_points_back = 0;

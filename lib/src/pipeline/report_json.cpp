@@ -74,6 +74,7 @@ std::string report_json(const RunReport& report) {
           {"face_bytes_received", r.tiles.face_bytes},
           {"faces_received", r.tiles.faces_received},
           {"points_sent", r.tiles.points_sent},
+          {"points_from_ranges", r.tiles.points_from_ranges},
           {"check_walls_elsewhere", r.tiles.check_walls},
           {"check_points_elsewhere", r.tiles.check_points},
           {"check_bytes_sent", r.tiles.check_bytes},

@@ -88,9 +88,15 @@ std::string report_summary(const RunReport& report) {
                                  t.tiles, t.core_cells, t.halo_cells, t.halo_derived ? "as far as the flow reaches" : "as given",
                                  t.run, t.cells_run,
                                  t.processes > 1 ? format_text(" on %d processes (the busiest %.2f x the mean; %s points "
-                                                               "given to the others, %.3g MiB of tiles sent back%s%s%s%s)",
+                                                               "given to the others%s, %.3g MiB of tiles sent back%s%s%s%s)",
                                                                t.processes, t.busiest_over_mean,
-                                                               grouped(t.points_sent).c_str(), mib(t.bytes_received),
+                                                               grouped(t.points_sent).c_str(),
+                                                               t.points_from_ranges
+                                                                   ? (" and " + grouped(t.points_from_ranges) +
+                                                                      " taken from their own ranges")
+                                                                         .c_str()
+                                                                   : "",
+                                                               mib(t.bytes_received),
                                                                t.faces_received
                                                                    ? format_text(", of which their faces' bricks %.3g MiB, "
                                                                                  "%.3g MiB a face",

@@ -31,20 +31,30 @@ struct Reach {
     }
 };
 
-// One leaf's share of the tiles' needs: a leaf's box inside the tile's reach counts whole,
-// one across its edge point by point.
-void add_leaf(const detail::PointTree& tree, const detail::PointTree::Node& leaf, const Domain& whole,
-              const Tile& t, double reach, TileNeeds& need) {
+// The leaves with points in `range`, each's points there [begin, end) (its box may hold
+// more: a superset, so that a test of the box passed holds for those points too).
+template <class Leaf>
+void for_each_leaf_in(const detail::PointTree& tree, PointRange range, Leaf&& leaf) {
+    tree.for_each_leaf([&](const detail::PointTree::Node& n) { return n.end > range.begin && n.begin < range.end; },
+                       [&](const detail::PointTree::Node& n) {
+                           leaf(n, std::max(n.begin, range.begin), std::min(n.end, range.end));
+                       });
+}
+
+// One leaf's share of the tiles' needs, its points [begin, end): a leaf's box inside the
+// tile's reach counts them all, one across its edge point by point.
+void add_leaf(const detail::PointTree& tree, const detail::PointTree::Node& leaf, std::uint32_t begin,
+              std::uint32_t end, const Domain& whole, const Tile& t, double reach, TileNeeds& need) {
     const Vec3 lo = tree.lo(leaf), hi = tree.hi(leaf);
     const Reach box(whole, t.lo, t.hi, reach), core(whole, t.core_lo, t.core_hi, reach);
     if (!box.meets(lo, hi)) return;
     if (box.holds(lo, hi)) {
-        need.points += leaf.count();
+        need.points += end - begin;
     } else {
-        for (std::uint32_t k = leaf.begin; k < leaf.end; ++k) need.points += box.holds(tree.point(k));
+        for (std::uint32_t k = begin; k < end; ++k) need.points += box.holds(tree.point(k));
     }
     if (need.core_near || !core.meets(lo, hi)) return;
-    for (std::uint32_t k = leaf.begin; k < leaf.end && !need.core_near; ++k) need.core_near = core.holds(tree.point(k));
+    for (std::uint32_t k = begin; k < end && !need.core_near; ++k) need.core_near = core.holds(tree.point(k));
 }
 
 // Calls f(t) for each tile whose box may come within `reach` of the world box [lo, hi]
@@ -68,10 +78,15 @@ double band_reach(const DomainPlan& plan, const Parameters& params) {
 }
 
 std::vector<TileNeeds> needs_of(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
-                                int core_cells, int halo_cells, double reach) {
-    std::vector<const detail::PointTree::Node*> leaves;
-    tree.for_each_leaf([](const detail::PointTree::Node&) { return true; },
-                       [&](const detail::PointTree::Node& leaf) { leaves.push_back(&leaf); });
+                                int core_cells, int halo_cells, double reach, PointRange range) {
+    struct Part {
+        const detail::PointTree::Node* leaf;
+        std::uint32_t begin, end;
+    };
+    std::vector<Part> leaves;
+    for_each_leaf_in(tree, range, [&](const detail::PointTree::Node& leaf, std::uint32_t begin, std::uint32_t end) {
+        leaves.push_back({&leaf, begin, end});
+    });
     std::vector<TileNeeds> needs(tiles.size());
     const std::ptrdiff_t nl = std::ptrdiff_t(leaves.size());
 #pragma omp parallel
@@ -79,10 +94,11 @@ std::vector<TileNeeds> needs_of(const detail::PointTree& tree, const Domain& who
         std::vector<TileNeeds> mine(tiles.size());
 #pragma omp for schedule(dynamic, 1024)
         for (std::ptrdiff_t l = 0; l < nl; ++l) {
-            const detail::PointTree::Node& leaf = *leaves[std::size_t(l)];
-            const Vec3 lo = tree.lo(leaf), hi = tree.hi(leaf);
-            for_tiles_near(lo, hi, whole, tiles, core_cells, halo_cells, reach,
-                           [&](std::size_t t) { add_leaf(tree, leaf, whole, tiles[t], reach, mine[t]); });
+            const Part& part = leaves[std::size_t(l)];
+            const Vec3 lo = tree.lo(*part.leaf), hi = tree.hi(*part.leaf);
+            for_tiles_near(lo, hi, whole, tiles, core_cells, halo_cells, reach, [&](std::size_t t) {
+                add_leaf(tree, *part.leaf, part.begin, part.end, whole, tiles[t], reach, mine[t]);
+            });
         }
 #pragma omp critical
         for (std::size_t t = 0; t < tiles.size(); ++t) {
@@ -111,7 +127,7 @@ std::vector<int> owners_of(const std::vector<TileNeeds>& needs, int processes) {
 
 std::vector<PointRuns> point_runs(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
                                   const std::vector<int>& owner, int processes, int core_cells, int halo_cells,
-                                  double reach) {
+                                  double reach, PointRange range) {
     // Each leaf's points that fall in the reach of one of a process's tiles: all of them at
     // once when the leaf lies inside one, else one by one. Kept as runs, so that the copy is
     // made once and sized (grown as it went, the 200 M-point block's 1.4 GB for the other
@@ -125,7 +141,7 @@ std::vector<PointRuns> point_runs(const detail::PointTree& tree, const Domain& w
     };
     std::vector<std::vector<std::size_t>> near(static_cast<std::size_t>(processes));
     std::vector<std::uint8_t> inside(static_cast<std::size_t>(processes));
-    tree.for_each_leaf([](const detail::PointTree::Node&) { return true; }, [&](const detail::PointTree::Node& leaf) {
+    for_each_leaf_in(tree, range, [&](const detail::PointTree::Node& leaf, std::uint32_t begin, std::uint32_t end) {
         const Vec3 lo = tree.lo(leaf), hi = tree.hi(leaf);
         for (auto& n : near) n.clear();
         std::fill(inside.begin(), inside.end(), 0);
@@ -138,11 +154,11 @@ std::vector<PointRuns> point_runs(const detail::PointTree& tree, const Domain& w
         });
         for (int p = 1; p < processes; ++p) {
             if (inside[std::size_t(p)]) {
-                take(p, leaf.begin, leaf.end);
+                take(p, begin, end);
                 continue;
             }
             const std::vector<std::size_t>& tiles_near = near[std::size_t(p)];
-            for (std::uint32_t k = leaf.begin; k < leaf.end && !tiles_near.empty(); ++k) {
+            for (std::uint32_t k = begin; k < end && !tiles_near.empty(); ++k) {
                 const Vec3 q = tree.point(k);
                 for (std::size_t t : tiles_near)
                     if (Reach(whole, tiles[t].lo, tiles[t].hi, reach).holds(q)) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "geometry/point_tree.hpp"
@@ -26,9 +27,17 @@ struct TileNeeds {
     bool core_near = false;
 };
 
+// The points [begin, end) of a tree's order that a walk over its leaves looks at (a
+// leaf across a bound, its points on this side): a process's own range of the points
+// filed by all (ranged_tile_points.hpp). Every count and test below is a point's, so the
+// ranges' answers add up to the whole tree's, whatever tree their leaves fall in.
+struct PointRange {
+    std::uint32_t begin = 0, end = std::numeric_limits<std::uint32_t>::max();
+};
+
 // Each tile's needs, leaf by leaf of the tree (in parallel).
 std::vector<TileNeeds> needs_of(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
-                                int core_cells, int halo_cells, double reach);
+                                int core_cells, int halo_cells, double reach, PointRange range = {});
 
 // Which points each other process's tiles need (the first's own: none, it has them all):
 // those within `reach` of a tile's box (halo included) that the process runs, each once,
@@ -37,7 +46,7 @@ std::vector<TileNeeds> needs_of(const detail::PointTree& tree, const Domain& who
 using PointRuns = std::vector<std::array<std::uint32_t, 2>>;
 std::vector<PointRuns> point_runs(const detail::PointTree& tree, const Domain& whole, const std::vector<Tile>& tiles,
                                   const std::vector<int>& owner, int processes, int core_cells, int halo_cells,
-                                  double reach);
+                                  double reach, PointRange range = {});
 // The points with z in each window [lo, hi] (world units; one a process, empty where
 // hi < lo), as runs of the tree's order, found in one walk over the leaves.
 std::vector<PointRuns> z_window_runs(const detail::PointTree& tree, const std::vector<std::array<double, 2>>& windows);

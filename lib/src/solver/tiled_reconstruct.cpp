@@ -14,6 +14,7 @@
 #include "solver/field_assembly.hpp"
 #include "solver/memory_budget.hpp"
 #include "solver/plan_guard.hpp"
+#include "solver/ranged_tile_points.hpp"
 #include "solver/session.hpp"
 #include "solver/shared_holes.hpp"
 #include "solver/shared_slabs.hpp"
@@ -124,8 +125,10 @@ void merge_steps(const std::vector<TileRun>& runs, int steps, Result& res) {
 // The plan as the other processes need it (the grid, the offset, the flow, the tube), and
 // the tiles' cores, whether the root puts the whole field together and how the surface is
 // faired and guarded (the root's word: it may have chosen the tiles for a budget). The root
-// appends its tree's frame (4 more).
+// appends its tree's frame (4 more), then whether the tiles' needs and points go by the
+// processes' ranges (ranged_tile_points.hpp).
 constexpr std::size_t kPlanFigures = 23;
+constexpr std::size_t kSharedFigures = kPlanFigures + 5;
 std::vector<double> plan_figures(const DomainPlan& p, const Parameters& params) {
     const Domain& d = p.domain;
     const MeshFairing& f = params.surface_fairing;
@@ -135,7 +138,7 @@ std::vector<double> plan_figures(const DomainPlan& p, const Parameters& params) 
             params.surface_guard ? 1.0 : 0.0, p.gap};
 }
 DomainPlan plan_of(const std::vector<double>& f, Parameters& params) {
-    if (f.size() != kPlanFigures + 4) throw Error("tiles: the plan from the first process is not whole");
+    if (f.size() != kSharedFigures) throw Error("tiles: the plan from the first process is not whole");
     params.tile_cells = int(f[16]);
     params.whole_field = f[17] != 0;
     params.surface_fairing.passes = int(f[18]);
@@ -189,8 +192,11 @@ public:
         }
         const double reach = band_reach(plan, params);
         const detail::PointTree& tree = detail::tree_of(measured);
-        needs_ = needs_of(tree, plan.domain, tiles_, facts.core_cells, facts.halo_cells, reach);
-        owner_ = owners_of(needs_, facts.processes);
+        const bool ranged = on && tiles_by_ranges(tree, facts.processes);
+        if (!ranged) {
+            needs_ = needs_of(tree, plan.domain, tiles_, facts.core_cells, facts.halo_cells, reach);
+            owner_ = owners_of(needs_, facts.processes);
+        }
         if (!on) return;
         Parameters given = params;
         given.tile_cells = facts.core_cells;
@@ -199,7 +205,18 @@ public:
         // same frame they need no sorting (the city block's 30 M points 2.0 -> 1.3 s).
         const std::array<double, 4> frame = tree.frame().figures();
         figures.insert(figures.end(), frame.begin(), frame.end());
-        on->share(figures, owner_);
+        figures.push_back(ranged ? 1 : 0);
+        on->share(figures, owner_);  // by ranges: no owners yet, each process finds them
+        if (ranged) {
+            const OwnRange own = tell_ranges(*on, tree);
+            needs_ = ranged_needs(*on, own, plan.domain, tiles_, facts.core_cells, facts.halo_cells, reach);
+            owner_ = owners_of(needs_, facts.processes);
+            RangedPointsFacts moved;
+            ranged_points(*on, own, plan.domain, tiles_, owner_, facts.core_cells, facts.halo_cells, reach, moved);
+            facts.points_sent = moved.given;
+            facts.points_from_ranges = moved.own;
+            return;
+        }
         std::vector<PointRuns> runs =
             point_runs(tree, plan.domain, tiles_, owner_, facts.processes, facts.core_cells, facts.halo_cells, reach);
         for (int p = 1; p < facts.processes; ++p) {
@@ -486,19 +503,32 @@ void reconstruct_tiles_given(const Parameters& params, TileScheduler& on, Result
     on.share(figures, owners);
     Parameters mine = params;  // as the root runs it
     const DomainPlan plan = plan_of(figures, mine);
-    // Received straight into the cloud's own array (in a file under a budget).
-    Vec3 origin{0, 0, 0};
-    detail::PointArray<Vec3f> xyz;
-    on.take_points(origin, [&xyz](std::size_t floats) {
-        if (floats % 3) throw InputError("points sent as x y z in turn are not whole");
-        xyz.resize(floats / 3);
-        return xyz.empty() ? nullptr : xyz.front().data();
-    });
-    const auto frame = detail::PointTree::Frame::of(&figures[kPlanFigures]);
-    const PointCloud measured = detail::cloud_of(std::move(xyz), origin, &frame);
     static_cast<DomainPlan&>(res) = plan;
     res.tiles.core_cells = mine.tile_cells;
     res.tiles.halo_cells = tile_halo(plan, mine, res.tiles.halo_derived);
+    Vec3 origin{0, 0, 0};
+    detail::PointArray<Vec3f> xyz;
+    if (figures[kSharedFigures - 1] != 0) {  // the needs and points by ranges, this one's its kept range
+        const OwnRange own = told_range(on, on.points_kept.get());
+        origin = own.tree->origin;
+        const std::vector<Tile> tiles = plan_tiles(plan.domain, res.tiles.core_cells, res.tiles.halo_cells);
+        const double reach = band_reach(plan, mine);
+        const std::vector<TileNeeds> needs =
+            ranged_needs(on, own, plan.domain, tiles, res.tiles.core_cells, res.tiles.halo_cells, reach);
+        owners = owners_of(needs, on.processes());
+        RangedPointsFacts moved;
+        xyz = ranged_points(on, own, plan.domain, tiles, owners, res.tiles.core_cells, res.tiles.halo_cells, reach,
+                            moved);
+    } else {
+        // Received straight into the cloud's own array (in a file under a budget).
+        on.take_points(origin, [&xyz](std::size_t floats) {
+            if (floats % 3) throw InputError("points sent as x y z in turn are not whole");
+            xyz.resize(floats / 3);
+            return xyz.empty() ? nullptr : xyz.front().data();
+        });
+    }
+    const auto frame = detail::PointTree::Frame::of(&figures[kPlanFigures]);
+    const PointCloud measured = detail::cloud_of(std::move(xyz), origin, &frame);
     BackendStart<Real> start(mine.device);
     const ProgressCallback quiet;
     TiledRun<Real> tiled(measured, plan, mine, start, &on, quiet, res, &owners);
