@@ -284,18 +284,30 @@ PointCloud read_in_parts_by(int processes, const std::string& path) {
     return filed;
 }
 
-// What a tree holds that another could differ in: 0 when none.
+// What a tree holds that another could differ in: 0 when none. The nodes are compared as
+// a walk from the root meets them (a node's children in order), not by where the array
+// holds them: no query depends on that, and a tree filed by several processes holds
+// another's nodes after its own.
 std::size_t tree_differences(const PointTree& a, const PointTree& b) {
     std::size_t differ = a.size() != b.size() || a.nodes.size() != b.nodes.size() || a.origin != b.origin ||
                          a.frame().figures() != b.frame().figures();
     if (differ) return differ;
     for (std::size_t k = 0; k < a.size(); ++k) differ += a.xyz[k] != b.xyz[k] || a.input[k] != b.input[k];
-    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
-        const PointTree::Node &x = a.nodes[i], &y = b.nodes[i];
-        differ += x.begin != y.begin || x.end != y.end || x.child != y.child || x.children != y.children ||
-                  x.lo != y.lo || x.hi != y.hi;
+    std::vector<std::array<std::uint32_t, 2>> stack;
+    if (!a.nodes.empty()) stack.push_back({0, 0});
+    std::size_t met = 0;
+    while (!stack.empty()) {
+        const auto [i, j] = stack.back();
+        stack.pop_back();
+        ++met;
+        const PointTree::Node &x = a.nodes[i], &y = b.nodes[j];
+        if (x.begin != y.begin || x.end != y.end || x.children != y.children || x.lo != y.lo || x.hi != y.hi) {
+            ++differ;
+            continue;
+        }
+        for (std::uint32_t c = 0; c < x.children; ++c) stack.push_back({x.child + c, y.child + c});
     }
-    return differ;
+    return differ + (met != a.nodes.size());
 }
 
 }  // namespace

@@ -3,11 +3,13 @@
 #include "geometry/point_tree.hpp"
 #include "parallel_sizes.hpp"
 #include "process_limits.hpp"
+#include "snvr/error.hpp"
 #include "threads_here.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <utility>
 
 namespace snvr::detail {
@@ -245,9 +247,9 @@ PointTree::PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> or
 }
 
 PointTree::PointTree(PointArray<Vec3f> sorted, PointArray<std::uint32_t> inputs, const Vec3& at, const Frame& frame,
-                     const std::uint64_t* keys)
+                     const std::uint64_t* keys, const Grafts* grafts)
     : origin(at), xyz(std::move(sorted)), input(std::move(inputs)), frame_(frame) {
-    if (!xyz.empty()) build_nodes(keys);
+    if (!xyz.empty()) build_nodes(keys, grafts);
 }
 
 bool PointTree::in_frame_order() const {
@@ -374,6 +376,16 @@ struct NodeBuilder {
     };
     std::vector<Task>* tasks = nullptr;
     std::uint32_t task_size = 0;
+    // Grafts: a node within one process's range is left (a task; `foreign`, by range, where
+    // another's).
+    const std::vector<std::size_t>* bounds = nullptr;
+    std::vector<std::vector<Task>>* foreign = nullptr;
+
+    // The range holding all of points [b, e), or -1.
+    int range_of(std::uint32_t b, std::uint32_t e) const {
+        const std::size_t r = std::size_t(std::upper_bound(bounds->begin(), bounds->end(), std::size_t(b)) - bounds->begin()) - 1;
+        return r + 1 < bounds->size() && e <= (*bounds)[r + 1] ? int(r) : -1;
+    }
 
     // Whether points [b, e) split (else a leaf, or a task when tasks are taken), from the
     // level where they first differ (`level` moved there): their children's bounds in cut.
@@ -381,7 +393,9 @@ struct NodeBuilder {
         // Levels where every point shares the next digit make no node.
         while (level < kBits && e - b > PointTree::kLeafSize && digit(keys[b], level) == digit(keys[e - 1], level))
             ++level;
-        if (e - b <= PointTree::kLeafSize || level >= kBits || (tasks && e - b <= task_size)) return false;
+        if (e - b <= PointTree::kLeafSize || level >= kBits || (tasks && e - b <= task_size) ||
+            (bounds && range_of(b, e) >= 0))
+            return false;
         cut[0] = b;
         for (unsigned d = 1; d < 8; ++d)
             cut[d] = std::uint32_t(std::partition_point(keys + cut[d - 1], keys + e,
@@ -408,7 +422,10 @@ struct NodeBuilder {
         out[self].children = 0;
         std::uint32_t cut[9];
         if (!split(b, e, level, cut)) {
-            if (tasks && e - b <= task_size && e - b > PointTree::kLeafSize && level < kBits) tasks->push_back({self, level});
+            if (e - b <= PointTree::kLeafSize || level >= kBits) return;  // a leaf
+            const int range = bounds ? range_of(b, e) : -1;
+            if (range > 0) (*foreign)[std::size_t(range)].push_back({self, level});
+            else if (tasks) tasks->push_back({self, level});
             return;
         }
         const std::uint32_t first = std::uint32_t(out.size());
@@ -429,23 +446,35 @@ struct NodeBuilder {
 
 }  // namespace
 
-void PointTree::build_nodes(const std::uint64_t* keys) {
+void PointTree::build_nodes(const std::uint64_t* keys, const Grafts* grafts) {
     nodes.clear();
     const std::uint32_t n = std::uint32_t(xyz.size());
     if (n == 0) return;
     Node root{};
     root.end = n;
     nodes.push_back(root);
-    // The top levels here; the subtrees below them in parallel, then appended.
+    // The top levels here; the subtrees below them in parallel (and the others' grafted),
+    // then appended.
     std::vector<NodeBuilder::Task> tasks;
+    const std::size_t ranges = grafts ? grafts->bounds.size() - 1 : 0;
+    std::vector<std::vector<NodeBuilder::Task>> foreign(ranges);
     NodeBuilder top{keys, nodes};
     const bool parallel = n > (1u << 16) && threads_here() > 1;
-    if (parallel) {
-        top.tasks = &tasks;
-        top.task_size = std::max<std::uint32_t>(kLeafSize, n / std::uint32_t(32 * threads_here()));
+    if (parallel) top.task_size = std::max<std::uint32_t>(kLeafSize, n / std::uint32_t(32 * threads_here()));
+    if (parallel || grafts) top.tasks = &tasks;
+    if (grafts) {
+        top.bounds = &grafts->bounds;
+        top.foreign = &foreign;
     }
     nodes.reserve(1 + top.below(0, n, 0));
     top.fill(0, 0);
+    // The others build theirs meanwhile.
+    for (std::size_t r = 1; r < ranges; ++r) {
+        std::vector<std::array<std::uint32_t, 2>> asked;
+        const std::uint32_t from = std::uint32_t(grafts->bounds[r]);
+        for (const NodeBuilder::Task& t : foreign[r]) asked.push_back({nodes[t.slot].begin - from, nodes[t.slot].end - from});
+        grafts->ask(int(r), asked);
+    }
     std::vector<PointArray<Node>> local(tasks.size());
     const std::ptrdiff_t nt = std::ptrdiff_t(tasks.size());
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
@@ -456,23 +485,81 @@ void PointTree::build_nodes(const std::uint64_t* keys) {
         local[t].push_back(root);
         sub.fill(0, tasks[t].level);
     }
-    // Local node j >= 1 goes to offset + j - 1; the task's root to its slot. The places
+    // The grafts after the tasks, their points moved to their ranges' places.
+    std::vector<std::uint32_t> moved(tasks.size(), 0);
+    for (std::size_t r = 1; r < ranges; ++r) {
+        std::vector<PointArray<Node>> got = grafts->take(int(r));
+        if (got.size() != foreign[r].size()) throw Error("the points' tree: another process's nodes are not those asked");
+        for (std::size_t g = 0; g < got.size(); ++g) {
+            const Node& asked = nodes[foreign[r][g].slot];
+            const std::uint32_t from = std::uint32_t(grafts->bounds[r]);
+            if (got[g].empty() || got[g][0].begin + from != asked.begin || got[g][0].end + from != asked.end)
+                throw Error("the points' tree: another process's nodes are not those asked");
+            tasks.push_back(foreign[r][g]);
+            local.push_back(std::move(got[g]));
+            moved.push_back(from);
+        }
+    }
+    // Task node j >= 1 goes to offset + j - 1; the task's root to its slot. The places
     // first, then the copies in parallel (appended one task at a time, the growing array
     // was a third of the tree's build).
     std::vector<std::size_t> offset(tasks.size() + 1, nodes.size());
     for (std::size_t t = 0; t < tasks.size(); ++t) offset[t + 1] = offset[t] + local[t].size() - 1;
     nodes.resize(offset[tasks.size()]);
+    const std::ptrdiff_t all = std::ptrdiff_t(tasks.size());
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
-    for (std::ptrdiff_t t = 0; t < nt; ++t) {
-        PointArray<Node>& part = local[t];
-        const std::uint32_t shift = std::uint32_t(offset[t]) - 1;
-        for (Node& node : part)
+    for (std::ptrdiff_t t = 0; t < all; ++t) {
+        PointArray<Node>& part = local[std::size_t(t)];
+        const std::uint32_t shift = std::uint32_t(offset[std::size_t(t)]) - 1;
+        for (Node& node : part) {
             if (node.children) node.child += shift;
-        nodes[tasks[t].slot] = part[0];
-        std::copy(part.begin() + 1, part.end(), nodes.begin() + std::ptrdiff_t(offset[t]));
+            node.begin += moved[std::size_t(t)];
+            node.end += moved[std::size_t(t)];
+        }
+        nodes[tasks[std::size_t(t)].slot] = part[0];
+        std::copy(part.begin() + 1, part.end(), nodes.begin() + std::ptrdiff_t(offset[std::size_t(t)]));
         PointArray<Node>().swap(part);
     }
-    tighten_boxes(parallel);
+    if (all == nt) {
+        tighten_boxes(parallel);
+        return;
+    }
+    // The grafts came with their boxes.
+    std::vector<std::uint8_t> unboxed(nodes.size(), 1);
+    for (std::size_t t = std::size_t(nt); t < tasks.size(); ++t) {
+        unboxed[tasks[t].slot] = 0;
+        std::fill(unboxed.begin() + std::ptrdiff_t(offset[t]), unboxed.begin() + std::ptrdiff_t(offset[t + 1]), 0);
+    }
+    tighten_boxes(parallel, &unboxed);
+}
+
+PointArray<PointTree::Node> PointTree::subtree(std::uint32_t begin, std::uint32_t end) const {
+    const auto none = [&] {
+        return Error("the points' tree has no node of points " + std::to_string(begin) + " to " + std::to_string(end));
+    };
+    if (nodes.empty()) throw none();
+    std::uint32_t at = 0;
+    while (nodes[at].begin != begin || nodes[at].end != end) {
+        const Node& n = nodes[at];
+        std::uint32_t next = at;
+        for (std::uint32_t c = 0; c < n.children; ++c)
+            if (nodes[n.child + c].begin <= begin && end <= nodes[n.child + c].end) next = n.child + c;
+        if (next == at) throw none();
+        at = next;
+    }
+    PointArray<Node> out;
+    std::vector<std::uint32_t> from{at};
+    out.push_back(nodes[at]);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const Node was = nodes[from[i]];
+        if (!was.children) continue;
+        out[i].child = std::uint32_t(out.size());
+        for (std::uint32_t c = 0; c < was.children; ++c) {
+            out.push_back(nodes[was.child + c]);
+            from.push_back(was.child + c);
+        }
+    }
+    return out;
 }
 
 // Each leaf's box from its points, then each inner node's from its children (which

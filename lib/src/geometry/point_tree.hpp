@@ -84,9 +84,23 @@ public:
     // from that tree in its order then come already sorted, and filing them sorts nothing.
     PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> input, const Vec3& origin,
               const Frame* frame = nullptr);
+    // Filed with other processes (shared_filing.cpp), the nodes whose points all lie in
+    // another's range are that one's to build: it builds its range's tree anyway, and holds
+    // the same nodes below them (a node's children follow from its points alone). Asked for
+    // by their points [begin, end) in that range (ask, before this process builds its own
+    // part), then taken in the order asked (take), each a subtree with its boxes
+    // (subtree()), its points counted within that range.
+    struct Grafts {
+        std::vector<std::size_t> bounds;  // where each process's range begins, then the end
+        std::function<void(int range, const std::vector<std::array<std::uint32_t, 2>>& asked)> ask;
+        std::function<std::vector<PointArray<Node>>(int range)> take;
+    };
     // Points filed already (by Filing's steps): in key order, their input indices and keys.
     PointTree(PointArray<Vec3f> sorted, PointArray<std::uint32_t> input, const Vec3& origin, const Frame& frame,
-              const std::uint64_t* keys);
+              const std::uint64_t* keys, const Grafts* grafts = nullptr);
+    // The nodes below the one whose points are exactly [begin, end) (throws where none is),
+    // it first, each node's children together after it (Node::child counted among them).
+    PointArray<Node> subtree(std::uint32_t begin, std::uint32_t end) const;
 
     Vec3 origin{0, 0, 0};
     PointArray<Vec3f> xyz;            // by tree order
@@ -220,7 +234,7 @@ private:
     // Files points already in key order (ties in input order), as the sort would leave
     // them; false, and nothing filed, when they are not.
     bool file_in_order(PointArray<Vec3f>& coordinates, PointArray<std::uint32_t>& order);
-    void build_nodes(const std::uint64_t* keys);  // n sorted keys
+    void build_nodes(const std::uint64_t* keys, const Grafts* grafts = nullptr);  // n sorted keys
     // Each node's box made tight again; only those flagged in `only` (by place) when given.
     void tighten_boxes(bool parallel, const std::vector<std::uint8_t>* only = nullptr);
 
