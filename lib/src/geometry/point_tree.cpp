@@ -485,40 +485,52 @@ void PointTree::build_nodes(const std::uint64_t* keys, const Grafts* grafts) {
         local[t].push_back(root);
         sub.fill(0, tasks[t].level);
     }
-    // The grafts after the tasks, their points moved to their ranges' places.
-    std::vector<std::uint32_t> moved(tasks.size(), 0);
+    // The grafts after the tasks, their points moved to their ranges' places: each task's
+    // nodes where they lie (the grafts' in the arrays they came in).
+    struct Part {
+        Node* first;
+        std::size_t size;
+        std::uint32_t moved;
+    };
+    std::vector<Part> parts;
+    for (PointArray<Node>& t : local) parts.push_back({t.data(), t.size(), 0});
+    std::vector<Grafted> grafted(ranges);
     for (std::size_t r = 1; r < ranges; ++r) {
-        std::vector<PointArray<Node>> got = grafts->take(int(r));
-        if (got.size() != foreign[r].size()) throw Error("the points' tree: another process's nodes are not those asked");
-        for (std::size_t g = 0; g < got.size(); ++g) {
+        grafted[r] = grafts->take(int(r));
+        Grafted& got = grafted[r];
+        const std::uint32_t from = std::uint32_t(grafts->bounds[r]);
+        if (got.sizes.size() != foreign[r].size()) throw Error("the points' tree: another process's nodes are not those asked");
+        std::size_t at = 0;
+        for (std::size_t g = 0; g < got.sizes.size(); ++g) {
             const Node& asked = nodes[foreign[r][g].slot];
-            const std::uint32_t from = std::uint32_t(grafts->bounds[r]);
-            if (got[g].empty() || got[g][0].begin + from != asked.begin || got[g][0].end + from != asked.end)
+            if (got.sizes[g] == 0 || got.sizes[g] > got.nodes.size() - at || got.nodes[at].begin + from != asked.begin ||
+                got.nodes[at].end + from != asked.end)
                 throw Error("the points' tree: another process's nodes are not those asked");
             tasks.push_back(foreign[r][g]);
-            local.push_back(std::move(got[g]));
-            moved.push_back(from);
+            parts.push_back({got.nodes.data() + at, std::size_t(got.sizes[g]), from});
+            at += got.sizes[g];
         }
+        if (at != got.nodes.size()) throw Error("the points' tree: another process's nodes are not whole");
     }
     // Task node j >= 1 goes to offset + j - 1; the task's root to its slot. The places
     // first, then the copies in parallel (appended one task at a time, the growing array
     // was a third of the tree's build).
     std::vector<std::size_t> offset(tasks.size() + 1, nodes.size());
-    for (std::size_t t = 0; t < tasks.size(); ++t) offset[t + 1] = offset[t] + local[t].size() - 1;
+    for (std::size_t t = 0; t < tasks.size(); ++t) offset[t + 1] = offset[t] + parts[t].size - 1;
     nodes.resize(offset[tasks.size()]);
     const std::ptrdiff_t all = std::ptrdiff_t(tasks.size());
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
     for (std::ptrdiff_t t = 0; t < all; ++t) {
-        PointArray<Node>& part = local[std::size_t(t)];
+        const Part& part = parts[std::size_t(t)];
         const std::uint32_t shift = std::uint32_t(offset[std::size_t(t)]) - 1;
-        for (Node& node : part) {
+        for (std::size_t j = 0; j < part.size; ++j) {
+            Node node = part.first[j];
             if (node.children) node.child += shift;
-            node.begin += moved[std::size_t(t)];
-            node.end += moved[std::size_t(t)];
+            node.begin += part.moved;
+            node.end += part.moved;
+            nodes[j ? offset[std::size_t(t)] + j - 1 : tasks[std::size_t(t)].slot] = node;
         }
-        nodes[tasks[std::size_t(t)].slot] = part[0];
-        std::copy(part.begin() + 1, part.end(), nodes.begin() + std::ptrdiff_t(offset[std::size_t(t)]));
-        PointArray<Node>().swap(part);
+        if (t < nt) PointArray<Node>().swap(local[std::size_t(t)]);
     }
     if (all == nt) {
         tighten_boxes(parallel);
@@ -533,31 +545,51 @@ void PointTree::build_nodes(const std::uint64_t* keys, const Grafts* grafts) {
     tighten_boxes(parallel, &unboxed);
 }
 
-PointArray<PointTree::Node> PointTree::subtree(std::uint32_t begin, std::uint32_t end) const {
-    const auto none = [&] {
-        return Error("the points' tree has no node of points " + std::to_string(begin) + " to " + std::to_string(end));
-    };
-    if (nodes.empty()) throw none();
-    std::uint32_t at = 0;
-    while (nodes[at].begin != begin || nodes[at].end != end) {
-        const Node& n = nodes[at];
-        std::uint32_t next = at;
-        for (std::uint32_t c = 0; c < n.children; ++c)
-            if (nodes[n.child + c].begin <= begin && end <= nodes[n.child + c].end) next = n.child + c;
-        if (next == at) throw none();
-        at = next;
-    }
-    PointArray<Node> out;
-    std::vector<std::uint32_t> from{at};
-    out.push_back(nodes[at]);
-    for (std::size_t i = 0; i < out.size(); ++i) {
-        const Node was = nodes[from[i]];
-        if (!was.children) continue;
-        out[i].child = std::uint32_t(out.size());
-        for (std::uint32_t c = 0; c < was.children; ++c) {
-            out.push_back(nodes[was.child + c]);
-            from.push_back(was.child + c);
+PointTree::Grafted PointTree::subtrees(const std::vector<std::array<std::uint32_t, 2>>& asked) const {
+    // Each asked node found from the root down, and its subtree's size counted.
+    Grafted out;
+    std::vector<std::uint32_t> found;
+    std::vector<std::uint32_t> stack;
+    for (const auto& [begin, end] : asked) {
+        std::uint32_t at = 0;
+        while (!nodes.empty() && (nodes[at].begin != begin || nodes[at].end != end)) {
+            const Node& n = nodes[at];
+            std::uint32_t next = at;
+            for (std::uint32_t c = 0; c < n.children; ++c)
+                if (nodes[n.child + c].begin <= begin && end <= nodes[n.child + c].end) next = n.child + c;
+            if (next == at) break;
+            at = next;
         }
+        if (nodes.empty() || nodes[at].begin != begin || nodes[at].end != end)
+            throw Error("the points' tree has no node of points " + std::to_string(begin) + " to " + std::to_string(end));
+        found.push_back(at);
+        std::uint64_t size = 0;
+        stack.assign(1, at);
+        while (!stack.empty()) {
+            const Node& n = nodes[stack.back()];
+            stack.pop_back();
+            ++size;
+            for (std::uint32_t c = 0; c < n.children; ++c) stack.push_back(n.child + c);
+        }
+        out.sizes.push_back(size);
+    }
+    std::size_t total = 0;
+    for (const std::uint64_t size : out.sizes) total += size;
+    out.nodes.resize(total);
+    // Breadth first in place: a node copied keeps its old children's place until its turn.
+    std::size_t at = 0;
+    for (std::size_t g = 0; g < found.size(); ++g) {
+        const std::size_t first = at;
+        std::size_t end = at + 1;
+        out.nodes[at] = nodes[found[g]];
+        for (std::size_t i = first; i < end; ++i) {
+            Node& n = out.nodes[i];
+            if (!n.children) continue;
+            std::copy_n(nodes.begin() + std::ptrdiff_t(n.child), n.children, out.nodes.begin() + std::ptrdiff_t(end));
+            n.child = std::uint32_t(end - first);
+            end += n.children;
+        }
+        at = end;
     }
     return out;
 }

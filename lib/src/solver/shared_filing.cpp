@@ -146,15 +146,9 @@ SortedPart sorted_part(const Filing& filing, const Vec3f* p, std::size_t n, std:
 void answer_grafts(TileScheduler& on, const PointTree& tree) {
     std::vector<std::array<std::uint32_t, 2>> asked;
     receive_array(on, 0, asked);
-    std::vector<std::uint64_t> sizes;
-    PointArray<PointTree::Node> all;
-    for (const auto& a : asked) {
-        const PointArray<PointTree::Node> one = tree.subtree(a[0], a[1]);
-        sizes.push_back(one.size());
-        all.insert(all.end(), one.begin(), one.end());
-    }
-    send_array(on, 0, sizes.data(), sizes.size());
-    send_array(on, 0, all.data(), all.size());
+    const PointTree::Grafted grafted = tree.subtrees(asked);
+    send_array(on, 0, grafted.sizes.data(), grafted.sizes.size());
+    send_array(on, 0, grafted.nodes.data(), grafted.nodes.size());
 }
 
 // At the first: the grafts its tree takes from the others (their nodes of their ranges).
@@ -165,19 +159,10 @@ PointTree::Grafts grafts_from(TileScheduler& on, std::vector<std::size_t> bounds
         send_array(on, range, asked.data(), asked.size());
     };
     grafts.take = [&on](int range) {
-        std::vector<std::uint64_t> sizes;
-        receive_array(on, range, sizes);
-        PointArray<PointTree::Node> all;
-        receive_array(on, range, all);
-        std::vector<PointArray<PointTree::Node>> nodes;
-        std::size_t at = 0;
-        for (const std::uint64_t size : sizes) {
-            if (size > all.size() - at) throw Error("the points' tree: another process's nodes are not whole");
-            nodes.emplace_back(all.begin() + std::ptrdiff_t(at), all.begin() + std::ptrdiff_t(at + size));
-            at += size;
-        }
-        if (at != all.size()) throw Error("the points' tree: another process's nodes are not whole");
-        return nodes;
+        PointTree::Grafted got;
+        receive_array(on, range, got.sizes);
+        receive_array(on, range, got.nodes);
+        return got;
     };
     return grafts;
 }
