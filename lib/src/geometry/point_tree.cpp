@@ -470,9 +470,10 @@ void PointTree::build_nodes(const std::uint64_t* keys, const Grafts* grafts) {
     top.fill(0, 0);
     // The others build theirs meanwhile.
     for (std::size_t r = 1; r < ranges; ++r) {
-        std::vector<std::array<std::uint32_t, 2>> asked;
+        std::vector<Asked> asked;
         const std::uint32_t from = std::uint32_t(grafts->bounds[r]);
-        for (const NodeBuilder::Task& t : foreign[r]) asked.push_back({nodes[t.slot].begin - from, nodes[t.slot].end - from});
+        for (const NodeBuilder::Task& t : foreign[r])
+            asked.push_back({nodes[t.slot].begin - from, nodes[t.slot].end - from, std::uint32_t(t.level)});
         grafts->ask(int(r), asked);
     }
     std::vector<PointArray<Node>> local(tasks.size());
@@ -545,51 +546,34 @@ void PointTree::build_nodes(const std::uint64_t* keys, const Grafts* grafts) {
     tighten_boxes(parallel, &unboxed);
 }
 
-PointTree::Grafted PointTree::subtrees(const std::vector<std::array<std::uint32_t, 2>>& asked) const {
-    // Each asked node found from the root down, and its subtree's size counted.
+PointTree::Grafted PointTree::subtrees(const std::uint64_t* keys, const PointArray<Vec3f>& xyz,
+                                      const std::vector<Asked>& asked) {
+    // Built one after another into one array sized first (children counted from its start
+    // while the boxes are made, then from their subtree's).
     Grafted out;
-    std::vector<std::uint32_t> found;
-    std::vector<std::uint32_t> stack;
-    for (const auto& [begin, end] : asked) {
-        std::uint32_t at = 0;
-        while (!nodes.empty() && (nodes[at].begin != begin || nodes[at].end != end)) {
-            const Node& n = nodes[at];
-            std::uint32_t next = at;
-            for (std::uint32_t c = 0; c < n.children; ++c)
-                if (nodes[n.child + c].begin <= begin && end <= nodes[n.child + c].end) next = n.child + c;
-            if (next == at) break;
-            at = next;
-        }
-        if (nodes.empty() || nodes[at].begin != begin || nodes[at].end != end)
-            throw Error("the points' tree has no node of points " + std::to_string(begin) + " to " + std::to_string(end));
-        found.push_back(at);
-        std::uint64_t size = 0;
-        stack.assign(1, at);
-        while (!stack.empty()) {
-            const Node& n = nodes[stack.back()];
-            stack.pop_back();
-            ++size;
-            for (std::uint32_t c = 0; c < n.children; ++c) stack.push_back(n.child + c);
-        }
-        out.sizes.push_back(size);
-    }
+    NodeBuilder sub{keys, out.nodes};
     std::size_t total = 0;
-    for (const std::uint64_t size : out.sizes) total += size;
-    out.nodes.resize(total);
-    // Breadth first in place: a node copied keeps its old children's place until its turn.
-    std::size_t at = 0;
-    for (std::size_t g = 0; g < found.size(); ++g) {
-        const std::size_t first = at;
-        std::size_t end = at + 1;
-        out.nodes[at] = nodes[found[g]];
-        for (std::size_t i = first; i < end; ++i) {
-            Node& n = out.nodes[i];
-            if (!n.children) continue;
-            std::copy_n(nodes.begin() + std::ptrdiff_t(n.child), n.children, out.nodes.begin() + std::ptrdiff_t(end));
-            n.child = std::uint32_t(end - first);
-            end += n.children;
-        }
-        at = end;
+    for (const auto& [begin, end, level] : asked) {
+        if (begin >= end || end > xyz.size() || level > std::uint32_t(kBits))
+            throw Error("the first process asked for nodes this process's range does not have");
+        out.sizes.push_back(1 + sub.below(begin, end, int(level)));
+        total += out.sizes.back();
+    }
+    out.nodes.reserve(total);
+    for (const auto& [begin, end, level] : asked) {
+        Node root{};
+        root.begin = begin;
+        root.end = end;
+        out.nodes.push_back(root);
+        sub.fill(std::uint32_t(out.nodes.size() - 1), int(level));
+    }
+    if (out.nodes.size() != total) throw Error("the points' tree: the nodes asked came out other than counted");
+    tighten(out.nodes, xyz, false, nullptr);
+    std::size_t first = 0;
+    for (const std::uint64_t size : out.sizes) {
+        for (std::size_t i = first; i < first + size; ++i)
+            if (out.nodes[i].children) out.nodes[i].child -= std::uint32_t(first);
+        first += size;
     }
     return out;
 }
@@ -597,6 +581,11 @@ PointTree::Grafted PointTree::subtrees(const std::vector<std::array<std::uint32_
 // Each leaf's box from its points, then each inner node's from its children (which
 // always come after it).
 void PointTree::tighten_boxes(bool parallel, const std::vector<std::uint8_t>* only) {
+    tighten(nodes, xyz, parallel, only);
+}
+
+void PointTree::tighten(PointArray<Node>& nodes, const PointArray<Vec3f>& xyz, bool parallel,
+                        const std::vector<std::uint8_t>* only) {
     const std::ptrdiff_t nn = std::ptrdiff_t(nodes.size());
 #pragma omp parallel for schedule(dynamic, 1024) if (parallel)
     for (std::ptrdiff_t i = 0; i < nn; ++i) {

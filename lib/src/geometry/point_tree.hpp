@@ -85,29 +85,27 @@ public:
     PointTree(PointArray<Vec3f> coordinates, PointArray<std::uint32_t> input, const Vec3& origin,
               const Frame* frame = nullptr);
     // Filed with other processes (shared_filing.cpp), the nodes whose points all lie in
-    // another's range are that one's to build: it builds its range's tree anyway, and holds
-    // the same nodes below them (a node's children follow from its points alone). Asked for
-    // by their points [begin, end) in that range (ask, before this process builds its own
-    // part), then taken in the order asked (take), each a subtree with its boxes
-    // (subtree()), its points counted within that range.
+    // another's range are that one's to build: asked for by their points [begin, end) in
+    // that range and the level of their keys' digits they split at (ask, before this
+    // process builds its own part), then taken in the order asked (take). A node's children
+    // follow from its points alone, so its nodes below are the whole tree's.
+    using Asked = std::array<std::uint32_t, 3>;  // begin, end, level
     struct Grafted {
         std::vector<std::uint64_t> sizes;  // each subtree's nodes, in the order asked
-        PointArray<Node> nodes;            // the subtrees one after another
+        PointArray<Node> nodes;            // the subtrees one after another (Node::child
+                                           // counted within its own), with their boxes
     };
     struct Grafts {
         std::vector<std::size_t> bounds;  // where each process's range begins, then the end
-        std::function<void(int range, const std::vector<std::array<std::uint32_t, 2>>& asked)> ask;
+        std::function<void(int range, const std::vector<Asked>& asked)> ask;
         std::function<Grafted(int range)> take;
     };
     // Points filed already (by Filing's steps): in key order, their input indices and keys.
     PointTree(PointArray<Vec3f> sorted, PointArray<std::uint32_t> input, const Vec3& origin, const Frame& frame,
               const std::uint64_t* keys, const Grafts* grafts = nullptr);
-    // For each [begin, end) asked, the nodes below the one whose points are exactly those
-    // (throws where none is): it first, each node's children together after it (Node::child
-    // counted within its subtree). Made in place in one array sized first (grown as they
-    // came, and copied into one, they took 0.3 s of the 50 M-point city block's other
-    // process, mostly fresh pages).
-    Grafted subtrees(const std::vector<std::array<std::uint32_t, 2>>& asked) const;
+    // At the process whose range it is: the subtrees asked, from its range's sorted keys and
+    // points (before it builds its own tree, so that the first waits the least).
+    static Grafted subtrees(const std::uint64_t* keys, const PointArray<Vec3f>& xyz, const std::vector<Asked>& asked);
 
     Vec3 origin{0, 0, 0};
     PointArray<Vec3f> xyz;            // by tree order
@@ -244,6 +242,8 @@ private:
     void build_nodes(const std::uint64_t* keys, const Grafts* grafts = nullptr);  // n sorted keys
     // Each node's box made tight again; only those flagged in `only` (by place) when given.
     void tighten_boxes(bool parallel, const std::vector<std::uint8_t>* only = nullptr);
+    static void tighten(PointArray<Node>& nodes, const PointArray<Vec3f>& xyz, bool parallel,
+                        const std::vector<std::uint8_t>* only);
 
     Frame frame_{{0, 0, 0}, 1};
 };
