@@ -284,6 +284,18 @@ PointCloud read_in_parts_by(int processes, const std::string& path) {
     return filed;
 }
 
+// At the first of processes as threads: `points` as a reader gives them, filed with the
+// others' help (each in file_for_root meanwhile), the rules asking them nothing.
+PointCloud filed_at_first(TileScheduler& first, const PointSet& points) {
+    const PointCloud as_given(points);
+    const PointTree& t = detail::tree_of(as_given);
+    detail::PointArray<Vec3f> as_read(t.size());
+    for (std::size_t k = 0; k < t.size(); ++k) as_read[t.input[k]] = t.xyz[k];
+    PointCloud filed = detail::cloud_filed_with(first, std::move(as_read), t.origin);
+    { const detail::NeighbourCountsShared unasked(&first, filed); }
+    return filed;
+}
+
 // What a tree holds that another could differ in: 0 when none. The nodes are compared as
 // a walk from the root meets them (a node's children in order), not by where the array
 // holds them: no query depends on that, and a tree filed by several processes holds
@@ -1174,12 +1186,7 @@ TEST_CASE("the depth guard's search shared by the processes that filed the point
                     const std::shared_ptr<detail::KeptRange> kept = detail::file_for_root(mine);
                     detail::answer_guard_search(mine, kept.get());
                 });
-            const PointCloud as_given(points);
-            const PointTree& t = detail::tree_of(as_given);
-            detail::PointArray<Vec3f> as_read(t.size());
-            for (std::size_t k = 0; k < t.size(); ++k) as_read[t.input[k]] = t.xyz[k];
-            PointCloud filed = detail::cloud_filed_with(*each[0], std::move(as_read), t.origin);
-            { const detail::NeighbourCountsShared unasked(each[0].get(), filed); }
+            PointCloud filed = filed_at_first(*each[0], points);
             filed.scale(mm);
             filed.translate(shift);
             Mesh got = ball;
@@ -1244,12 +1251,7 @@ TEST_CASE("the tiles' needs and points by the ranges the processes kept: the fir
                 RangedPointsFacts unused;
                 got[std::size_t(p)] = ranged_points(mine, own, whole, tiles, owners[std::size_t(p)], 16, 8, reach, unused);
             });
-        const PointCloud as_given(points);
-        const PointTree& given = detail::tree_of(as_given);
-        detail::PointArray<Vec3f> as_read(given.size());
-        for (std::size_t k = 0; k < given.size(); ++k) as_read[given.input[k]] = given.xyz[k];
-        PointCloud filed = detail::cloud_filed_with(*each[0], std::move(as_read), given.origin);
-        { const detail::NeighbourCountsShared unasked(each[0].get(), filed); }
+        PointCloud filed = filed_at_first(*each[0], points);
         filed.scale(mm);
         filed.translate(shift);
         const PointTree& tree = detail::tree_of(filed);
