@@ -25,6 +25,9 @@
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"
 #include "temp_dir.hpp"
+#include "thread_processes.hpp"
+#include "check/mesh_topology.hpp"
+#include "check/slab_topology.hpp"
 #include "mesh/triangle_grid.hpp"
 
 // The library's OpenMP runtime (linked with it): the tests compare thread counts.
@@ -207,6 +210,124 @@ TEST_CASE("quality: a spherical shell of radii R - l and R + l") {
     CHECK(json.back() == '}');
     CHECK(json.find("\"genus\":0") != std::string::npos);
     CHECK(json.find("\"exact_rms_h\":") != std::string::npos);
+}
+
+namespace {
+
+// `whole` in `processes` slabs cut at random places of its vertices and, apart, of its
+// triangles (some slabs empty), its topology measured by processes as threads.
+detail::Topology topology_in_slabs(const Mesh& whole, int processes, std::mt19937& rng) {
+    const auto cuts = [&](std::size_t n) {
+        std::uniform_int_distribution<std::size_t> at(0, n);
+        std::vector<std::size_t> c{0, n};
+        for (int k = 1; k < processes; ++k) c.push_back(at(rng));
+        std::sort(c.begin(), c.end());
+        return c;
+    };
+    const std::vector<std::size_t> v = cuts(whole.vertices.size()), t = cuts(whole.triangles.size());
+    std::vector<Mesh> parts(static_cast<std::size_t>(processes));
+    for (std::size_t p = 0; p < parts.size(); ++p) {
+        parts[p].vertices.assign(whole.vertices.begin() + std::ptrdiff_t(v[p]), whole.vertices.begin() + std::ptrdiff_t(v[p + 1]));
+        parts[p].triangles.assign(whole.triangles.begin() + std::ptrdiff_t(t[p]),
+                                  whole.triangles.begin() + std::ptrdiff_t(t[p + 1]));
+    }
+    // All steps at once, or the first taking the others' counts before counting its own
+    // (as a run does, between other work).
+    std::vector<detail::Topology> got(parts.size());
+    const bool first_takes_first = std::uniform_int_distribution<int>(0, 1)(rng) == 1;
+    testing::on_threads(processes, [&](TileScheduler& on) {
+        const Mesh& part = parts[std::size_t(on.rank())];
+        if (on.rank() != 0 || !first_takes_first) {
+            got[std::size_t(on.rank())] = detail::slab_topology(part, on);
+            return;
+        }
+        detail::SlabTopology slabs(part, on);
+        slabs.take_others();
+        slabs.count();
+        got[0] = slabs.joined();
+    });
+    return got[0];
+}
+
+// Every figure the same, the volume to the bit.
+void check_same_topology(const detail::Topology& a, const detail::Topology& b) {
+    const MeshReport &x = a.report, &y = b.report;
+    CHECK(x.vertices == y.vertices);
+    CHECK(x.triangles == y.triangles);
+    CHECK(x.boundary_edges == y.boundary_edges);
+    CHECK(x.nonmanifold_edges == y.nonmanifold_edges);
+    CHECK(x.misoriented_edges == y.misoriented_edges);
+    CHECK(x.nonmanifold_vertices == y.nonmanifold_vertices);
+    CHECK(x.degenerate_triangles == y.degenerate_triangles);
+    CHECK(x.zero_area_triangles == y.zero_area_triangles);
+    CHECK(x.components == y.components);
+    CHECK(x.solids == y.solids);
+    CHECK(std::memcmp(&x.volume, &y.volume, sizeof x.volume) == 0);
+    CHECK(a.genus == b.genus);
+    CHECK(a.open_components == b.open_components);
+}
+
+// `m` with `more` appended, its vertex numbers moved past m's.
+Mesh joined_meshes(Mesh m, const Mesh& more) {
+    const auto base = std::uint32_t(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), more.vertices.begin(), more.vertices.end());
+    for (auto t : more.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    return m;
+}
+
+}  // namespace
+
+TEST_CASE("quality: the topology of a mesh in slabs over processes is the whole mesh's, every figure") {
+    // Shapes of known figures, then defects of every kind the report counts.
+    const Mesh sphere = isosurface([](const Vec3& p) { return 0.3 - dist(p, kCentre); }, {0.1, 0.1, 0.1}, 0.02, 40);
+    const Mesh torus = torus_mesh();
+    Mesh two_tori = joined_meshes(torus, torus);
+    for (std::size_t k = torus.vertices.size(); k < two_tori.vertices.size(); ++k) two_tori.vertices[k][0] += 0.55;
+    Mesh defects = joined_meshes(shell(), icosphere({0.5, 0.5, 0.5}, 0.05, 2));
+    defects.triangles[3] = {defects.triangles[3][0], defects.triangles[3][2], defects.triangles[3][1]};  // misoriented
+    defects.triangles.erase(defects.triangles.begin() + 100);                                            // a hole
+    defects.triangles.push_back(defects.triangles[500]);                                                 // non-manifold
+    defects.triangles.push_back({7, 7, 9});                                                              // degenerate
+    defects.vertices.push_back(defects.vertices[11]);  // two at one place: zero area
+    defects.triangles.push_back({11, std::uint32_t(defects.vertices.size() - 1), 12});
+    defects.vertices.push_back({2, 2, 2});  // in no triangle
+    // Two tetrahedra sharing a corner (a non-manifold vertex), and one lone triangle.
+    Mesh bowtie;
+    bowtie.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}, {0, -1, 0}, {0, 0, -1}, {3, 3, 3}, {4, 3, 3}, {3, 4, 3}};
+    bowtie.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 5, 4}, {0, 4, 6}, {0, 6, 5}, {4, 5, 6}, {7, 8, 9}};
+    const detail::Topology t = detail::mesh_topology(torus, detail::adjacency_of(torus));
+    CHECK(t.genus == 1);
+    CHECK(t.report.closed());
+    const detail::Topology tt = detail::mesh_topology(two_tori, detail::adjacency_of(two_tori));
+    CHECK(tt.genus == 2);
+    CHECK(tt.report.solids == 2);
+    const detail::Topology d = detail::mesh_topology(defects, detail::adjacency_of(defects));
+    CHECK(d.report.boundary_edges > 0);
+    CHECK(d.report.nonmanifold_edges > 0);
+    CHECK(d.report.misoriented_edges > 0);
+    CHECK(d.report.degenerate_triangles == 1);
+    CHECK(d.report.zero_area_triangles == 1);
+    CHECK(d.open_components > 0);
+    const detail::Topology b = detail::mesh_topology(bowtie, detail::adjacency_of(bowtie));
+    CHECK(b.report.nonmanifold_vertices == 1);
+    CHECK(b.report.components == 3);
+    CHECK(b.open_components == 1);
+    std::mt19937 rng(5);
+    for (const Mesh* m : std::vector<const Mesh*>{&sphere, &torus, &two_tori, &shell(), &defects, &bowtie}) {
+        const detail::Topology whole = detail::mesh_topology(*m, detail::adjacency_of(*m));
+        // check_mesh and measure_quality say the same.
+        const MeshReport r = check_mesh(*m);
+        CHECK(r.components == whole.report.components);
+        CHECK(r.volume == whole.report.volume);
+        const MeshQuality q = measure_quality(*m, {kCentre}, 0.05, 0.01);
+        CHECK(q.genus == whole.genus);
+        CHECK(q.open_components == whole.open_components);
+        for (int processes = 1; processes <= 5; ++processes)
+            for (int cut = 0; cut < 3; ++cut) {
+                CAPTURE(processes);
+                check_same_topology(topology_in_slabs(*m, processes, rng), whole);
+            }
+    }
 }
 
 TEST_CASE("quality: a ball around one point: offset error, depth and wall") {

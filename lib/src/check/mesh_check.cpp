@@ -12,11 +12,11 @@
 
 #include <omp.h>
 
-#include "geometry/disjoint_sets.hpp"
 #include "snvr/error.hpp"
 #include "snvr/quality.hpp"
 #include "mesh/mesh_indices.hpp"
 #include "check/mesh_adjacency.hpp"
+#include "check/mesh_topology.hpp"
 #include "threads_here.hpp"
 #include "snvr/mesh.hpp"
 #include "parallel_sizes.hpp"
@@ -24,13 +24,12 @@
 namespace snvr {
 namespace {
 
+using detail::degenerate;
 using detail::threads_here;
 
 using Tri = std::array<std::uint32_t, 3>;
 
 // Below these sizes, waking threads costs more than it saves.
-
-bool degenerate(const Tri& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
 
 // The cross product of two edges is zero. Exact for float32 coordinates (as written to
 // STL): their differences and the products of those are exact in double.
@@ -96,7 +95,7 @@ void sort_small(std::uint64_t* first, std::uint64_t* last) {
     }
 }
 
-std::uint32_t upper(std::uint64_t item) { return std::uint32_t(item >> 32); }
+std::uint32_t upper(std::uint64_t item) { return detail::upper_end(item); }
 
 // The edges at v's smaller end (a run of one neighbour is one edge): counts boundary,
 // non-manifold and misoriented ones.
@@ -190,114 +189,26 @@ bool split_fan(const Mesh& mesh, std::uint32_t v, const std::uint32_t* fan, std:
     return fans > 1;
 }
 
-// Edges at their smaller end (so each once), and fans, vertex by vertex.
-void count_edges_and_fans(const Mesh& mesh, const std::vector<std::size_t>& fan_start,
-                          const std::vector<std::uint32_t>& fan_tri, const std::vector<std::size_t>& edge_start,
-                          const std::vector<std::uint64_t>& edge_items, bool parallel, MeshReport& r) {
-    const std::size_t nv = mesh.vertices.size();
+// Edges at their smaller end (so each once), and fans, vertex by vertex, of [lo, hi).
+void count_edges_and_fans(const Mesh& mesh, const detail::MeshAdjacency& a, std::size_t lo, std::size_t hi,
+                          bool parallel, MeshReport& r) {
     std::size_t boundary = 0, nonmanifold = 0, misoriented = 0, nonmanifold_vertices = 0;
 #pragma omp parallel reduction(+ : boundary, nonmanifold, misoriented, nonmanifold_vertices) if (parallel)
     {
         std::vector<std::uint64_t> spokes;  // neighbour << 32 | local triangle index
         std::vector<std::uint32_t> parent;
 #pragma omp for schedule(dynamic, 4096)
-        for (std::ptrdiff_t vi = 0; vi < std::ptrdiff_t(nv); ++vi) {
+        for (std::ptrdiff_t vi = std::ptrdiff_t(lo); vi < std::ptrdiff_t(hi); ++vi) {
             const auto v = std::uint32_t(vi);
-            count_edges_at(mesh, v, edge_start, edge_items, boundary, nonmanifold, misoriented);
-            const std::size_t n = fan_start[v + 1] - fan_start[v];
-            if (n >= 2) nonmanifold_vertices += split_fan(mesh, v, fan_tri.data() + fan_start[v], n, spokes, parent);
+            count_edges_at(mesh, v, a.edge_start, a.edge_items, boundary, nonmanifold, misoriented);
+            const std::size_t n = a.fan_start[v + 1] - a.fan_start[v];
+            if (n >= 2) nonmanifold_vertices += split_fan(mesh, v, a.fan_tri.data() + a.fan_start[v], n, spokes, parent);
         }
     }
     r.boundary_edges = boundary;
     r.nonmanifold_edges = nonmanifold;
     r.misoriented_edges = misoriented;
     r.nonmanifold_vertices = nonmanifold_vertices;
-}
-
-// Components: join the triangles on each edge. root: each proper triangle's
-// component root (-1 for degenerate ones); returns each component's smallest
-// triangle, in order.
-std::vector<std::uint32_t> components(const Mesh& mesh, const std::vector<std::size_t>& edge_start,
-                                      const std::vector<std::uint64_t>& edge_items, std::vector<std::uint32_t>& root) {
-    const auto& T = mesh.triangles;
-    const std::size_t nv = mesh.vertices.size(), nt = T.size();
-    DisjointSets pieces(nt);
-    for (std::size_t v = 0; v < nv; ++v)
-        for (std::size_t k = edge_start[v] + 1; k < edge_start[v + 1]; ++k)
-            if (upper(edge_items[k]) == upper(edge_items[k - 1]))
-                pieces.unite(std::uint32_t(edge_items[k - 1]), std::uint32_t(edge_items[k]));
-    root.assign(nt, std::uint32_t(-1));
-    std::vector<std::uint32_t> first_of;
-    for (std::size_t t = 0; t < nt; ++t)
-        if (!degenerate(T[t])) {
-            root[t] = pieces.find(std::uint32_t(t));
-            if (root[t] == std::uint32_t(t)) first_of.push_back(root[t]);
-        }
-    return first_of;
-}
-
-// Six times the signed volume of the tetrahedron (o, triangle t), o the bounding-box
-// centre (less cancellation than about the origin).
-struct SixVolume {
-    explicit SixVolume(const Mesh& m) : mesh(m) {
-        Vec3 lo{0, 0, 0}, hi{0, 0, 0};
-        if (!mesh.vertices.empty()) lo = hi = mesh.vertices[0];
-        for (const Vec3& p : mesh.vertices)
-            for (int d = 0; d < 3; ++d) {
-                lo[d] = std::min(lo[d], p[d]);
-                hi[d] = std::max(hi[d], p[d]);
-            }
-        o = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
-    }
-    double operator()(std::size_t t) const {
-        const auto& T = mesh.triangles;
-        const Vec3& A = mesh.vertices[T[t][0]];
-        const Vec3& B = mesh.vertices[T[t][1]];
-        const Vec3& C = mesh.vertices[T[t][2]];
-        const double a0 = A[0] - o[0], a1 = A[1] - o[1], a2 = A[2] - o[2];
-        const double b0 = B[0] - o[0], b1 = B[1] - o[1], b2 = B[2] - o[2];
-        const double c0 = C[0] - o[0], c1 = C[1] - o[1], c2 = C[2] - o[2];
-        return a0 * (b1 * c2 - b2 * c1) + a1 * (b2 * c0 - b0 * c2) + a2 * (b0 * c1 - b1 * c0);
-    }
-    const Mesh& mesh;
-    Vec3 o;
-};
-
-// Divergence theorem; fixed chunks keep the sum independent of thread count.
-double enclosed_volume(const SixVolume& six_volume, std::size_t nt, bool parallel) {
-    constexpr std::size_t kChunk = 1 << 16;
-    std::vector<double> partial((nt + kChunk - 1) / kChunk, 0.0);
-#pragma omp parallel for schedule(static) if (parallel)
-    for (std::ptrdiff_t c = 0; c < std::ptrdiff_t(partial.size()); ++c) {
-        double sum = 0;
-        for (std::size_t t = std::size_t(c) * kChunk; t < std::min(nt, std::size_t(c + 1) * kChunk); ++t)
-            sum += six_volume(t);
-        partial[c] = sum;
-    }
-    double volume = 0;
-    for (double p : partial) volume += p;
-    return volume / 6;
-}
-
-// Solid pieces: components enclosing positive volume (outer boundaries); the
-// negative ones are cavities inside them.
-// (The sums run in triangle order, per component, as they always did.)
-std::size_t solid_pieces(const SixVolume& six_volume, const std::vector<std::uint32_t>& root,
-                         const std::vector<std::uint32_t>& first_of) {
-    const std::size_t nt = root.size();
-    std::vector<double> piece_volume(first_of.size(), 0.0);
-    if (first_of.size() == 1) {
-        for (std::size_t t = 0; t < nt; ++t)
-            if (root[t] != std::uint32_t(-1)) piece_volume[0] += six_volume(t);
-    } else {
-        std::vector<std::uint32_t> id(nt);  // compact component of each root
-        for (std::size_t c = 0; c < first_of.size(); ++c) id[first_of[c]] = std::uint32_t(c);
-        for (std::size_t t = 0; t < nt; ++t)
-            if (root[t] != std::uint32_t(-1)) piece_volume[id[root[t]]] += six_volume(t);
-    }
-    std::size_t solids = 0;
-    for (double v : piece_volume) solids += v > 0;
-    return solids;
 }
 
 }  // namespace
@@ -339,18 +250,21 @@ void lower_edges(const Mesh& mesh, std::vector<std::size_t>& start, std::vector<
     items = std::move(b.items);
 }
 
-MeshReport check_mesh_unchecked(const Mesh& mesh, const std::vector<std::size_t>& fan_start,
-                                const std::vector<std::uint32_t>& fan_tri, const std::vector<std::size_t>& edge_start,
-                                const std::vector<std::uint64_t>& edge_items, std::vector<std::uint32_t>* piece) {
+MeshAdjacency adjacency_of(const Mesh& mesh) {
+    MeshAdjacency a;
+    vertex_fans(mesh, a.fan_start, a.fan_tri);
+    lower_edges(mesh, a.edge_start, a.edge_items);
+    return a;
+}
+
+MeshReport part_counts(const Mesh& mesh, const MeshAdjacency& adjacency, std::size_t own_triangles, std::size_t own_lo,
+                       std::size_t own_hi) {
     const auto& T = mesh.triangles;
-    const std::size_t nv = mesh.vertices.size(), nt = T.size();
     MeshReport r;
-    r.vertices = nv;
-    r.triangles = nt;
-    const bool parallel = nt >= std::size_t(detail::kParallelCheapItems);
+    const bool parallel = own_triangles >= std::size_t(detail::kParallelCheapItems);
     std::size_t repeated = 0, zero = 0;
 #pragma omp parallel for reduction(+ : repeated, zero) if (parallel)
-    for (std::size_t t = 0; t < nt; ++t) {
+    for (std::size_t t = 0; t < own_triangles; ++t) {
         if (degenerate(T[t]))
             ++repeated;
         else
@@ -358,14 +272,7 @@ MeshReport check_mesh_unchecked(const Mesh& mesh, const std::vector<std::size_t>
     }
     r.degenerate_triangles = repeated;
     r.zero_area_triangles = zero;
-    count_edges_and_fans(mesh, fan_start, fan_tri, edge_start, edge_items, parallel, r);
-    std::vector<std::uint32_t> root;
-    const std::vector<std::uint32_t> first_of = components(mesh, edge_start, edge_items, root);
-    r.components = first_of.size();
-    const SixVolume six_volume(mesh);
-    r.volume = enclosed_volume(six_volume, nt, parallel);
-    r.solids = solid_pieces(six_volume, root, first_of);
-    if (piece) *piece = std::move(root);
+    count_edges_and_fans(mesh, adjacency, own_lo, own_hi, parallel, r);
     return r;
 }
 
@@ -375,12 +282,7 @@ MeshReport check_mesh(const Mesh& mesh) {
     detail::check_triangle_indices(mesh, "check_mesh");
     if (mesh.triangles.size() > std::numeric_limits<std::uint32_t>::max())
         throw ResourceError("check_mesh: more than 2^32 triangles");
-    std::vector<std::size_t> fan_start, edge_start;
-    std::vector<std::uint32_t> fan_tri;
-    std::vector<std::uint64_t> edge_items;
-    detail::vertex_fans(mesh, fan_start, fan_tri);
-    detail::lower_edges(mesh, edge_start, edge_items);
-    return detail::check_mesh_unchecked(mesh, fan_start, fan_tri, edge_start, edge_items, nullptr);
+    return detail::mesh_topology(mesh, detail::adjacency_of(mesh)).report;
 }
 
 }  // namespace snvr

@@ -21,6 +21,7 @@
 #include "snvr/quality.hpp"
 #include "mesh/cell_rings.hpp"
 #include "check/mesh_adjacency.hpp"
+#include "check/mesh_topology.hpp"
 #include "threads_here.hpp"
 #include "check/point_depths.hpp"
 #include "check/walls.hpp"
@@ -104,61 +105,6 @@ struct EdgeBuckets {
 
 std::uint32_t upper(std::uint64_t item) { return std::uint32_t(item >> 32); }
 std::uint32_t triangle(std::uint64_t item) { return std::uint32_t(item); }
-
-// Genus summed over the closed components; the open ones are counted apart.
-// piece[t]: triangle t's component as check_mesh found it (its smallest triangle;
-// none for a degenerate triangle).
-void measure_topology(const Mesh& m, const EdgeBuckets& edges, const std::vector<std::uint32_t>& piece, MeshQuality& q) {
-    const auto& T = m.triangles;
-    const std::size_t nv = m.vertices.size(), nt = T.size();
-    constexpr std::uint32_t none = std::uint32_t(-1);
-    std::vector<std::uint32_t> id(nt, none);  // compact component of each proper triangle
-    std::uint32_t n_comp = 0;
-    for (std::size_t t = 0; t < nt; ++t)
-        if (piece[t] != none) {
-            const std::uint32_t root = piece[t];
-            if (id[root] == none) id[root] = n_comp++;
-            id[t] = id[root];
-        }
-    // chi = V - E + F per component; a vertex shared by two components counts in each.
-    std::vector<long> chi(n_comp, 0);
-    std::vector<char> open(n_comp, 0);
-    for (std::size_t t = 0; t < nt; ++t)
-        if (id[t] != none) ++chi[id[t]];
-    for (std::size_t v = 0; v < nv; ++v)
-        for (std::size_t k = edges.start[v]; k < edges.start[v + 1]; ++k) {
-            const bool first = k == edges.start[v] || upper(edges.items[k]) != upper(edges.items[k - 1]);
-            if (!first) continue;
-            const std::uint32_t c = id[triangle(edges.items[k])];
-            --chi[c];
-            const bool last = k + 1 == edges.start[v + 1] || upper(edges.items[k + 1]) != upper(edges.items[k]);
-            if (last) open[c] = 1;  // an edge with one triangle
-        }
-    std::vector<std::uint32_t> vertex_comp(nv, none);
-    std::vector<std::uint64_t> extra;  // (vertex << 32 | component) beyond a vertex's first
-    for (std::size_t t = 0; t < nt; ++t) {
-        if (id[t] == none) continue;
-        for (std::uint32_t v : T[t]) {
-            if (vertex_comp[v] == none) {
-                vertex_comp[v] = id[t];
-                ++chi[id[t]];
-            } else if (vertex_comp[v] != id[t]) {
-                extra.push_back(std::uint64_t(v) << 32 | id[t]);
-            }
-        }
-    }
-    std::sort(extra.begin(), extra.end());
-    extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
-    for (std::uint64_t e : extra) ++chi[std::uint32_t(e)];
-    q.genus = 0;
-    q.open_components = 0;
-    for (std::uint32_t c = 0; c < n_comp; ++c) {
-        if (open[c])
-            ++q.open_components;
-        else
-            q.genus += (2 - chi[c]) / 2;
-    }
-}
 
 // Dihedral RMS and the count of interior edges. Each edge is weighted by the sum
 // of its two triangles' areas, so that the figure does not depend on how finely
@@ -407,16 +353,19 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
     {
 #pragma omp task
         guarded(failed[0], [&] {
-            std::vector<std::uint32_t> piece;
-            {
-                std::vector<std::size_t> fan_start;
-                std::vector<std::uint32_t> fan_tri;
-                detail::vertex_fans(mesh, fan_start, fan_tri);
-                detail::lower_edges(mesh, edges.start, edges.items);
-                q.report = detail::check_mesh_unchecked(mesh, fan_start, fan_tri, edges.start, edges.items, &piece);
-                if (surface) measure_offset(mesh, points, fan_start, fan_tri, q);
+            detail::Topology topology;
+            if (elsewhere && elsewhere->topology && !surface) {  // the mesh's slabs count it
+                topology = elsewhere->topology();
+            } else {
+                detail::MeshAdjacency adjacency = detail::adjacency_of(mesh);
+                topology = detail::mesh_topology(mesh, adjacency);
+                if (surface) measure_offset(mesh, points, adjacency.fan_start, adjacency.fan_tri, q);
+                edges.start.swap(adjacency.edge_start);
+                edges.items.swap(adjacency.edge_items);
             }
-            measure_topology(mesh, edges, piece, q);
+            q.report = topology.report;
+            q.genus = topology.genus;
+            q.open_components = topology.open_components;
             if (surface) measure_dihedral(mesh, edges, q);
         });
         guarded(failed[1], [&] {

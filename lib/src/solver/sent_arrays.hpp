@@ -32,4 +32,16 @@ void receive_into(TileScheduler& on, int from, T* at, std::size_t n) {
     });
 }
 
+// With every other process q: give(q) sends to it and take(q) receives from it, the lower
+// of the two sending first, so that no two wait on each other.
+template <class Give, class Take>
+void exchange_pairwise(TileScheduler& on, const Give& give, const Take& take) {
+    const int me = on.rank();
+    for (int q = 0; q < on.processes(); ++q) {
+        if (q == me) continue;
+        if (me < q) give(q), take(q);
+        else take(q), give(q);
+    }
+}
+
 }  // namespace snvr::detail

@@ -74,29 +74,25 @@ void file_range(TileScheduler& on, const Filing& filing, SortedPart& mine, const
     // What every process's part holds of this range: its cells' counts and points.
     std::vector<std::vector<std::uint32_t>> counts(static_cast<std::size_t>(processes));
     std::vector<SortedPart> parts(static_cast<std::size_t>(processes));
-    // Pairwise, the lower process sending first, so that no two wait on each other.
-    for (int q = 0; q < processes; ++q) {
-        if (q == me) continue;
-        const std::size_t qlo = ranges.first[std::size_t(q)], qhi = ranges.first[std::size_t(q) + 1];
-        const std::uint32_t b = mine.cell_start[qlo], e = mine.cell_start[qhi];
-        const auto give = [&] {
+    exchange_pairwise(
+        on,
+        [&](int q) {
+            const std::size_t qlo = ranges.first[std::size_t(q)], qhi = ranges.first[std::size_t(q) + 1];
+            const std::uint32_t b = mine.cell_start[qlo], e = mine.cell_start[qhi];
             std::vector<std::uint32_t> c(qhi - qlo);
             for (std::size_t k = qlo; k < qhi; ++k) c[k - qlo] = mine.cell_start[k + 1] - mine.cell_start[k];
             send_array(on, q, c.data(), c.size());
             send_array(on, q, mine.xyz.data() + b, e - b);
             send_array(on, q, mine.input.data() + b, e - b);
-        };
-        const auto take = [&] {
+        },
+        [&](int q) {
             SortedPart& got = parts[std::size_t(q)];
             receive_array(on, q, counts[std::size_t(q)]);
             if (counts[std::size_t(q)].size() != hi - lo) throw Error("a filing's counts are not the range's");
             receive_array(on, q, got.xyz);
             receive_array(on, q, got.input);
             if (got.input.size() != got.xyz.size()) throw Error("a filing's points are not whole");
-        };
-        if (me < q) give(), take();
-        else take(), give();
-    }
+        });
     {
         std::vector<std::uint32_t>& own = counts[std::size_t(me)];
         own.resize(hi - lo);

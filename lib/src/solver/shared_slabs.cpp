@@ -263,20 +263,17 @@ Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const
     std::vector<detail::MeshPiece> here;
     FacesPart faces_here;
     std::uint64_t sent = 0;
-    // Pairwise, the lower process sending first, so that no two wait on each other.
-    for (int q = 0; q < processes && processes > 1; ++q) {
-        if (q == me) continue;
-        const auto give = [&] {
-            if (me == 0) sent += give_faces(*on, q, faces_for(faces, plan.welded(q)));
-            sent += give_pieces(*on, q, pieces, plan.welded(q));
-        };
-        const auto take = [&] {
-            if (q == 0) faces_here = take_faces(*on, q);
-            take_pieces(*on, q, here);
-        };
-        if (me < q) give(), take();
-        else take(), give();
-    }
+    if (processes > 1)
+        detail::exchange_pairwise(
+            *on,
+            [&](int q) {
+                if (me == 0) sent += give_faces(*on, q, faces_for(faces, plan.welded(q)));
+                sent += give_pieces(*on, q, pieces, plan.welded(q));
+            },
+            [&](int q) {
+                if (q == 0) faces_here = take_faces(*on, q);
+                take_pieces(*on, q, here);
+            });
     // The guard's points: the first's own, and the others' from it.
     PointCloud near_slab;
     const detail::PointTree* guard_points = nullptr;
