@@ -31,6 +31,13 @@ PY
     fail "two processes"
 cmp "$tmp/one.stl" "$tmp/two.stl" || fail "two processes wrote other bytes than one"
 same_check "$tmp/one.json" "$tmp/two.json"
+# Whether the check counted the shell's topology by the slabs the processes kept (report $2),
+# as $1 says it should (1 or 0), and the same figures as the whole shell's (above).
+slab_topology() {
+    python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["tiles"]["check_topology_by_slabs"] == (sys.argv[2] == "1") else 1)' \
+        "$2" "$1" || fail "$2: the check's topology was $([ "$1" = 1 ] && echo not) counted by the slabs"
+}
+slab_topology 1 "$tmp/two.json"
 # Input $2 (then the run's options) on one process and on two, as "$1": the same bytes and
 # check ($tmp/${1}1.json and ${1}2.json the reports).
 one_and_two() {
@@ -47,6 +54,16 @@ one_and_two() {
 awk 'BEGIN { srand(3); for (i = 0; i < 4000; ++i) printf "%.6f %.6f %.6f\n", rand(), 0.5 * rand(), 0.7 * rand() }' \
     >"$tmp/blob.xyz"
 one_and_two blob "$tmp/blob.xyz" --resolution 64 --tile-cells 16
+# Two balls of points, the smaller dropped (--keep-largest 1): the shell is no longer the
+# slabs the processes kept, so the first counts its topology whole.
+awk 'BEGIN { srand(5); for (i = 0; i < 6000; ++i) { u = 2 * rand() - 1; t = 6.2831853 * rand(); s = sqrt(1 - u * u)
+    r = i < 4500 ? 0.25 : 0.1; c = i < 4500 ? 0.3 : 0.8
+    printf "%.6f %.6f %.6f\n", c + r * s * cos(t), 0.5 + r * s * sin(t), 0.5 + r * u } }' >"$tmp/balls.xyz"
+one_and_two balls "$tmp/balls.xyz" --resolution 64 --tile-cells 16 --keep-largest 1
+python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["pieces_dropped"]["count"] == 1 else 1)' \
+    "$tmp/balls2.json" || fail "two balls: the smaller was not dropped"
+slab_topology 0 "$tmp/balls2.json"
+rm "$tmp"/balls*
 # A dense sphere (318,054 points, over the 2^18 the check samples for its percentile): the
 # points' depths are measured by the process whose range of the points filed by both holds
 # them (half of those the first does not sample: 79 k), where it kept them since the filing,
@@ -62,6 +79,8 @@ print(f"the other process: {t['check_walls_elsewhere']} walls, {t['check_points_
 sys.exit(0 if t["check_walls_elsewhere"] > 0 and t["check_points_elsewhere"] > 60000
          and t["guard_points_elsewhere"] > 100000 and not t["guard_on_slabs"] else 1)
 PY
+# The first guarded the whole surface: it gave each slab its vertices for the topology.
+slab_topology 1 "$tmp/dense2.json"
 # The other measures them where it kept them since the filing: scaled as the first's (in
 # centimetres: told while the outlier rules ask, or, where they ask nothing, with its share
 # of the check) and moved as the first's (centred): the same bytes and figures.
@@ -89,6 +108,7 @@ cmp "$tmp/field1.stl" "$tmp/field2.stl" && cmp "$tmp/field1.vti" "$tmp/field2.vt
     fail "the field kept: other bytes on two processes"
 python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["tiles"]["guard_points_elsewhere"] > 100000 else 1)' \
     "$tmp/field2.json" || fail "the field kept: the other searched none of its points for the depth guard"
+slab_topology 0 "$tmp/field2.json"  # the first meshed the whole field: there are no slabs
 rm "$tmp"/field[12].*
 # Three processes: a middle range too (its clusters' links with the last range, its depths).
 "${mpi[@]}" -np 3 "$cli" reconstruct "$tmp/dense.ply" --device openmp --resolution 64 --tile-cells 16 \
@@ -99,6 +119,7 @@ python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["tiles"
     "$tmp/dense3.json" || fail "three processes: the others searched too few points for the depth guard"
 python3 -c 'import json, sys; t = json.load(open(sys.argv[1]))["tiles"]; sys.exit(0 if t["points_sent"] > 0 and t["points_from_ranges"] > 0 else 1)' \
     "$tmp/dense3.json" || fail "three processes: the tiles' points did not go by the ranges the others kept"
+slab_topology 1 "$tmp/dense3.json"
 rm "$tmp"/dense3.*
 # A scan sparse beside its surface (the sampler's lidar scene, 10 k points): the points
 # near the other's slab are fewer than its vertices, so each slab keeps its points deep, its
@@ -107,6 +128,7 @@ rm "$tmp"/dense3.*
 one_and_two lidar "$tmp/lidar.ply" --resolution 192 --tile-cells 64
 python3 -c 'import json, sys; t = json.load(open(sys.argv[1]))["tiles"]; sys.exit(0 if t["guard_on_slabs"] and t["guard_slab_points"] > 5000 and not t["guard_run_again_whole"] else 1)' \
     "$tmp/lidar2.json" || fail "the lidar scene: its slabs did not keep their points deep"
+slab_topology 1 "$tmp/lidar2.json"  # the slabs as kept, each rounded as the STL holds it
 rm "$tmp"/lidar[12].* "$tmp/lidar.ply"
 # Slabs welded with too few ghosts for the guard (4 planes, 2 checked; a test's setting,
 # which has the slabs guard whatever their points): their checked ghosts come out other than
@@ -115,6 +137,7 @@ rm "$tmp"/lidar[12].* "$tmp/lidar.ply"
 SNVR_TEST_GUARD_GHOSTS=4 one_and_two rerun "$data/bunny.ply" --resolution 128 --tile-cells 32
 python3 -c 'import json, sys; t = json.load(open(sys.argv[1]))["tiles"]; sys.exit(0 if t["guard_on_slabs"] and t["guard_run_again_whole"] and t["guard_ghosts_differing"] > 0 else 1)' \
     "$tmp/rerun2.json" || fail "slabs with 4 ghost planes: the slabs' guard was not run again on the whole"
+slab_topology 1 "$tmp/rerun2.json"
 rm "$tmp"/rerun[12].*
 # Its binary PLY is read in parts, a part a process, and the points' tree filed by both
 # (above); as text the first reads it and gives the other its part; where the other

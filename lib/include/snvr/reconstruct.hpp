@@ -103,6 +103,13 @@ struct TileFacts {
     // so whether the first ran the whole guard again.
     bool guard_slabs = false, guard_rerun = false;
     std::size_t guard_slab_points = 0, guard_ghosts_differing = 0;
+    // Where each slab's own vertices begin in the surface (and their count, last), this
+    // process's slab's own triangles (at the first, the surface's first ones), and whether
+    // the check counted the shell's topology by the slabs (the others keeping theirs:
+    // lib/src/check/slab_topology.hpp).
+    std::vector<std::size_t> slab_starts;
+    std::size_t slab_triangles = 0;
+    bool check_topology_slabs = false;
 };
 
 // How the run fitted its memory (Parameters::max_memory, or what the machine had free),

@@ -7,6 +7,7 @@
 #include <functional>
 #include <vector>
 
+#include "check/mesh_topology.hpp"
 #include "check/point_depths.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "snvr/geometry.hpp"
@@ -44,6 +45,9 @@ struct CheckElsewhere {
     std::vector<std::uint8_t> groups;
     std::vector<PointDepths::Span> spans;
     std::function<void(std::vector<double>& wall, PointDepths::Figures& points)> fill;
+    // Where set, the shell's topology (measure_shell's: the surface's figures need the
+    // whole mesh's adjacency), counted elsewhere in part (slab_topology.hpp).
+    std::function<Topology()> topology;
 };
 
 // How far a check's walls and depths have come (Told): between its rounds, kCheckRounds

@@ -1,6 +1,7 @@
 // serve_shell and serve_input (shell.hpp): what another process does in a make_shell and a
 // read_input spread over processes.
 #include "check/walls.hpp"
+#include "pipeline/shared_check.hpp"
 #include "pipeline/shared_guard.hpp"
 #include "process_limits.hpp"
 #include "snvr/quality.hpp"
@@ -18,9 +19,11 @@ void serve_shell(const Parameters& params, TileScheduler& tiles_on) {
     const std::size_t budget = params.max_memory.value_or(0);
     const detail::BudgetScope within(budget, 0);
     const detail::SpillScope spill(budget, 0, params.temp_dir);
-    reconstruct_tiles_of(params, tiles_on);
+    Result run = reconstruct_tiles_of(params, tiles_on);
     const std::shared_ptr<detail::KeptRange> kept = std::move(tiles_on.points_kept);
     detail::answer_guard_search(tiles_on, kept.get());
+    detail::serve_check_slab(tiles_on, std::move(run.surface));
+    run = Result();
     tiles_on.send_check(detail::measure_check_share(tiles_on.check_share(), kept.get()));
 }
 

@@ -7,15 +7,19 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "check/point_depths.hpp"
+#include "check/slab_topology.hpp"
 #include "check/walls.hpp"
 #include "geometry/point_tree.hpp"
 #include "geometry/vec3_math.hpp"
 #include "snvr/error.hpp"
+#include "snvr/mesh_io.hpp"
+#include "solver/sent_arrays.hpp"
 #include "solver/tile_plan.hpp"
 
 namespace snvr::detail {
@@ -45,6 +49,12 @@ int cell_of(double x, double origin, double h, int n) {
 // block's other process is given 84 M points and ends with the first (before each key was
 // made once, at 0.08 it was given 91 M and its check took 24.3 s where 18.9; at 0.13, 68 M).
 constexpr double kWallSeconds = 0.8e-6;
+// Where the slabs count the topology (the others theirs while the first deals the shares),
+// the first counts only its own slab's: on the 50 M-point city block at 1024 cells, 1.5-1.7
+// s where the whole mesh's took about 3 s more there, and 0.6 s at the other, where it
+// ran apart (4.4 and 2.2 M vertices); its first ended 2.5-3 s before the other with the
+// whole's share of the first's work (0.43 a vertex) taken off its own, 1.0 a vertex kept
+// for both.
 constexpr double kFirstWorkAVertex = 1.0;
 constexpr double kShareAWall = 0.12;
 constexpr double kWorkAGroup = 9;
@@ -52,8 +62,10 @@ constexpr double kGiveAPoint = 0.03;
 constexpr double kSendAPoint = 0.08;
 // A group another process measures in its own range of the points (kept since the
 // filing: neither sent nor filed again) costs it this much of kWorkAGroup (the 50 M-point
-// city block at 1024 on two processes: 6.5 us a group there, 9.4 at the first).
-constexpr double kRangeGroupShare = 0.7;
+// city block at 1024 on two processes: 6.5 us a group there, 9.4 at the first, when 0.7
+// was set; 7.3-7.6 us once the slabs counted the topology, the other then ending 2-2.7 s
+// after the first, its mesh written).
+constexpr double kRangeGroupShare = 1.0;
 
 // What a tile holds of the check's work: its vertices' walls, and its points' groups.
 struct TileWork {
@@ -193,11 +205,53 @@ CheckShare mesh_share(const Mesh& mesh, const std::vector<std::uint64_t>& near, 
     return share;
 }
 
+// The first's word on the check by slabs: what they are, then the path whose format holds
+// the coordinates (empty: as they are); where the slabs' vertices moved, each's own.
+void tell_slab_check(TileScheduler& on, SlabsAre are, const SlabsForCheck& slabs, const Mesh& mesh,
+                     const std::vector<std::size_t>& starts) {
+    const std::string word = std::string(1, char(are)) + slabs.written_as;
+    for (int q = 1; q < on.processes(); ++q) {
+        send_array(on, q, word.data(), word.size());
+        if (are == SlabsAre::Moved)
+            send_array(on, q, mesh.vertices.data() + starts[std::size_t(q)], starts[std::size_t(q) + 1] - starts[std::size_t(q)]);
+    }
+}
+
 }  // namespace
 
+void serve_check_slab(TileScheduler& on, Mesh slab) {
+    std::string word;
+    receive_array(on, 0, word);
+    if (word.empty()) throw Error("the first process's word on the check is not whole");
+    const auto are = SlabsAre(word[0]);
+    if (are == SlabsAre::Other) return;
+    const std::string written_as = word.substr(1);
+    if (are == SlabsAre::Moved) receive_into(on, 0, slab.vertices.data(), slab.vertices.size());
+    else if (!written_as.empty()) slab = as_written(std::move(slab), written_as);
+    SlabTopology topology(slab, on);
+    slab = Mesh();
+    topology.count();
+    topology.send_to_first();
+}
+
 MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
-                          TileScheduler& on, TileFacts& facts, const std::function<void()>& meanwhile,
-                          double meanwhile_seconds, const Told& told) {
+                          TileScheduler& on, TileFacts& facts, const SlabsForCheck& slabs,
+                          const std::function<void()>& meanwhile, double meanwhile_seconds, const Told& told) {
+    // The topology by the slabs: the ghosts exchanged first; the others count theirs while
+    // this one deals the shares, and send them before they take theirs.
+    const std::vector<std::size_t>& starts = facts.slab_starts;
+    const bool whole = starts.size() == std::size_t(on.processes()) + 1 && starts.back() == mesh.vertices.size() &&
+                       facts.slab_triangles <= mesh.triangles.size();
+    const SlabsAre are = surface || !whole ? SlabsAre::Other : slabs.are;
+    tell_slab_check(on, are, slabs, mesh, starts);
+    facts.check_topology_slabs = are != SlabsAre::Other;
+    std::optional<SlabTopology> topology;
+    if (facts.check_topology_slabs) {
+        Mesh mine;  // the shell's first slab: its first vertices and triangles
+        mine.vertices.assign(mesh.vertices.begin(), mesh.vertices.begin() + std::ptrdiff_t(starts[1]));
+        mine.triangles.assign(mesh.triangles.begin(), mesh.triangles.begin() + std::ptrdiff_t(facts.slab_triangles));
+        topology.emplace(mine, on);
+    }
     const Domain& d = run.domain;
     const int core = run.tiles.core_cells;
     const std::array<int, 3> n{d.nx, d.ny, d.nz};
@@ -317,6 +371,7 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
         const std::vector<std::uint64_t> near = processes_near(mesh, d, core, reach + longest_edge + 3 * d.h, tile_bits);
         const double eps = wall_epsilon(mesh);
         std::vector<std::uint32_t> local(nv);
+        if (topology) topology->take_others();  // sent before they take their shares
         for (int p = 1; p < processes; ++p) {
             facts.check_points += given[std::size_t(p)].count() + ranged[std::size_t(p)].count();
             {  // its points first, freed before the rest is made
@@ -377,6 +432,11 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             }
         }
     };
+    if (topology)
+        elsewhere.topology = [&topology] {
+            topology->count();
+            return topology->joined();
+        };
     return measure_sharing(mesh, points, run.offset, d.h, surface, elsewhere, told);
 }
 

@@ -4,6 +4,7 @@
 // work) from the triangles near them, while the first does the rest of the check.
 #pragma once
 #include <functional>
+#include <string>
 
 #include "check/walls.hpp"
 #include "snvr/mesh.hpp"
@@ -20,8 +21,25 @@ namespace snvr::detail {
 // to `facts` (TileFacts::check_walls and on). `meanwhile` runs here once this process has
 // measured its own part, before it takes the others' figures: about meanwhile_seconds,
 // which it measures less for.
+//
+// `slabs`: whether the shell is the slabs' own vertices and triangles in turn, as the
+// processes kept them (surface_in_slabs, each rounded as `written_as` holds them), or
+// their triangles with vertices moved here since (the depth guard run here on the whole
+// surface: each is given its vertices), or neither (a piece dropped). Then its topology
+// is counted by the slabs (slab_topology.hpp; not with the surface's figures, which need
+// the whole mesh's adjacency: facts.check_topology_slabs says which). Every other
+// process's serve_check_slab hears which first.
+enum class SlabsAre : char { Other = 0, Kept = 1, Moved = 2 };
+struct SlabsForCheck {
+    SlabsAre are = SlabsAre::Other;
+    std::string written_as;
+};
 MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
-                          TileScheduler& on, TileFacts& facts, const std::function<void()>& meanwhile = {},
-                          double meanwhile_seconds = 0, const Told& told = nullptr);
+                          TileScheduler& on, TileFacts& facts, const SlabsForCheck& slabs,
+                          const std::function<void()>& meanwhile = {}, double meanwhile_seconds = 0,
+                          const Told& told = nullptr);
+// At another process, before it takes its share of the check: its slab's part of the
+// shell's topology, where the first counts it by the slabs (`slab`: surface_in_slabs's).
+void serve_check_slab(TileScheduler& on, Mesh slab);
 
 }  // namespace snvr::detail

@@ -15,6 +15,7 @@
 #include "io/formats.hpp"
 #include "pipeline/outlier_policy.hpp"
 #include "pipeline/shared_check.hpp"
+#include "solver/plan_guard.hpp"
 #include "pipeline/shared_guard.hpp"
 #include "pipeline/shell_mesh.hpp"
 #include "process_limits.hpp"
@@ -246,7 +247,16 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
         const double writing = settings.mesh_ready ? detail::mesh_writing_seconds(written_file(settings.written_as),
                                                                                   shell.mesh.triangles.size())
                                                    : 0;
-        shell.quality = detail::check_sharing(shell.mesh, points, run, settings.measure, *on, shell.run.tiles,
+        // The shell is the slabs the others kept, but where a piece was dropped; its
+        // vertices as they kept them (rounded as written) but where the depth guard ran here
+        // on the whole surface.
+        detail::SlabsForCheck slabs;
+        if (run.surface_made && shell.pieces.dropped == 0)
+            slabs.are = (detail::has_inner_wall(run) && !run.surface_guarded) || run.tiles.guard_rerun
+                            ? detail::SlabsAre::Moved
+                            : detail::SlabsAre::Kept;
+        slabs.written_as = settings.written_as.empty() ? "" : written_file(settings.written_as);
+        shell.quality = detail::check_sharing(shell.mesh, points, run, settings.measure, *on, shell.run.tiles, slabs,
                                               hand_over, writing, told);
     } else {
         hand_over();

@@ -314,6 +314,8 @@ Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const
     Mesh own = slab_own(std::move(weld), starts[std::size_t(me)]);
     facts.slabs = processes;
     facts.slab_ghost = plan.ghost;
+    facts.slab_starts = starts;
+    facts.slab_triangles = own.triangles.size();
     facts.guard_slabs = guard != nullptr;
     // The slabs' own to the first as well.
     facts.slab_bytes = counts[2 * P] + (all_vertices - counts[0]) * sizeof(Vec3) +
@@ -323,7 +325,7 @@ Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const
         detail::send_array(*on, 0, own.vertices.data(), own.vertices.size());
         detail::send_array(*on, 0, own.triangles.data(), own.triangles.size());
         if (guard) slab_guard_checked(*on, bands, unguarded);
-        return Mesh();
+        return own;  // kept for the check (pipeline/shared_check.hpp)
     }
     own.vertices.resize(all_vertices);
     own.triangles.resize(std::size_t(all_triangles));

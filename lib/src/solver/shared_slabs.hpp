@@ -22,7 +22,8 @@ namespace snvr {
 // `pieces`: this process's tiles' (tile_surface, in slices of kSlabSlice planes where there
 // are several processes; freed); `faces`: at the first, the whole grid's field with every
 // tile's face bricks placed (elsewhere unused). Returns the whole surface, faired, at the
-// first; elsewhere an empty mesh. Sets facts.slabs, slab_ghost and slab_bytes.
+// first; elsewhere the slab's own vertices and triangles (kept for the check: pipeline/
+// shared_check.hpp). Sets facts.slabs, slab_ghost, slab_bytes, slab_starts and slab_triangles.
 //
 // With `guard` (several processes), each slab's points are kept deep as well (slab_surface.hpp),
 // where the points near the others' slabs are no more than the vertices they own (else the
