@@ -238,10 +238,10 @@ detail::Topology topology_in_slabs(const Mesh& whole, int processes, std::mt1993
     testing::on_threads(processes, [&](TileScheduler& on) {
         const Mesh& part = parts[std::size_t(on.rank())];
         if (on.rank() != 0 || !first_takes_first) {
-            got[std::size_t(on.rank())] = detail::slab_topology(part, on);
+            got[std::size_t(on.rank())] = detail::slab_topology(detail::SlabPart::of(part), on);
             return;
         }
-        detail::SlabTopology slabs(part, on);
+        detail::SlabTopology slabs(detail::SlabPart::of(part), on);
         slabs.take_others();
         slabs.count();
         got[0] = slabs.joined();

@@ -71,13 +71,13 @@ PartPieces take_pieces(TileScheduler& on, int from) {
 
 }  // namespace
 
-SlabTopology::SlabTopology(const Mesh& part, TileScheduler& on) : on_(on) {
+SlabTopology::SlabTopology(SlabPart part, TileScheduler& on) : on_(on), part_(part) {
     const int processes = on.processes(), me = on.rank();
     const std::size_t P = std::size_t(processes), p = std::size_t(me);
     // Where each slab's vertices and triangles begin in the whole mesh.
     std::vector<std::uint64_t> sizes(2 * P, 0);
-    sizes[p] = part.vertices.size();
-    sizes[P + p] = part.triangles.size();
+    sizes[p] = part.vertex_count;
+    sizes[P + p] = part.triangle_count;
     on.sum(sizes);
     starts_.assign(P + 1, 0);
     triangle_starts_.assign(P + 1, 0);
@@ -94,18 +94,18 @@ SlabTopology::SlabTopology(const Mesh& part, TileScheduler& on) : on_(on) {
     };
     // The whole mesh's box, for the volume's centre and quantum.
     std::vector<double> box(6, std::numeric_limits<double>::infinity());
-    for (const Vec3& x : part.vertices)
+    for (std::size_t v = 0; v < part.vertex_count; ++v)
         for (std::size_t a = 0; a < 3; ++a) {
-            box[a] = std::min(box[a], x[a]);
-            box[3 + a] = std::min(box[3 + a], -x[a]);
+            box[a] = std::min(box[a], part.vertices[v][a]);
+            box[3 + a] = std::min(box[3 + a], -part.vertices[v][a]);
         }
     on.least(box);
     if (starts_[P]) sum_ = VolumeSum({box[0], box[1], box[2]}, {-box[3], -box[4], -box[5]});
 
     // Its own triangles that use another's vertices, to that one (every one it uses).
     std::vector<std::vector<Ghost>> give(P);
-    given_.assign(part.triangles.size(), 0);
-    for (std::size_t t = 0; t < part.triangles.size(); ++t) {
+    given_.assign(part.triangle_count, 0);
+    for (std::size_t t = 0; t < part.triangle_count; ++t) {
         const Tri& T = part.triangles[t];
         std::size_t to[3];
         int n = 0;
@@ -152,60 +152,61 @@ SlabTopology::SlabTopology(const Mesh& part, TileScheduler& on) : on_(on) {
             if (positions[std::size_t(q)].size() != wanted[std::size_t(q)].size())
                 throw Error("the vertices of a slab from process " + std::to_string(q) + " are not those asked for");
         });
-    give = {};
+    // Kept until counted: the ghosts, and the others' vertices by number (ascending: the
+    // processes hold ascending runs), with their positions.
+    for (std::size_t q = 0; q < P; ++q) {
+        ghosts_.insert(ghosts_.end(), ghosts[q].begin(), ghosts[q].end());
+        foreign_.insert(foreign_.end(), wanted[q].begin(), wanted[q].end());
+        foreign_at_.insert(foreign_at_.end(), positions[q].begin(), positions[q].end());
+    }
+}
 
-    // The part as one mesh, numbered in the whole mesh's order (so each edge's smaller end
-    // is the whole mesh's).
-    std::vector<std::uint32_t> foreign;
-    for (const Tri& T : part.triangles)
-        for (std::uint32_t v : T)
-            if (v < lo || v >= hi) foreign.push_back(v);
-    for (const auto& from : ghosts)
-        for (const Ghost& g : from)
-            for (int c = 1; c < 4; ++c)
-                if (g[std::size_t(c)] < lo || g[std::size_t(c)] >= hi) foreign.push_back(g[std::size_t(c)]);
+void SlabTopology::count() {
+    // The part as one mesh: the other slabs' vertices its triangles and ghosts use numbered
+    // about its own in the whole mesh's order (so that each edge's smaller end is the whole
+    // mesh's), its own triangles, then the ghosts.
+    const std::size_t p = std::size_t(on_.rank());
+    const auto lo = std::uint32_t(starts_[p]), hi = std::uint32_t(starts_[p + 1]);
+    std::vector<std::uint32_t> foreign = foreign_;  // those of the ghosts (no position needed) too
+    for (const Ghost& g : ghosts_)
+        for (int c = 1; c < 4; ++c)
+            if (g[std::size_t(c)] < lo || g[std::size_t(c)] >= hi) foreign.push_back(g[std::size_t(c)]);
     std::sort(foreign.begin(), foreign.end());
     foreign.erase(std::unique(foreign.begin(), foreign.end()), foreign.end());
     const std::size_t below = std::size_t(std::lower_bound(foreign.begin(), foreign.end(), lo) - foreign.begin());
-    const std::size_t own = part.vertices.size();
+    const std::size_t own = part_.vertex_count;
     const auto local = [&](std::uint32_t v) {
         if (v >= lo && v < hi) return std::uint32_t(below + (v - lo));
         const std::size_t i = std::size_t(std::lower_bound(foreign.begin(), foreign.end(), v) - foreign.begin());
         return std::uint32_t(i < below ? i : i + own);
     };
-    held_.vertices.assign(foreign.size() + own, Vec3{0, 0, 0});
-    std::copy(part.vertices.begin(), part.vertices.end(), held_.vertices.begin() + std::ptrdiff_t(below));
-    for (std::size_t q = 0; q < P; ++q)
-        for (std::size_t k = 0; k < wanted[q].size(); ++k) held_.vertices[local(wanted[q][k])] = positions[q][k];
-    std::size_t ghost_count = 0;
-    for (const auto& from : ghosts) ghost_count += from.size();
-    held_.triangles.reserve(part.triangles.size() + ghost_count);
-    ghost_numbers_.reserve(ghost_count);
-    for (const Tri& T : part.triangles) held_.triangles.push_back({local(T[0]), local(T[1]), local(T[2])});
-    for (const auto& from : ghosts)
-        for (const Ghost& g : from) {
-            held_.triangles.push_back({local(g[1]), local(g[2]), local(g[3])});
-            ghost_numbers_.push_back(g[0]);
-        }
-    own_lo_ = below;
-    own_hi_ = below + own;
-    own_triangles_ = part.triangles.size();
-}
-
-void SlabTopology::count() {
-    const MeshAdjacency adjacency = adjacency_of(held_);
-    counts_ = part_counts(held_, adjacency, own_triangles_, own_lo_, own_hi_);
-    pieces_ = part_pieces(held_, adjacency, own_triangles_, own_lo_, own_hi_, sum_);
-    held_ = Mesh();
+    Mesh held;
+    held.vertices.assign(foreign.size() + own, Vec3{0, 0, 0});
+    std::copy(part_.vertices, part_.vertices + own, held.vertices.begin() + std::ptrdiff_t(below));
+    for (std::size_t k = 0; k < foreign_.size(); ++k) held.vertices[local(foreign_[k])] = foreign_at_[k];
+    held.triangles.reserve(part_.triangle_count + ghosts_.size());
+    for (std::size_t t = 0; t < part_.triangle_count; ++t) {
+        const Tri& T = part_.triangles[t];
+        held.triangles.push_back({local(T[0]), local(T[1]), local(T[2])});
+    }
+    for (const Ghost& g : ghosts_) held.triangles.push_back({local(g[1]), local(g[2]), local(g[3])});
+    const std::size_t own_lo = below, own_hi = below + own, own_triangles = part_.triangle_count;
+    {
+        const MeshAdjacency adjacency = adjacency_of(held);
+        counts_ = part_counts(held, adjacency, own_triangles, own_lo, own_hi);
+        pieces_ = part_pieces(held, adjacency, own_triangles, own_lo, own_hi, sum_);
+    }
+    held = Mesh();
     // The pieces that share a triangle: (the triangle's number, its piece here) for each
     // ghost here and each own triangle given, the proper ones.
-    for (std::size_t k = 0; k < ghost_numbers_.size(); ++k)
-        if (pieces_.label[own_triangles_ + k] != kNoPiece)
-            ghost_pieces_.push_back({ghost_numbers_[k], pieces_.label[own_triangles_ + k]});
-    const std::uint64_t first = triangle_starts_[std::size_t(on_.rank())];
-    for (std::size_t t = 0; t < own_triangles_; ++t)
+    for (std::size_t k = 0; k < ghosts_.size(); ++k)
+        if (pieces_.label[own_triangles + k] != kNoPiece) ghost_pieces_.push_back({ghosts_[k][0], pieces_.label[own_triangles + k]});
+    const std::uint64_t first = triangle_starts_[p];
+    for (std::size_t t = 0; t < own_triangles; ++t)
         if (given_[t] && pieces_.label[t] != kNoPiece) given_pieces_.push_back({std::uint32_t(first + t), pieces_.label[t]});
     pieces_.label = {};
+    ghosts_ = {};
+    given_ = {};
 }
 
 void SlabTopology::send_to_first() {
@@ -263,7 +264,7 @@ Topology SlabTopology::joined() {
     return joined_topology(all_counts, all, joined, sum_);
 }
 
-Topology slab_topology(const Mesh& part, TileScheduler& on) {
+Topology slab_topology(SlabPart part, TileScheduler& on) {
     SlabTopology slabs(part, on);
     slabs.count();
     if (on.rank() != 0) {

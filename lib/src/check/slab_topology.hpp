@@ -27,9 +27,22 @@ namespace snvr::detail {
 // of the processes before it (by rank), its triangles the whole mesh's from the count of
 // theirs, by the whole mesh's vertex numbers (any vertex of any slab). Throws InputError
 // for a vertex number beyond the whole mesh's.
+// A slab as the process holds it (a run of the whole mesh's vertices and triangles): kept
+// by the caller until count() is done, and unchanged.
+struct SlabPart {
+    const Vec3* vertices = nullptr;
+    std::size_t vertex_count = 0;
+    const std::array<std::uint32_t, 3>* triangles = nullptr;
+    std::size_t triangle_count = 0;
+    // The first `vertices` and `triangles` of a mesh, or all of them.
+    static SlabPart of(const Mesh& mesh, std::size_t vertices, std::size_t triangles) {
+        return {mesh.vertices.data(), vertices, mesh.triangles.data(), triangles};
+    }
+    static SlabPart of(const Mesh& mesh) { return of(mesh, mesh.vertices.size(), mesh.triangles.size()); }
+};
 class SlabTopology {
 public:
-    SlabTopology(const Mesh& part, TileScheduler& on);
+    SlabTopology(SlabPart part, TileScheduler& on);
     void count();
     void send_to_first();
     void take_others();
@@ -37,14 +50,15 @@ public:
 
 private:
     TileScheduler& on_;
+    SlabPart part_;
     std::vector<std::uint64_t> starts_, triangle_starts_;  // each slab's first vertex and triangle, and the whole's counts
     VolumeSum sum_{Vec3{0, 0, 0}, Vec3{0, 0, 0}};
-    // The part as one mesh: the other slabs' vertices its triangles use numbered about its
-    // own in the whole mesh's order, its own triangles, then the ghosts.
-    Mesh held_;
-    std::size_t own_lo_ = 0, own_hi_ = 0, own_triangles_ = 0;
-    std::vector<std::uint32_t> ghost_numbers_;  // in the whole mesh, in held_'s order
-    std::vector<std::uint8_t> given_;            // an own triangle given to another process
+    // The others' triangles that use its vertices (each's number in the whole mesh, then
+    // its corners), and the others' vertices its own triangles use, with their positions.
+    std::vector<std::array<std::uint32_t, 4>> ghosts_;
+    std::vector<std::uint32_t> foreign_;
+    std::vector<Vec3> foreign_at_;
+    std::vector<std::uint8_t> given_;  // an own triangle given to another process
     // What it counted; at the first, each other's too.
     MeshReport counts_;
     PartPieces pieces_;
@@ -56,6 +70,6 @@ private:
 
 // All steps at once: every process calls it; the figures come out at the first
 // (elsewhere, zeros).
-Topology slab_topology(const Mesh& part, TileScheduler& on);
+Topology slab_topology(SlabPart part, TileScheduler& on);
 
 }  // namespace snvr::detail

@@ -228,8 +228,7 @@ void serve_check_slab(TileScheduler& on, Mesh slab) {
     const std::string written_as = word.substr(1);
     if (are == SlabsAre::Moved) receive_into(on, 0, slab.vertices.data(), slab.vertices.size());
     else if (!written_as.empty()) slab = as_written(std::move(slab), written_as);
-    SlabTopology topology(slab, on);
-    slab = Mesh();
+    SlabTopology topology(SlabPart::of(slab), on);
     topology.count();
     topology.send_to_first();
 }
@@ -246,12 +245,8 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     tell_slab_check(on, are, slabs, mesh, starts);
     facts.check_topology_slabs = are != SlabsAre::Other;
     std::optional<SlabTopology> topology;
-    if (facts.check_topology_slabs) {
-        Mesh mine;  // the shell's first slab: its first vertices and triangles
-        mine.vertices.assign(mesh.vertices.begin(), mesh.vertices.begin() + std::ptrdiff_t(starts[1]));
-        mine.triangles.assign(mesh.triangles.begin(), mesh.triangles.begin() + std::ptrdiff_t(facts.slab_triangles));
-        topology.emplace(mine, on);
-    }
+    if (facts.check_topology_slabs)  // the shell's first slab: its first vertices and triangles
+        topology.emplace(SlabPart::of(mesh, starts[1], facts.slab_triangles), on);
     const Domain& d = run.domain;
     const int core = run.tiles.core_cells;
     const std::array<int, 3> n{d.nx, d.ny, d.nz};
