@@ -38,20 +38,23 @@ public:
         const double c0 = C[0] - centre_[0], c1 = C[1] - centre_[1], c2 = C[2] - centre_[2];
         const double six = a0 * (b1 * c2 - b2 * c1) + a1 * (b2 * c0 - b0 * c2) + a2 * (b0 * c1 - b1 * c0);
         const double x = six * scale_;  // a power of two: exact
-        if (!(std::fabs(x) < std::ldexp(1.0, kBits + 1))) {
+        if (!(std::fabs(x) < 0x1p85)) {
             finite = false;
             return 0;
         }
-        // Its upper and lower 42 bits apart (each exact in a double), the lower rounded.
-        const double high = std::trunc(std::ldexp(x, -kSplit));
-        const double low = x - std::ldexp(high, kSplit);
-        return ExactSum(std::int64_t(high)) * (ExactSum(1) << kSplit) + ExactSum(std::llround(low));
+        // Its upper bits apart (the product truncated: exact, under 2^43), then the lower
+        // 42 (exact: a multiple of x's last place), rounded to the nearest (ties to even)
+        // by adding and taking away 1.5 x 2^52.
+        const auto high = std::int64_t(x * 0x1p-42);
+        const double low = x - double(high) * 0x1p42;
+        const double rounded = (low + 0x1.8p52) - 0x1.8p52;
+        return ExactSum(high) * (ExactSum(1) << 42) + ExactSum(std::int64_t(rounded));
     }
     // Six times the volume of a sum of terms.
     double six_volume(ExactSum sum) const { return double(sum) / scale_; }
 
 private:
-    static constexpr int kBits = 84, kSplit = 42;
+    static constexpr int kBits = 84;
     Vec3 centre_{0, 0, 0};
     double scale_ = 1;
 };
