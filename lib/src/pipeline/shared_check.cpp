@@ -427,11 +427,13 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             }
         }
     };
-    if (topology)
-        elsewhere.topology = [&topology] {
-            topology->count();
-            return topology->joined();
-        };
+    // Its own slab counted now, as the others begin measuring their shares: within
+    // measure_sharing's topology task it ran late in the check, in 1.5-1.9 s where here it
+    // takes 0.83-0.85 s (the 50 M-point city block's first slab, 2.2 M vertices).
+    if (topology) {
+        topology->count();
+        elsewhere.topology = [&topology] { return topology->joined(); };
+    }
     return measure_sharing(mesh, points, run.offset, d.h, surface, elsewhere, told);
 }
 
