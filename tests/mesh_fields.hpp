@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "snvr/mesh.hpp"
@@ -48,6 +49,15 @@ inline void check_printable(const MeshReport& r) {
     CHECK(r.closed());
     CHECK(r.manifold());
     CHECK(r.oriented());
+}
+
+// `a` with `b` appended, b's vertex numbers moved past a's.
+inline Mesh merge(const Mesh& a, const Mesh& b) {
+    Mesh m = a;
+    const auto off = std::uint32_t(a.vertices.size());
+    m.vertices.insert(m.vertices.end(), b.vertices.begin(), b.vertices.end());
+    for (auto t : b.triangles) m.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+    return m;
 }
 
 }  // namespace snvr::testing

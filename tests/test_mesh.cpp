@@ -86,14 +86,6 @@ Mesh tetrahedron(Vec3 o, double s) {
     return m;
 }
 
-Mesh merge(const Mesh& a, const Mesh& b) {
-    Mesh m = a;
-    const auto off = std::uint32_t(a.vertices.size());
-    m.vertices.insert(m.vertices.end(), b.vertices.begin(), b.vertices.end());
-    for (auto t : b.triangles) m.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
-    return m;
-}
-
 }  // namespace
 
 TEST_CASE("sphere field: closed, oriented, one component, close to the sphere") {

@@ -24,6 +24,7 @@
 #include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shapes.hpp"
+#include "mesh_fields.hpp"
 #include "temp_dir.hpp"
 #include "thread_processes.hpp"
 #include "check/mesh_topology.hpp"
@@ -267,23 +268,15 @@ void check_same_topology(const detail::Topology& a, const detail::Topology& b) {
     CHECK(a.open_components == b.open_components);
 }
 
-// `m` with `more` appended, its vertex numbers moved past m's.
-Mesh joined_meshes(Mesh m, const Mesh& more) {
-    const auto base = std::uint32_t(m.vertices.size());
-    m.vertices.insert(m.vertices.end(), more.vertices.begin(), more.vertices.end());
-    for (auto t : more.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-    return m;
-}
-
 }  // namespace
 
 TEST_CASE("quality: the topology of a mesh in slabs over processes is the whole mesh's, every figure") {
     // Shapes of known figures, then defects of every kind the report counts.
     const Mesh sphere = isosurface([](const Vec3& p) { return 0.3 - dist(p, kCentre); }, {0.1, 0.1, 0.1}, 0.02, 40);
     const Mesh torus = torus_mesh();
-    Mesh two_tori = joined_meshes(torus, torus);
+    Mesh two_tori = testing::merge(torus, torus);
     for (std::size_t k = torus.vertices.size(); k < two_tori.vertices.size(); ++k) two_tori.vertices[k][0] += 0.55;
-    Mesh defects = joined_meshes(shell(), icosphere({0.5, 0.5, 0.5}, 0.05, 2));
+    Mesh defects = testing::merge(shell(), icosphere({0.5, 0.5, 0.5}, 0.05, 2));
     defects.triangles[3] = {defects.triangles[3][0], defects.triangles[3][2], defects.triangles[3][1]};  // misoriented
     defects.triangles.erase(defects.triangles.begin() + 100);                                            // a hole
     defects.triangles.push_back(defects.triangles[500]);                                                 // non-manifold

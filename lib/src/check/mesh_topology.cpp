@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "geometry/disjoint_sets.hpp"
+#include "geometry/vec3_math.hpp"
 
 namespace snvr::detail {
 
@@ -143,14 +144,8 @@ Topology mesh_topology(const Mesh& mesh, const MeshAdjacency& adjacency) {
     MeshReport counts = part_counts(mesh, adjacency, nt, 0, nv);
     counts.vertices = nv;
     counts.triangles = nt;
-    Vec3 lo{0, 0, 0}, hi{0, 0, 0};
-    if (nv) lo = hi = mesh.vertices[0];
-    for (const Vec3& p : mesh.vertices)
-        for (int d = 0; d < 3; ++d) {
-            lo[d] = std::min(lo[d], p[d]);
-            hi[d] = std::max(hi[d], p[d]);
-        }
-    const VolumeSum sum(lo, hi);
+    const Bounds box = bounds(mesh.vertices);
+    const VolumeSum sum(box.lo, box.hi);
     return joined_topology(counts, part_pieces(mesh, adjacency, nt, 0, nv, sum), {}, sum);
 }
 

@@ -219,10 +219,8 @@ void SlabTopology::send_to_first() {
 
 void SlabTopology::take_others() {
     for (int q = 1; q < on_.processes(); ++q) {
-        std::array<std::uint64_t, kCounts> row{};
-        receive_into(on_, q, row.data(), row.size());
         their_counts_.emplace_back();
-        add_row(their_counts_.back(), row.data());
+        receive_into(on_, q, their_counts_.back().data(), their_counts_.back().size());
         their_pieces_.push_back(take_pieces(on_, q));
         their_ghosts_.emplace_back();
         their_given_.emplace_back();
@@ -242,8 +240,7 @@ Topology SlabTopology::joined() {
     PartPieces all = std::move(pieces_);
     std::vector<std::array<std::uint32_t, 2>> ghosts = std::move(ghost_pieces_), given = std::move(given_pieces_);
     for (std::size_t q = 0; q + 1 < P; ++q) {
-        const std::array<std::uint64_t, kCounts> row = counts_row(their_counts_[q]);
-        add_row(all_counts, row.data());
+        add_row(all_counts, their_counts_[q].data());
         const auto offset = std::uint32_t(all.pieces());
         const std::size_t n = their_pieces_[q].pieces();
         all.append(their_pieces_[q]);

@@ -63,7 +63,8 @@ private:
     MeshReport counts_;
     PartPieces pieces_;
     std::vector<std::array<std::uint32_t, 2>> ghost_pieces_, given_pieces_;
-    std::vector<MeshReport> their_counts_;
+    using CountsRow = std::array<std::uint64_t, 6>;  // part_counts' defects, in a row (slab_topology.cpp)
+    std::vector<CountsRow> their_counts_;
     std::vector<PartPieces> their_pieces_;
     std::vector<std::vector<std::array<std::uint32_t, 2>>> their_ghosts_, their_given_;
 };
