@@ -28,7 +28,9 @@
 #include "temp_dir.hpp"
 #include "thread_processes.hpp"
 #include "check/mesh_topology.hpp"
+#include "check/slab_shares.hpp"
 #include "check/slab_topology.hpp"
+#include "geometry/vec3_math.hpp"
 #include "mesh/triangle_grid.hpp"
 
 // The library's OpenMP runtime (linked with it): the tests compare thread counts.
@@ -216,8 +218,8 @@ TEST_CASE("quality: a spherical shell of radii R - l and R + l") {
 namespace {
 
 // `whole` in `processes` slabs cut at random places of its vertices and, apart, of its
-// triangles (some slabs empty), its topology measured by processes as threads.
-detail::Topology topology_in_slabs(const Mesh& whole, int processes, std::mt19937& rng) {
+// triangles (some slabs empty).
+std::vector<Mesh> slabs_of(const Mesh& whole, int processes, std::mt19937& rng) {
     const auto cuts = [&](std::size_t n) {
         std::uniform_int_distribution<std::size_t> at(0, n);
         std::vector<std::size_t> c{0, n};
@@ -232,6 +234,12 @@ detail::Topology topology_in_slabs(const Mesh& whole, int processes, std::mt1993
         parts[p].triangles.assign(whole.triangles.begin() + std::ptrdiff_t(t[p]),
                                   whole.triangles.begin() + std::ptrdiff_t(t[p + 1]));
     }
+    return parts;
+}
+
+// `whole` in slabs (slabs_of), its topology measured by processes as threads.
+detail::Topology topology_in_slabs(const Mesh& whole, int processes, std::mt19937& rng) {
+    const std::vector<Mesh> parts = slabs_of(whole, processes, rng);
     // All steps at once, or the first taking the others' counts before counting its own
     // (as a run does, between other work).
     std::vector<detail::Topology> got(parts.size());
@@ -242,7 +250,8 @@ detail::Topology topology_in_slabs(const Mesh& whole, int processes, std::mt1993
             got[std::size_t(on.rank())] = detail::slab_topology(detail::SlabPart::of(part), on);
             return;
         }
-        detail::SlabTopology slabs(detail::SlabPart::of(part), on);
+        detail::SlabMesh held(detail::SlabPart::of(part), on);
+        detail::SlabTopology slabs(held, on);
         slabs.take_others();
         slabs.count();
         got[0] = slabs.joined();
@@ -321,6 +330,88 @@ TEST_CASE("quality: the topology of a mesh in slabs over processes is the whole 
                 check_same_topology(topology_in_slabs(*m, processes, rng), whole);
             }
     }
+}
+
+namespace {
+
+// Process p's share of the check as the whole mesh gives it (what the first cut out of it
+// before the slabs gave the shares): the triangles with a corner near p, in order, their
+// vertices numbered as they first come, the walls p measures.
+detail::ShareMesh share_of_whole(const Mesh& whole, const detail::CheckDeal& deal, int p) {
+    constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+    detail::ShareMesh share;
+    std::vector<std::uint32_t> number(whole.vertices.size(), kNone);
+    for (const auto& t : whole.triangles) {
+        std::uint64_t near = 0;
+        for (std::uint32_t v : t) near |= deal.near(whole.vertices[v]);
+        if (!(near >> p & 1)) continue;
+        std::array<std::uint32_t, 3> mine;
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t v = t[std::size_t(c)];
+            if (number[v] == kNone) {
+                number[v] = std::uint32_t(share.vertices.size());
+                share.vertices.push_back(whole.vertices[v]);
+                if (deal.walls_by[deal.tile_at(whole.vertices[v])] == p) {
+                    share.measured.push_back(number[v]);
+                    share.measured_whole.push_back(v);
+                }
+            }
+            mine[std::size_t(c)] = number[v];
+        }
+        share.triangles.push_back(mine);
+    }
+    return share;
+}
+
+}  // namespace
+
+TEST_CASE("quality: the check's shares gathered from slabs are the whole mesh's, to the bit") {
+    const Mesh sphere = isosurface([](const Vec3& p) { return 0.3 - dist(p, kCentre); }, {0.1, 0.1, 0.1}, 0.02, 40);
+    Mesh two_tori = testing::merge(torus_mesh(), torus_mesh());
+    for (std::size_t k = two_tori.vertices.size() / 2; k < two_tori.vertices.size(); ++k) two_tori.vertices[k][0] += 0.55;
+    std::mt19937 rng(11);
+    std::size_t shares = 0, empty = 0;
+    for (const Mesh* m : std::vector<const Mesh*>{&sphere, &two_tori, &shell()})
+        for (int processes = 2; processes <= 5; ++processes)
+            for (int round = 0; round < 3; ++round) {
+                CAPTURE(processes);
+                CAPTURE(round);
+                // A grid of 4^3 tiles over the mesh's box, each tile's measurers at random.
+                const Bounds box = bounds(m->vertices);
+                detail::CheckDeal deal;
+                deal.core = 4;
+                deal.grid.nx = deal.grid.ny = deal.grid.nz = 16;
+                deal.grid.h = box.longest() / 15;
+                for (std::size_t a = 0; a < 3; ++a) deal.grid.origin[a] = box.lo[a] - 0.5 * deal.grid.h;
+                deal.widened = std::uniform_real_distribution<double>(0, 2 * deal.grid.h)(rng);
+                std::uniform_int_distribution<int> process(0, processes - 1);
+                for (int t = 0; t < 64; ++t) {
+                    deal.walls_by.push_back(std::uint8_t(process(rng)));
+                    deal.measures_in.push_back(std::uint64_t(1) << deal.walls_by.back() | std::uint64_t(1) << process(rng));
+                }
+                const std::vector<Mesh> parts = slabs_of(*m, processes, rng);
+                std::vector<detail::ShareMesh> got(parts.size());
+                std::vector<std::uint64_t> bytes(parts.size());
+                testing::on_threads(processes, [&](TileScheduler& on) {
+                    const std::size_t p = std::size_t(on.rank());
+                    detail::SlabMesh held(detail::SlabPart::of(parts[p]), on);
+                    got[p] = detail::share_from_slabs(held, deal, on, bytes[p]);
+                });
+                CHECK(got[0].triangles.empty());  // the first measures on the whole mesh
+                for (int p = 1; p < processes; ++p) {
+                    const detail::ShareMesh want = share_of_whole(*m, deal, p);
+                    const detail::ShareMesh& share = got[std::size_t(p)];
+                    CHECK(share.vertices == want.vertices);
+                    CHECK(share.triangles == want.triangles);
+                    CHECK(share.measured == want.measured);
+                    CHECK(share.measured_whole == want.measured_whole);
+                    CHECK(bytes[std::size_t(p)] == bytes[0]);
+                    (want.triangles.empty() || want.triangles.size() == m->triangles.size() ? empty : shares) += 1;
+                }
+            }
+    // Most shares hold part of the mesh, neither none nor all of it.
+    MESSAGE(shares << " shares of part of a mesh, " << empty << " of none or all");
+    CHECK(shares > 2 * empty);
 }
 
 TEST_CASE("quality: a ball around one point: offset error, depth and wall") {

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,8 +15,6 @@ namespace snvr::detail {
 namespace {
 
 using Tri = std::array<std::uint32_t, 3>;
-// A triangle given to another process: its number in the whole mesh, then its corners.
-using Ghost = std::array<std::uint32_t, 4>;
 
 // What MeshReport counts a part owns, in a row to send (part_counts).
 constexpr std::size_t kCounts = 6;
@@ -71,110 +68,27 @@ PartPieces take_pieces(TileScheduler& on, int from) {
 
 }  // namespace
 
-SlabTopology::SlabTopology(SlabPart part, TileScheduler& on) : on_(on), part_(part) {
-    const int processes = on.processes(), me = on.rank();
-    const std::size_t P = std::size_t(processes), p = std::size_t(me);
-    // Where each slab's vertices and triangles begin in the whole mesh.
-    std::vector<std::uint64_t> sizes(2 * P, 0);
-    sizes[p] = part.vertex_count;
-    sizes[P + p] = part.triangle_count;
-    on.sum(sizes);
-    starts_.assign(P + 1, 0);
-    triangle_starts_.assign(P + 1, 0);
-    for (std::size_t q = 0; q < P; ++q) {
-        starts_[q + 1] = starts_[q] + sizes[q];
-        triangle_starts_[q + 1] = triangle_starts_[q] + sizes[P + q];
-    }
-    constexpr std::uint64_t kMost = std::numeric_limits<std::uint32_t>::max();
-    if (starts_[P] >= kMost || triangle_starts_[P] >= kMost)
-        throw ResourceError("the check of a mesh in slabs: more than 2^32 vertices or triangles");
-    const auto lo = std::uint32_t(starts_[p]), hi = std::uint32_t(starts_[p + 1]);
-    const auto owner = [&](std::uint32_t v) {
-        return std::size_t(std::upper_bound(starts_.begin(), starts_.end(), std::uint64_t(v)) - starts_.begin()) - 1;
-    };
-    // The whole mesh's box, for the volume's centre and quantum.
-    std::vector<double> box(6, std::numeric_limits<double>::infinity());
-    for (std::size_t v = 0; v < part.vertex_count; ++v)
-        for (std::size_t a = 0; a < 3; ++a) {
-            box[a] = std::min(box[a], part.vertices[v][a]);
-            box[3 + a] = std::min(box[3 + a], -part.vertices[v][a]);
-        }
-    on.least(box);
-    if (starts_[P]) sum_ = VolumeSum({box[0], box[1], box[2]}, {-box[3], -box[4], -box[5]});
-
-    // Its own triangles that use another's vertices, to that one (every one it uses).
-    std::vector<std::vector<Ghost>> give(P);
-    given_.assign(part.triangle_count, 0);
-    for (std::size_t t = 0; t < part.triangle_count; ++t) {
-        const Tri& T = part.triangles[t];
-        std::size_t to[3];
-        int n = 0;
-        for (std::uint32_t v : T) {
-            if (v >= starts_[P])
-                throw InputError("the check of a mesh in slabs: triangle " + std::to_string(triangle_starts_[p] + t) +
-                                 " uses vertex " + std::to_string(v) + " of " + std::to_string(starts_[P]));
-            if (v >= lo && v < hi) continue;
-            const std::size_t q = owner(v);
-            if (std::find(to, to + n, q) == to + n) to[n++] = q;
-        }
-        for (int k = 0; k < n; ++k)
-            give[to[k]].push_back({std::uint32_t(triangle_starts_[p] + t), T[0], T[1], T[2]});
-        given_[t] = n > 0;
-    }
-    // The vertices of one process that some triangles use, in order (both sides make it alike).
-    const auto used_of = [&](const std::vector<Ghost>& triangles, std::size_t q) {
-        std::vector<std::uint32_t> used;
-        for (const Ghost& g : triangles)
-            for (int c = 1; c < 4; ++c)
-                if (owner(g[std::size_t(c)]) == q) used.push_back(g[std::size_t(c)]);
-        std::sort(used.begin(), used.end());
-        used.erase(std::unique(used.begin(), used.end()), used.end());
-        return used;
-    };
-    // Each other's ghosts here, then the positions of the vertices of its own that those use.
-    std::vector<std::vector<Ghost>> ghosts(P);
-    exchange_pairwise(
-        on, [&](int q) { send_array(on, q, give[std::size_t(q)].data(), give[std::size_t(q)].size()); },
-        [&](int q) { receive_array(on, q, ghosts[std::size_t(q)]); });
-    std::vector<std::vector<std::uint32_t>> wanted(P);
-    std::vector<std::vector<Vec3>> positions(P);
-    for (std::size_t q = 0; q < P; ++q)
-        if (q != p) wanted[q] = used_of(give[q], q);
-    exchange_pairwise(
-        on,
-        [&](int q) {
-            std::vector<Vec3> theirs;
-            for (std::uint32_t v : used_of(ghosts[std::size_t(q)], p)) theirs.push_back(part.vertices[v - lo]);
-            send_array(on, q, theirs.data(), theirs.size());
-        },
-        [&](int q) {
-            receive_array(on, q, positions[std::size_t(q)]);
-            if (positions[std::size_t(q)].size() != wanted[std::size_t(q)].size())
-                throw Error("the vertices of a slab from process " + std::to_string(q) + " are not those asked for");
-        });
-    // Kept until counted: the ghosts, and the others' vertices by number (ascending: the
-    // processes hold ascending runs), with their positions.
-    for (std::size_t q = 0; q < P; ++q) {
-        ghosts_.insert(ghosts_.end(), ghosts[q].begin(), ghosts[q].end());
-        foreign_.insert(foreign_.end(), wanted[q].begin(), wanted[q].end());
-        foreign_at_.insert(foreign_at_.end(), positions[q].begin(), positions[q].end());
-    }
+SlabTopology::SlabTopology(SlabMesh& slabs, TileScheduler& on) : on_(on), slabs_(slabs) {
+    if (slabs.starts().back()) sum_ = VolumeSum(slabs.box()[0], slabs.box()[1]);
 }
 
 void SlabTopology::count() {
     // The part as one mesh: the other slabs' vertices its triangles and ghosts use numbered
     // about its own in the whole mesh's order (so that each edge's smaller end is the whole
     // mesh's), its own triangles, then the ghosts.
-    const std::size_t p = std::size_t(on_.rank());
-    const auto lo = std::uint32_t(starts_[p]), hi = std::uint32_t(starts_[p + 1]);
-    std::vector<std::uint32_t> foreign = foreign_;  // those of the ghosts (no position needed) too
-    for (const Ghost& g : ghosts_)
+    const std::size_t p = slabs_.rank();
+    const SlabPart& part = slabs_.part();
+    const auto lo = std::uint32_t(slabs_.starts()[p]), hi = std::uint32_t(slabs_.starts()[p + 1]);
+    const std::vector<SlabGhost> ghosts = slabs_.take_ghosts();
+    const std::vector<std::uint8_t> given = slabs_.take_given();
+    std::vector<std::uint32_t> foreign = slabs_.foreign();  // those of the ghosts (no position needed) too
+    for (const SlabGhost& g : ghosts)
         for (int c = 1; c < 4; ++c)
             if (g[std::size_t(c)] < lo || g[std::size_t(c)] >= hi) foreign.push_back(g[std::size_t(c)]);
     std::sort(foreign.begin(), foreign.end());
     foreign.erase(std::unique(foreign.begin(), foreign.end()), foreign.end());
     const std::size_t below = std::size_t(std::lower_bound(foreign.begin(), foreign.end(), lo) - foreign.begin());
-    const std::size_t own = part_.vertex_count;
+    const std::size_t own = part.vertex_count;
     const auto local = [&](std::uint32_t v) {
         if (v >= lo && v < hi) return std::uint32_t(below + (v - lo));
         const std::size_t i = std::size_t(std::lower_bound(foreign.begin(), foreign.end(), v) - foreign.begin());
@@ -182,15 +96,16 @@ void SlabTopology::count() {
     };
     Mesh held;
     held.vertices.assign(foreign.size() + own, Vec3{0, 0, 0});
-    std::copy(part_.vertices, part_.vertices + own, held.vertices.begin() + std::ptrdiff_t(below));
-    for (std::size_t k = 0; k < foreign_.size(); ++k) held.vertices[local(foreign_[k])] = foreign_at_[k];
-    held.triangles.reserve(part_.triangle_count + ghosts_.size());
-    for (std::size_t t = 0; t < part_.triangle_count; ++t) {
-        const Tri& T = part_.triangles[t];
+    std::copy(part.vertices, part.vertices + own, held.vertices.begin() + std::ptrdiff_t(below));
+    for (std::size_t k = 0; k < slabs_.foreign().size(); ++k)
+        held.vertices[local(slabs_.foreign()[k])] = slabs_.foreign_at()[k];
+    held.triangles.reserve(part.triangle_count + ghosts.size());
+    for (std::size_t t = 0; t < part.triangle_count; ++t) {
+        const Tri& T = part.triangles[t];
         held.triangles.push_back({local(T[0]), local(T[1]), local(T[2])});
     }
-    for (const Ghost& g : ghosts_) held.triangles.push_back({local(g[1]), local(g[2]), local(g[3])});
-    const std::size_t own_lo = below, own_hi = below + own, own_triangles = part_.triangle_count;
+    for (const SlabGhost& g : ghosts) held.triangles.push_back({local(g[1]), local(g[2]), local(g[3])});
+    const std::size_t own_lo = below, own_hi = below + own, own_triangles = part.triangle_count;
     {
         const MeshAdjacency adjacency = adjacency_of(held);
         counts_ = part_counts(held, adjacency, own_triangles, own_lo, own_hi);
@@ -199,14 +114,12 @@ void SlabTopology::count() {
     held = Mesh();
     // The pieces that share a triangle: (the triangle's number, its piece here) for each
     // ghost here and each own triangle given, the proper ones.
-    for (std::size_t k = 0; k < ghosts_.size(); ++k)
-        if (pieces_.label[own_triangles + k] != kNoPiece) ghost_pieces_.push_back({ghosts_[k][0], pieces_.label[own_triangles + k]});
-    const std::uint64_t first = triangle_starts_[p];
+    for (std::size_t k = 0; k < ghosts.size(); ++k)
+        if (pieces_.label[own_triangles + k] != kNoPiece) ghost_pieces_.push_back({ghosts[k][0], pieces_.label[own_triangles + k]});
+    const std::uint64_t first = slabs_.triangle_starts()[p];
     for (std::size_t t = 0; t < own_triangles; ++t)
-        if (given_[t] && pieces_.label[t] != kNoPiece) given_pieces_.push_back({std::uint32_t(first + t), pieces_.label[t]});
+        if (given[t] && pieces_.label[t] != kNoPiece) given_pieces_.push_back({std::uint32_t(first + t), pieces_.label[t]});
     pieces_.label = {};
-    ghosts_ = {};
-    given_ = {};
 }
 
 void SlabTopology::send_to_first() {
@@ -232,11 +145,11 @@ void SlabTopology::take_others() {
 Topology SlabTopology::joined() {
     // Every slab's pieces in turn (their labels offset by those before), and each ghost's
     // piece joined to its triangle's own.
-    const std::size_t P = starts_.size() - 1;
+    const std::size_t P = slabs_.processes();
     if (their_pieces_.size() + 1 != P) throw Error("the check of a mesh in slabs: not every slab's pieces came");
     MeshReport all_counts = counts_;
-    all_counts.vertices = starts_[P];
-    all_counts.triangles = triangle_starts_[P];
+    all_counts.vertices = slabs_.starts()[P];
+    all_counts.triangles = slabs_.triangle_starts()[P];
     PartPieces all = std::move(pieces_);
     std::vector<std::array<std::uint32_t, 2>> ghosts = std::move(ghost_pieces_), given = std::move(given_pieces_);
     for (std::size_t q = 0; q + 1 < P; ++q) {
@@ -262,14 +175,15 @@ Topology SlabTopology::joined() {
 }
 
 Topology slab_topology(SlabPart part, TileScheduler& on) {
-    SlabTopology slabs(part, on);
-    slabs.count();
+    SlabMesh slabs(part, on);
+    SlabTopology topology(slabs, on);
+    topology.count();
     if (on.rank() != 0) {
-        slabs.send_to_first();
+        topology.send_to_first();
         return Topology();
     }
-    slabs.take_others();
-    return slabs.joined();
+    topology.take_others();
+    return topology.joined();
 }
 
 }  // namespace snvr::detail

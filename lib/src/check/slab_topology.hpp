@@ -14,35 +14,19 @@
 #include <vector>
 
 #include "check/mesh_topology.hpp"
+#include "check/slab_mesh.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/tiles.hpp"
 
 namespace snvr::detail {
 
-// In steps, so that a run can do other work between them: made, it has exchanged the
-// ghosts with every other process (all make it at once); count() does this part's work;
-// then each other process sends what it counted to the first (send_to_first), which takes
-// it (take_others, before or after its own count) and joins all (joined).
-// `part`: this process's slab: its vertices are the whole mesh's from the count of those
-// of the processes before it (by rank), its triangles the whole mesh's from the count of
-// theirs, by the whole mesh's vertex numbers (any vertex of any slab). Throws InputError
-// for a vertex number beyond the whole mesh's.
-// A slab as the process holds it (a run of the whole mesh's vertices and triangles): kept
-// by the caller until count() is done, and unchanged.
-struct SlabPart {
-    const Vec3* vertices = nullptr;
-    std::size_t vertex_count = 0;
-    const std::array<std::uint32_t, 3>* triangles = nullptr;
-    std::size_t triangle_count = 0;
-    // The first `vertices` and `triangles` of a mesh, or all of them.
-    static SlabPart of(const Mesh& mesh, std::size_t vertices, std::size_t triangles) {
-        return {mesh.vertices.data(), vertices, mesh.triangles.data(), triangles};
-    }
-    static SlabPart of(const Mesh& mesh) { return of(mesh, mesh.vertices.size(), mesh.triangles.size()); }
-};
+// In steps, so that a run can do other work between them: made on a SlabMesh (which
+// exchanged the ghosts), count() does this part's work; then each other process sends what
+// it counted to the first (send_to_first), which takes it (take_others, before or after
+// its own count) and joins all (joined). The slabs are kept until count() is done.
 class SlabTopology {
 public:
-    SlabTopology(SlabPart part, TileScheduler& on);
+    SlabTopology(SlabMesh& slabs, TileScheduler& on);
     void count();
     void send_to_first();
     void take_others();
@@ -50,15 +34,8 @@ public:
 
 private:
     TileScheduler& on_;
-    SlabPart part_;
-    std::vector<std::uint64_t> starts_, triangle_starts_;  // each slab's first vertex and triangle, and the whole's counts
+    SlabMesh& slabs_;
     VolumeSum sum_{Vec3{0, 0, 0}, Vec3{0, 0, 0}};
-    // The others' triangles that use its vertices (each's number in the whole mesh, then
-    // its corners), and the others' vertices its own triangles use, with their positions.
-    std::vector<std::array<std::uint32_t, 4>> ghosts_;
-    std::vector<std::uint32_t> foreign_;
-    std::vector<Vec3> foreign_at_;
-    std::vector<std::uint8_t> given_;  // an own triangle given to another process
     // What it counted; at the first, each other's too.
     MeshReport counts_;
     PartPieces pieces_;

@@ -1,10 +1,8 @@
 // serve_shell and serve_input (shell.hpp): what another process does in a make_shell and a
 // read_input spread over processes.
-#include "check/walls.hpp"
 #include "pipeline/shared_check.hpp"
 #include "pipeline/shared_guard.hpp"
 #include "process_limits.hpp"
-#include "snvr/quality.hpp"
 #include "snvr/reconstruct.hpp"
 #include "snvr/shell.hpp"
 #include "snvr/tiles.hpp"
@@ -22,9 +20,9 @@ void serve_shell(const Parameters& params, TileScheduler& tiles_on) {
     Result run = reconstruct_tiles_of(params, tiles_on);
     const std::shared_ptr<detail::KeptRange> kept = std::move(tiles_on.points_kept);
     detail::answer_guard_search(tiles_on, kept.get());
-    detail::serve_check_slab(tiles_on, std::move(run.surface));
+    Mesh slab = std::move(run.surface);
     run = Result();
-    tiles_on.send_check(detail::measure_check_share(tiles_on.check_share(), kept.get()));
+    detail::serve_check(tiles_on, std::move(slab), kept.get());
 }
 
 void serve_input(const std::string& path, const Parameters& params, TileScheduler& tiles_on) {

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "check/point_depths.hpp"
+#include "check/slab_mesh.hpp"
+#include "check/slab_shares.hpp"
 #include "check/slab_topology.hpp"
 #include "check/walls.hpp"
 #include "geometry/point_tree.hpp"
@@ -26,11 +28,6 @@ namespace snvr::detail {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// The cell holding coordinate x along an axis of `n` cells (clamped to the grid).
-int cell_of(double x, double origin, double h, int n) {
-    return std::clamp(int(std::floor((x - origin) / h)), 0, n - 1);
-}
 
 // The check's work in walls (one vertex's wall: 0.47-0.9 us on one thread, the city block's
 // and the bunny's; writing the mesh meanwhile is reckoned at 0.8 us a wall). The first
@@ -146,65 +143,6 @@ struct PointsGiven {
     }
 };
 
-// Bit p for each vertex: a tile where process p measures something (tile_bits) lies
-// within `widened` of it along every axis.
-std::vector<std::uint64_t> processes_near(const Mesh& mesh, const Domain& d, int core, double widened,
-                                          const std::vector<std::uint64_t>& tile_bits) {
-    const std::array<int, 3> n{d.nx, d.ny, d.nz};
-    std::vector<std::uint64_t> near(mesh.vertices.size(), 0);
-    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-        std::array<int, 3> lo, hi;
-        for (std::size_t a = 0; a < 3; ++a) {
-            const double x = mesh.vertices[v][a];
-            lo[a] = cell_of(x - widened, d.origin[a], d.h, n[a]) / core;
-            hi[a] = cell_of(x + widened, d.origin[a], d.h, n[a]) / core;
-        }
-        for (int k = lo[2]; k <= hi[2]; ++k)
-            for (int j = lo[1]; j <= hi[1]; ++j)
-                for (int i = lo[0]; i <= hi[0]; ++i) near[v] |= tile_bits[tile_holding(d, core, {i * core, j * core, k * core})];
-    }
-    return near;
-}
-
-// Process p's triangles (those with a corner whose `near` has bit p, in the shell's order,
-// so that its normals sum as the whole's) and their vertices, among them those whose wall
-// it measures (`walls_here`), also put, by the shell's numbers, in `measured`.
-// local: scratch, a slot a vertex.
-template <class WallsHere>
-CheckShare mesh_share(const Mesh& mesh, const std::vector<std::uint64_t>& near, int p, const WallsHere& walls_here,
-                      std::vector<std::uint32_t>& local, std::vector<std::uint32_t>& measured) {
-    constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-    CheckShare share;
-    std::fill(local.begin(), local.end(), kNone);
-    const std::uint64_t bit = std::uint64_t(1) << p;
-    const auto in_share = [&](const std::array<std::uint32_t, 3>& t) {
-        return ((near[t[0]] | near[t[1]] | near[t[2]]) & bit) != 0;
-    };
-    // Room for all (pages untouched cost nothing): counting them first was another pass
-    // over the triangles (0.27 s of the check's shares at 32 M triangles).
-    share.triangles.reserve(mesh.triangles.size());
-    share.vertices.reserve(mesh.vertices.size());
-    for (const auto& t : mesh.triangles) {
-        if (!in_share(t)) continue;
-        std::array<std::uint32_t, 3> mine;
-        for (int c = 0; c < 3; ++c) {
-            const std::uint32_t v = t[std::size_t(c)];
-            std::uint32_t& at = local[v];
-            if (at == kNone) {
-                at = std::uint32_t(share.vertices.size());
-                share.vertices.push_back(mesh.vertices[v]);
-                if (walls_here(v)) {
-                    share.measured.push_back(at);
-                    measured.push_back(v);
-                }
-            }
-            mine[std::size_t(c)] = at;
-        }
-        share.triangles.push_back(mine);
-    }
-    return share;
-}
-
 // The first's word on the check by slabs: what they are, then the path whose format holds
 // the coordinates (empty: as they are); where the slabs' vertices moved, each's own.
 void tell_slab_check(TileScheduler& on, SlabsAre are, const SlabsForCheck& slabs, const Mesh& mesh,
@@ -219,18 +157,35 @@ void tell_slab_check(TileScheduler& on, SlabsAre are, const SlabsForCheck& slabs
 
 }  // namespace
 
-void serve_check_slab(TileScheduler& on, Mesh slab) {
+void serve_check(TileScheduler& on, Mesh slab, KeptRange* kept) {
     std::string word;
     receive_array(on, 0, word);
     if (word.empty()) throw Error("the first process's word on the check is not whole");
     const auto are = SlabsAre(word[0]);
-    if (are == SlabsAre::Other) return;
     const std::string written_as = word.substr(1);
-    if (are == SlabsAre::Moved) receive_into(on, 0, slab.vertices.data(), slab.vertices.size());
+    if (are == SlabsAre::Other) slab = Mesh();  // the first's slab is the whole shell
+    else if (are == SlabsAre::Moved) receive_into(on, 0, slab.vertices.data(), slab.vertices.size());
     else if (!written_as.empty()) slab = as_written(std::move(slab), written_as);
-    SlabTopology topology(SlabPart::of(slab), on);
-    topology.count();
-    topology.send_to_first();
+    ShareMesh mine;
+    {
+        SlabMesh slabs(SlabPart::of(slab), on);
+        if (are != SlabsAre::Other) {
+            SlabTopology topology(slabs, on);
+            topology.count();
+            topology.send_to_first();
+        }
+        const CheckDeal deal = take_check_deal(on);
+        std::uint64_t bytes = 0;
+        mine = share_from_slabs(slabs, deal, on, bytes);
+    }
+    slab = Mesh();
+    CheckShare share = on.check_share();
+    share.vertices = std::move(mine.vertices);
+    share.triangles = std::move(mine.triangles);
+    share.measured = std::move(mine.measured);
+    on.send_check(measure_check_share(std::move(share), kept));
+    // Which of the whole mesh's vertices its walls are.
+    send_array(on, 0, mine.measured_whole.data(), mine.measured_whole.size());
 }
 
 MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
@@ -244,21 +199,21 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     const SlabsAre are = surface || !whole ? SlabsAre::Other : slabs.are;
     tell_slab_check(on, are, slabs, mesh, starts);
     facts.check_topology_slabs = are != SlabsAre::Other;
+    // This process's slab: the shell's first vertices and triangles, or all of it.
+    SlabMesh held(facts.check_topology_slabs ? SlabPart::of(mesh, starts[1], facts.slab_triangles) : SlabPart::of(mesh),
+                  on);
     std::optional<SlabTopology> topology;
-    if (facts.check_topology_slabs)  // the shell's first slab: its first vertices and triangles
-        topology.emplace(SlabPart::of(mesh, starts[1], facts.slab_triangles), on);
+    if (facts.check_topology_slabs) topology.emplace(held, on);
     const Domain& d = run.domain;
     const int core = run.tiles.core_cells;
-    const std::array<int, 3> n{d.nx, d.ny, d.nz};
     const std::array<int, 3> across{(d.nx + core - 1) / core, (d.ny + core - 1) / core, (d.nz + core - 1) / core};
     const std::size_t tiles = std::size_t(across[0]) * std::size_t(across[1]) * std::size_t(across[2]);
     const int processes = on.processes();
     if (processes > 64) throw ParameterError("the check is shared among at most 64 processes");
-    const auto tile_at = [&](const Vec3& x) {
-        std::array<int, 3> c;
-        for (std::size_t a = 0; a < 3; ++a) c[a] = cell_of(x[a], d.origin[a], d.h, n[a]);
-        return std::uint32_t(tile_holding(d, core, c));
-    };
+    CheckDeal deal;
+    deal.grid = d;
+    deal.core = core;
+    const auto tile_at = [&deal](const Vec3& x) { return deal.tile_at(x); };
     const std::size_t nv = mesh.vertices.size();
     std::vector<std::uint32_t> tile_of(nv);
     std::vector<TileWork> work_in(tiles);
@@ -337,22 +292,24 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
         elsewhere.groups.assign(spans.size(), 0);
         for (std::size_t g = 0; g < spans.size(); ++g) elsewhere.groups[g] = depths_by(g) != 0;
     }
-    // What each other process measures: its vertices (by the shell's numbers), its range's
-    // groups and the groups' points given it; and the tiles where it measures something.
-    std::vector<std::vector<std::uint32_t>> measured(static_cast<std::size_t>(processes));
+    // What each other process measures: its range's groups and the groups' points given
+    // it; and the tiles where it measures something.
     std::vector<PointsGiven> given(static_cast<std::size_t>(processes)), ranged(static_cast<std::size_t>(processes));
-    std::vector<std::uint64_t> tile_bits(tiles);  // bit p: process p measures something there
-    for (std::size_t t = 0; t < tiles; ++t)
-        tile_bits[t] = std::uint64_t(1) << measurer.walls[t] | std::uint64_t(1) << measurer.depths[t];
+    deal.measures_in.resize(tiles);
+    deal.walls_by.resize(tiles);
+    for (std::size_t t = 0; t < tiles; ++t) {
+        deal.measures_in[t] = std::uint64_t(1) << measurer.walls[t] | std::uint64_t(1) << measurer.depths[t];
+        deal.walls_by[t] = std::uint8_t(measurer.walls[t]);
+    }
     for (std::size_t g = 0; g < spans.size(); ++g)
         if (elsewhere.groups[g]) {
             (by_ranges && group_range[g] ? ranged : given)[depths_by(g)].add(spans[g].begin, spans[g].end);
-            tile_bits[group_tile[g]] |= std::uint64_t(1) << depths_by(g);
+            deal.measures_in[group_tile[g]] |= std::uint64_t(1) << depths_by(g);
         }
     elsewhere.spans = std::move(spans);  // made once
     std::vector<std::uint32_t>().swap(group_tile);
     std::vector<std::uint8_t>().swap(group_range);
-    {  // what builds the shares, freed before the first measures its own part
+    {
         // A triangle within the reach of a point or vertex in a tile has a corner within the
         // reach and its longest edge of the tile; a point's group and its run reach 3 voxels
         // beyond its tile.
@@ -363,10 +320,14 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
                 const Vec3& b = mesh.vertices[t[std::size_t((c + 1) % 3)]];
                 for (std::size_t k = 0; k < 3; ++k) longest_edge = std::max(longest_edge, std::fabs(a[k] - b[k]));
             }
-        const std::vector<std::uint64_t> near = processes_near(mesh, d, core, reach + longest_edge + 3 * d.h, tile_bits);
+        deal.widened = reach + longest_edge + 3 * d.h;
+        if (topology) topology->take_others();  // sent before they take the deal
+        send_check_deal(on, deal);
+        // Each slab gives the others their triangles: the share's mesh, from this one's too.
+        std::uint64_t slab_bytes = 0;
+        share_from_slabs(held, deal, on, slab_bytes);
+        facts.check_bytes += slab_bytes;
         const double eps = wall_epsilon(mesh);
-        std::vector<std::uint32_t> local(nv);
-        if (topology) topology->take_others();  // sent before they take their shares
         for (int p = 1; p < processes; ++p) {
             facts.check_points += given[std::size_t(p)].count() + ranged[std::size_t(p)].count();
             {  // its points first, freed before the rest is made
@@ -374,8 +335,7 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
                 facts.check_bytes += xyz.size() * sizeof(float);
                 on.give_check_points(p, tree.origin, xyz.data(), xyz.size());
             }
-            const auto walls_here = [&](std::uint32_t v) { return measurer.walls[tile_of[v]] == p; };
-            CheckShare share = mesh_share(mesh, near, p, walls_here, local, measured[std::size_t(p)]);
+            CheckShare share;
             // Its points in the groups dealt (its own tree's leaves could join them wider).
             share.point_groups.reserve(given[std::size_t(p)].runs.size());
             for (const auto& r : given[std::size_t(p)].runs) share.point_groups.push_back(r[1] - r[0]);
@@ -393,9 +353,6 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             share.reach = reach;
             share.voxel = d.h;
             share.points_frame = tree.frame().figures();  // the points given follow its order
-            facts.check_walls += share.measured.size();
-            facts.check_bytes += share.vertices.size() * sizeof(Vec3) + share.triangles.size() * sizeof(share.triangles[0]) +
-                                 share.measured.size() * sizeof(std::uint32_t);
             on.give_check(p, share);
         }
     }
@@ -410,11 +367,17 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             if (elsewhere.vertex[v]) wall[v] = std::numeric_limits<double>::infinity();
         for (int p = 1; p < processes; ++p) {
             const CheckShareFigures got = on.take_check(p);
-            const std::vector<std::uint32_t>& ids = measured[std::size_t(p)];
+            std::vector<std::uint32_t> ids;  // the vertices whose walls these are
+            receive_array(on, p, ids);
             const PointsGiven& points_given = given[std::size_t(p)];
             const std::string from = "process " + std::to_string(p);
             if (got.walls.size() != ids.size()) throw Error("the walls from " + from + " are not whole");
-            for (std::size_t k = 0; k < ids.size(); ++k) wall[ids[k]] = got.walls[k];
+            for (std::size_t k = 0; k < ids.size(); ++k) {
+                if (ids[k] >= wall.size() || !elsewhere.vertex[ids[k]])
+                    throw Error("the walls from " + from + " name a vertex it does not measure");
+                wall[ids[k]] = got.walls[k];
+            }
+            facts.check_walls += ids.size();
             depths.inside += got.points_inside;
             depths.depth_min = std::min(depths.depth_min, got.depth_min);
             facts.check_points_back += got.unresolved.size();

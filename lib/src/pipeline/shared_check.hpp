@@ -1,7 +1,8 @@
 // make_shell's check over the processes of a tiled run (tiles.hpp): the walls and the
 // points' depths, the most of the check's work, measured by each process for the vertices
 // and points in its tiles' cores (the first's own tiles dealt to whoever has the least
-// work) from the triangles near them, while the first does the rest of the check.
+// work) from the triangles near them (given by the slabs: slab_shares.hpp), while the
+// first does the rest of the check.
 #pragma once
 #include <functional>
 #include <string>
@@ -25,10 +26,11 @@ namespace snvr::detail {
 // `slabs`: whether the shell is the slabs' own vertices and triangles in turn, as the
 // processes kept them (surface_in_slabs, each rounded as `written_as` holds them), or
 // their triangles with vertices moved here since (the depth guard run here on the whole
-// surface: each is given its vertices), or neither (a piece dropped). Then its topology
-// is counted by the slabs (slab_topology.hpp; not with the surface's figures, which need
-// the whole mesh's adjacency: facts.check_topology_slabs says which). Every other
-// process's serve_check_slab hears which first.
+// surface: each is given its vertices), or neither (a piece dropped: the first's slab is
+// then the whole shell). Then its topology is counted by the slabs (slab_topology.hpp; not
+// with the surface's figures, which need the whole mesh's adjacency:
+// facts.check_topology_slabs says which). Every other process's serve_check hears which
+// first.
 enum class SlabsAre : char { Other = 0, Kept = 1, Moved = 2 };
 struct SlabsForCheck {
     SlabsAre are = SlabsAre::Other;
@@ -38,8 +40,10 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
                           TileScheduler& on, TileFacts& facts, const SlabsForCheck& slabs,
                           const std::function<void()>& meanwhile = {}, double meanwhile_seconds = 0,
                           const Told& told = nullptr);
-// At another process, before it takes its share of the check: its slab's part of the
-// shell's topology, where the first counts it by the slabs (`slab`: surface_in_slabs's).
-void serve_check_slab(TileScheduler& on, Mesh slab);
+struct KeptRange;  // solver/shared_filing.hpp
+// At another process: its slab's part of the shell's topology, where the first counts it
+// by the slabs (`slab`: surface_in_slabs's), its slab's part of every share of the check,
+// then its own share measured (`kept`: its range of the points, or null).
+void serve_check(TileScheduler& on, Mesh slab, KeptRange* kept);
 
 }  // namespace snvr::detail

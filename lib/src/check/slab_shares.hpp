@@ -1,0 +1,51 @@
+// The mesh of each process's share of the check (CheckShare's vertices, triangles and
+// measured vertices), gathered from the slabs the processes hold, so that the first need
+// not cut every share out of the whole mesh: each slab gives every other process its own
+// triangles with a corner near a tile where that process measures, in the whole mesh's
+// order; the process numbers their vertices as they first come. The share is the one the
+// whole mesh would give, to the bit: the same triangles in the same order, the same vertex
+// numbers, so that its walls and depths are the whole's.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "check/slab_mesh.hpp"
+#include "snvr/domain.hpp"
+#include "snvr/geometry.hpp"
+#include "snvr/tiles.hpp"
+
+namespace snvr::detail {
+
+// The first's word on who measures where, by tiles of the grid.
+struct CheckDeal {
+    Domain grid;    // its origin, voxel and cells
+    int core = 0;   // a tile's core, in cells
+    // A triangle with a corner this near a tile (along every axis) where a process
+    // measures is in that process's share.
+    double widened = 0;
+    std::vector<std::uint64_t> measures_in;  // each tile's: bit p where process p measures there
+    std::vector<std::uint8_t> walls_by;      // each tile's: the process measuring its vertices' walls
+    // The tile whose core holds x (clamped to the grid).
+    std::uint32_t tile_at(const Vec3& x) const;
+    // Bit p: process p measures in a tile within `widened` of x.
+    std::uint64_t near(const Vec3& x) const;
+};
+
+// The deal from the first to every other process, which takes it.
+void send_check_deal(TileScheduler& on, const CheckDeal& deal);
+CheckDeal take_check_deal(TileScheduler& on);
+
+// A share's mesh, and its measured vertices' numbers in the whole mesh (for the walls back).
+struct ShareMesh {
+    std::vector<Vec3> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<std::uint32_t> measured, measured_whole;
+};
+
+// Every process at once: its slab's triangles to every other process but the first
+// (which measures on the whole mesh), and at each of those its share's mesh back (at the
+// first, none). `bytes`: what all sent, summed.
+ShareMesh share_from_slabs(const SlabMesh& slabs, const CheckDeal& deal, TileScheduler& on, std::uint64_t& bytes);
+
+}  // namespace snvr::detail
