@@ -75,7 +75,7 @@ python3 - "$tmp/dense2.json" <<'PY' || fail "the other process measured none of 
 import json, sys
 t = json.load(open(sys.argv[1]))["tiles"]
 print(f"the other process: {t['check_walls_elsewhere']} walls, {t['check_points_elsewhere']} points' depths "
-      f"({t['check_points_back']} back to the first), the depth guard's search of {t['guard_points_elsewhere']} points")
+      f"({t['check_points_far']} asked of every slab), the depth guard's search of {t['guard_points_elsewhere']} points")
 sys.exit(0 if t["check_walls_elsewhere"] > 0 and t["check_points_elsewhere"] > 60000
          and t["guard_points_elsewhere"] > 100000 and not t["guard_on_slabs"] else 1)
 PY
@@ -91,7 +91,7 @@ one_and_two dense_kept "$tmp/dense.ply" --resolution 64 --tile-cells 16 --units 
 python3 - "$tmp/dense_cm2.json" "$tmp/dense_kept2.json" <<'PY' || fail "the other process measured none of the points moved"
 import json, sys
 t = [json.load(open(f))["tiles"] for f in sys.argv[1:]]
-sys.exit(0 if all(x["check_points_elsewhere"] > 60000 and x["check_points_back"] < 0.05 * x["check_points_elsewhere"]
+sys.exit(0 if all(x["check_points_elsewhere"] > 60000 and x["check_points_far"] < 0.05 * x["check_points_elsewhere"]
                   and x["guard_points_elsewhere"] > 100000 for x in t) else 1)
 PY
 rm "$tmp"/dense_cm[12].* "$tmp"/dense_kept[12].*
@@ -199,7 +199,7 @@ one_and_two city "$tmp/city.ply" --resolution 384 --tile-cells 64
 python3 - "$tmp/city2.json" <<'PY' || fail "the sparse block's wide groups were not dealt"
 import json, sys
 t = json.load(open(sys.argv[1]))["tiles"]
-print(f"sparse block: {t['check_points_elsewhere']} points' depths by the other ({t['check_points_back']} back)")
+print(f"sparse block: {t['check_points_elsewhere']} points' depths by the other ({t['check_points_far']} asked of every slab)")
 sys.exit(0 if t["check_points_elsewhere"] > 100000 else 1)
 PY
 rm "$tmp"/city[12].* "$tmp/city.ply"

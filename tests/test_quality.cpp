@@ -13,6 +13,7 @@
 #include <map>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -28,7 +29,9 @@
 #include "temp_dir.hpp"
 #include "thread_processes.hpp"
 #include "check/mesh_topology.hpp"
+#include "check/slab_queries.hpp"
 #include "check/slab_shares.hpp"
+#include "check/walls.hpp"
 #include "check/slab_topology.hpp"
 #include "geometry/vec3_math.hpp"
 #include "mesh/triangle_grid.hpp"
@@ -397,8 +400,7 @@ TEST_CASE("quality: the check's shares gathered from slabs are the whole mesh's,
                     detail::SlabMesh held(detail::SlabPart::of(parts[p]), on);
                     got[p] = detail::share_from_slabs(held, deal, on, bytes[p]);
                 });
-                CHECK(got[0].triangles.empty());  // the first measures on the whole mesh
-                for (int p = 1; p < processes; ++p) {
+                for (int p = 0; p < processes; ++p) {
                     const detail::ShareMesh want = share_of_whole(*m, deal, p);
                     const detail::ShareMesh& share = got[std::size_t(p)];
                     CHECK(share.vertices == want.vertices);
@@ -412,6 +414,113 @@ TEST_CASE("quality: the check's shares gathered from slabs are the whole mesh's,
     // Most shares hold part of the mesh, neither none nor all of it.
     MESSAGE(shares << " shares of part of a mesh, " << empty << " of none or all");
     CHECK(shares > 2 * empty);
+}
+
+TEST_CASE("quality: what no share decides, asked of the slabs, is the whole mesh's answer, to the bit") {
+    const Mesh sphere = isosurface([](const Vec3& p) { return 0.3 - dist(p, kCentre); }, {0.1, 0.1, 0.1}, 0.02, 40);
+    Mesh two_tori = testing::merge(torus_mesh(), torus_mesh());
+    for (std::size_t k = two_tori.vertices.size() / 2; k < two_tori.vertices.size(); ++k) two_tori.vertices[k][0] += 0.55;
+    std::mt19937 rng(13);
+    std::size_t inside = 0, on_plane = 0, hit = 0;
+    for (const Mesh* m : std::vector<const Mesh*>{&sphere, &two_tori, &shell()}) {
+        // The whole mesh's answers: a wall's first hit, a point's nearest triangle and side
+        // (as PointDepths measures it: by the plane, else a ray's crossings).
+        const TriangleGrid whole(*m);
+        const std::vector<Vec3> normals = detail::unit_normals(*m);
+        const Bounds box = bounds(m->vertices);
+        const double eps = detail::wall_epsilon(*m);
+        std::vector<detail::FarWall> walls;
+        std::vector<Vec3> points;
+        std::uniform_int_distribution<std::uint32_t> vertex(0, std::uint32_t(m->vertices.size() - 1));
+        std::uniform_int_distribution<std::size_t> triangle(0, m->triangles.size() - 1);
+        std::uniform_real_distribution<double> unit(-1, 1);
+        for (int k = 0; k < 200; ++k) {
+            const std::uint32_t v = vertex(rng);
+            walls.push_back({m->vertices[v], {-normals[v][0], -normals[v][1], -normals[v][2]}, v});
+            Vec3 p;  // about the box and far beyond it, on vertices, on triangles' planes
+            for (std::size_t a = 0; a < 3; ++a)
+                p[a] = 0.5 * (box.lo[a] + box.hi[a]) + (k % 4 == 0 ? 3 : 0.7) * unit(rng) * box.extent(int(a));
+            if (k % 5 == 1) p = m->vertices[v];
+            if (k % 5 == 2) {
+                const auto& t = m->triangles[triangle(rng)];
+                for (std::size_t a = 0; a < 3; ++a)
+                    p[a] = (m->vertices[t[0]][a] + m->vertices[t[1]][a] + m->vertices[t[2]][a]) / 3;
+            }
+            points.push_back(p);
+        }
+        std::vector<double> want_hits;
+        std::vector<detail::PointDepths::Depth> want_depths;
+        std::vector<std::uint8_t> want_rays;  // each point's side by a ray's crossings alone
+        for (const detail::FarWall& w : walls) want_hits.push_back(whole.first_hit(w.origin, w.dir, eps, w.vertex).t);
+        for (const Vec3& p : points) {
+            const TriangleGrid::Closest c = whole.closest(p);
+            const auto& t = m->triangles[c.triangle];
+            int side = face_side(p, m->vertices[t[0]], m->vertices[t[1]], m->vertices[t[2]]);
+            on_plane += side == 0;
+            want_rays.push_back(whole.count_crossings(p, detail::PointDepths::ray_toward(p, box.lo, box.hi)) % 2);
+            if (side == 0) side = want_rays.back() ? -1 : 1;
+            want_depths.push_back({std::sqrt(c.dist_sq), side < 0});
+            inside += side < 0;
+        }
+        for (double t : want_hits) hit += t < kInf;
+        for (int processes = 1; processes <= 4; ++processes) {
+            CAPTURE(processes);
+            const std::vector<Mesh> parts = slabs_of(*m, processes, rng);
+            std::vector<std::vector<double>> hits(parts.size());
+            std::vector<std::vector<detail::PointDepths::Depth>> depths(parts.size());
+            std::vector<std::vector<std::uint8_t>> rays(parts.size());
+            // Each process asks its own part of the questions (some none).
+            const std::size_t cut = std::uniform_int_distribution<std::size_t>(0, walls.size())(rng);
+            testing::on_threads(processes, [&](TileScheduler& on) {
+                const std::size_t p = std::size_t(on.rank());
+                detail::SlabMesh held(detail::SlabPart::of(parts[p]), on);
+                const auto part = [&](const auto& all) {
+                    using V = std::decay_t<decltype(all)>;
+                    return p == 0 ? V(all.begin(), all.begin() + std::ptrdiff_t(cut))
+                                  : p == 1 ? V(all.begin() + std::ptrdiff_t(cut), all.end()) : V();
+                };
+                detail::FarQuestions asked;
+                asked.walls = part(walls);
+                asked.points = part(points);
+                asked.sides = part(points);
+                const detail::FarAnswers answers = detail::ask_slabs(held, eps, asked, on);
+                hits[p] = answers.hits;
+                depths[p] = answers.depths;
+                rays[p] = answers.inside;
+            });
+            std::vector<double> got_hits = hits[0];
+            std::vector<detail::PointDepths::Depth> got_depths = depths[0];
+            std::vector<std::uint8_t> got_rays = rays[0];
+            if (processes > 1) {
+                got_hits.insert(got_hits.end(), hits[1].begin(), hits[1].end());
+                got_depths.insert(got_depths.end(), depths[1].begin(), depths[1].end());
+                got_rays.insert(got_rays.end(), rays[1].begin(), rays[1].end());
+            } else {  // one process asks all
+                testing::on_threads(1, [&](TileScheduler& on) {
+                    detail::SlabMesh held(detail::SlabPart::of(parts[0]), on);
+                    const detail::FarAnswers answers = detail::ask_slabs(held, eps, {walls, points, points}, on);
+                    got_hits = answers.hits;
+                    got_depths = answers.depths;
+                    got_rays = answers.inside;
+                });
+            }
+            REQUIRE(got_hits.size() == want_hits.size());
+            REQUIRE(got_depths.size() == want_depths.size());
+            REQUIRE(got_rays.size() == want_rays.size());
+            for (std::size_t k = 0; k < want_hits.size(); ++k) {
+                CAPTURE(k);
+                CHECK(got_hits[k] == want_hits[k]);
+                CHECK(got_depths[k].distance == want_depths[k].distance);
+                CHECK(got_depths[k].inside == want_depths[k].inside);
+                CHECK(got_rays[k] == want_rays[k]);
+            }
+        }
+    }
+    // Some of every kind: inside and out, on a plane (decided by the rays), walls met.
+    MESSAGE(inside << " points inside, " << on_plane << " on their nearest triangle's plane, " << hit << " walls met");
+    CHECK(inside > 50);
+    CHECK(on_plane > 50);
+    CHECK(hit > 300);
 }
 
 TEST_CASE("quality: a ball around one point: offset error, depth and wall") {

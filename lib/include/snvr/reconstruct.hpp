@@ -86,8 +86,9 @@ struct TileFacts {
                                          // they kept their ranges of the points, by each from its range)
     std::size_t points_from_ranges = 0;  // and those the others took from their own ranges
     // The check shared (make_shell): what the others measured, the bytes of their shares,
-    // and the points they left to the first (their side a ray would tell, or beyond reach).
-    std::size_t check_walls = 0, check_points = 0, check_bytes = 0, check_points_back = 0;
+    // and the points no share could decide (their side a ray would tell, or their nearest
+    // triangle beyond reach), asked of every slab of the shell.
+    std::size_t check_walls = 0, check_points = 0, check_bytes = 0, check_points_far = 0;
     // The depth guard's first search shared: the points the others searched (their ranges),
     // and the bytes of the mesh sent them.
     std::size_t guard_points = 0, guard_bytes = 0;

@@ -273,24 +273,40 @@ void measure_exact(const Mesh& m, const std::function<double(const Vec3&)>& exac
 // The figures of measure_quality; the surface's (offset error, smoothness, the
 // second inside test) only when `surface` is set.
 // The inputs checked, and the figures they give at once.
-MeshQuality start_figures(const char* who, const Mesh& mesh, const PointTree& points, double offset, double voxel,
-                          bool surface) {
+MeshQuality counted_figures(const char* who, std::size_t vertices, std::size_t triangles, std::size_t points,
+                            double offset, double voxel, bool surface) {
     if (!(offset > 0) || !(voxel > 0) || !std::isfinite(offset) || !std::isfinite(voxel))
         throw ParameterError(std::string(who) + ": offset and voxel must be positive (got " +
                              detail::format_number(offset) + " and " + detail::format_number(voxel) + ")");
-    check_indices(mesh, who);
     MeshQuality q;
-    q.vertices = mesh.vertices.size();
-    q.triangles = mesh.triangles.size();
-    q.points = points.size();
+    q.vertices = vertices;
+    q.triangles = triangles;
+    q.points = points;
     q.offset = offset;
     q.voxel = voxel;
     q.has_surface = surface;
     if (!surface) q.offset_rms = q.offset_mean = q.offset_max = q.dihedral_rms = q.normal_noise = kNaN;
-
-    if (mesh.triangles.size() > std::numeric_limits<std::uint32_t>::max())
+    if (triangles > std::numeric_limits<std::uint32_t>::max())
         throw ResourceError(std::string(who) + ": more than 2^32 triangles");
     return q;
+}
+MeshQuality start_figures(const char* who, const Mesh& mesh, const PointTree& points, double offset, double voxel,
+                          bool surface) {
+    check_indices(mesh, who);
+    return counted_figures(who, mesh.vertices.size(), mesh.triangles.size(), points.size(), offset, voxel, surface);
+}
+
+// The figures of the topology.
+void topology_figures(const detail::Topology& topology, MeshQuality& q) {
+    const MeshReport& report = q.report = topology.report;
+    q.genus = topology.genus;
+    q.open_components = topology.open_components;
+    q.components = report.components;
+    q.solids = report.solids;
+    q.cavities = report.components - std::min(report.components, report.solids);
+    q.closed = report.closed();
+    q.manifold = report.manifold();
+    q.oriented = report.oriented();
 }
 
 // The figures from what the tasks found.
@@ -298,13 +314,6 @@ void finish_figures(const Mesh& mesh, bool surface, const std::vector<Vec3>& nor
                     detail::PointDepths::Figures& figures, std::size_t points_inside,
                     std::vector<double>& wall, const std::function<double(const Vec3&)>& exact,
                     MeshQuality& q) {
-    const MeshReport& report = q.report;
-    q.components = report.components;
-    q.solids = report.solids;
-    q.cavities = report.components - std::min(report.components, report.solids);
-    q.closed = report.closed();
-    q.manifold = report.manifold();
-    q.oriented = report.oriented();
     if (surface) measure_normal_noise(normals, edges, q);
     EdgeBuckets().swap(edges);
     measure_points(figures, surface ? std::optional<std::size_t>(points_inside) : std::nullopt, q);
@@ -363,9 +372,7 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
                 edges.start.swap(adjacency.edge_start);
                 edges.items.swap(adjacency.edge_items);
             }
-            q.report = topology.report;
-            q.genus = topology.genus;
-            q.open_components = topology.open_components;
+            topology_figures(topology, q);
             if (surface) measure_dihedral(mesh, edges, q);
         });
         guarded(failed[1], [&] {
@@ -431,32 +438,11 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
     for (const std::exception_ptr& e : failed)
         if (e) std::rethrow_exception(e);
     detail::PointDepths::Figures figures = depths ? depths->figures() : detail::PointDepths::Figures{};
-    if (elsewhere) {
-        // Their walls back; those whose first hit lay beyond their share's reach, here.
+    if (elsewhere) {  // their walls and points' figures back, every one decided
         detail::PointDepths::Figures theirs;
         elsewhere->fill(wall, theirs);
-        const double eps = wall_epsilon(mesh);
-        for (std::size_t v = 0; v < nv; ++v)
-            if (std::isnan(wall[v])) {
-                wall[v] = kInf;
-                wall_thickness(mesh, *grid, normals, eps, v, v + 1, wall);
-            }
-        // Their points' figures; those they could not decide, here.
         figures.inside += theirs.inside;
         figures.depth_min = std::min(figures.depth_min, theirs.depth_min);
-        std::size_t inside = 0;
-        double least = kInf;
-        const std::vector<std::uint32_t>& rest = theirs.unresolved;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : inside) reduction(min : least) \
-    if (std::ptrdiff_t(rest.size()) > detail::kParallelItems)
-        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(rest.size()); ++i) {
-            const detail::PointDepths::Depth at = depths->depth_of(points.point(rest[std::size_t(i)]));
-            if (!at.inside) continue;
-            ++inside;
-            least = std::min(least, at.distance);
-        }
-        figures.inside += inside;
-        figures.depth_min = std::min(figures.depth_min, least);
     }
     finish_figures(mesh, surface, normals, edges, figures, points_inside, wall, exact, q);
     q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -486,6 +472,16 @@ MeshQuality detail::measure_sharing(const Mesh& mesh, const PointCloud& points, 
     if (elsewhere.vertex.size() != mesh.vertices.size()) throw ParameterError("measure_sharing: one flag a vertex");
     return measure(surface ? "measure_quality" : "measure_shell", mesh, detail::tree_of(points), offset, voxel, surface,
                    {}, &elsewhere, told);
+}
+
+MeshQuality detail::shell_figures(const Topology& topology, std::size_t points, double offset, double voxel,
+                                  std::vector<double>& walls, PointDepths::Figures& depths) {
+    MeshQuality q = counted_figures("measure_shell", topology.report.vertices, topology.report.triangles, points, offset,
+                                    voxel, false);
+    topology_figures(topology, q);
+    measure_points(depths, std::nullopt, q);
+    measure_walls(walls, q);
+    return q;
 }
 
 MeshQuality detail::measure_told(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,

@@ -435,19 +435,9 @@ struct DepthScratch {
 
 namespace {
 
-// Inside or not by the parity of crossings along a ray in a direction that no
-// grid-aligned edge of a marching-cubes mesh is parallel to, heading for the nearer face
-// of the mesh's box on every axis to cut the walk short. -1 inside, +1 outside.
+// Inside or not by the parity of crossings along ray_toward's ray. -1 inside, +1 outside.
 int ray_side(const TriangleGrid& grid, const Vec3& p, const Vec3& lo, const Vec3& hi) {
-    static const Vec3 dir = [] {
-        const Vec3 d{0.5377, 0.3019, 0.7877};
-        const double n = norm(d);
-        return Vec3{d[0] / n, d[1] / n, d[2] / n};
-    }();
-    Vec3 toward = dir;
-    for (int a = 0; a < 3; ++a)
-        if (p[a] - lo[a] < hi[a] - p[a]) toward[a] = -toward[a];
-    return grid.count_crossings(p, toward) % 2 == 1 ? -1 : 1;
+    return grid.count_crossings(p, PointDepths::ray_toward(p, lo, hi)) % 2 == 1 ? -1 : 1;
 }
 
 }  // namespace
@@ -584,8 +574,9 @@ PointDepths::PointDepths(const Mesh& mesh, const TriangleGrid& grid, const Point
         group.end = spans[g].end;
         group.lo = spans[g].lo;
         group.hi = spans[g].hi;
-        // A part measures no depths for the percentile (the whole cloud's groups are its).
-        group.sampled = spans[g].sampled && !part;
+        // A part measures no depths for the percentile (the whole cloud's groups are its),
+        // but where asked.
+        group.sampled = spans[g].sampled && (!part || part->sampled);
     }
 
     if (!mesh.vertices.empty()) {
@@ -718,9 +709,12 @@ PointDepths::Figures PointDepths::figures() const {
     for (const Group& g : groups_) {
         if (g.unresolved) {
             for (std::uint32_t k = g.begin; k < g.end; ++k) f.unresolved.push_back(k);
+            f.unresolved_sampled.resize(f.unresolved.size(), g.sampled);
             continue;
         }
-        f.unresolved.insert(f.unresolved.end(), g.undecided.begin(), g.undecided.end());
+        f.undecided.insert(f.undecided.end(), g.undecided.begin(), g.undecided.end());
+        f.undecided_distance.insert(f.undecided_distance.end(), g.undecided_distance.begin(), g.undecided_distance.end());
+        f.undecided_sampled.resize(f.undecided.size(), g.sampled);
         f.inside += g.inside;
         f.depth_min = std::min(f.depth_min, g.shallowest);
         f.depths.insert(f.depths.end(), g.depths.begin(), g.depths.end());
@@ -769,9 +763,16 @@ int PointDepths::side(const Vec3& p, std::uint32_t triangle) const {
     return ray_side(grid_, p, lo_, hi_);
 }
 
-PointDepths::Depth PointDepths::depth_of(const Vec3& p) const {
-    const TriangleGrid::Closest near = grid_.closest(p);
-    return {std::sqrt(near.dist_sq), side(p, near.triangle) < 0};
+Vec3 PointDepths::ray_toward(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+    static const Vec3 dir = [] {
+        const Vec3 d{0.5377, 0.3019, 0.7877};
+        const double n = norm(d);
+        return Vec3{d[0] / n, d[1] / n, d[2] / n};
+    }();
+    Vec3 toward = dir;
+    for (int a = 0; a < 3; ++a)
+        if (p[a] - lo[a] < hi[a] - p[a]) toward[a] = -toward[a];
+    return toward;
 }
 
 // One group's visit: what it takes from the run's candidates, and its steps.
@@ -943,6 +944,7 @@ private:
 
     void start() {
         group_.undecided.clear();
+        group_.undecided_distance.clear();
         group_.inside = 0;
         group_.shallowest = kInf;
         group_.depths.clear();
@@ -954,6 +956,7 @@ private:
         const int at = last_.is(p) && last_.side != 0 ? last_.side : pd_.side(p, triangle);
         if (at == 0) {  // a part's: a ray would tell
             group_.undecided.push_back(k);
+            group_.undecided_distance.push_back(d);
             return;
         }
         last_.side = at;

@@ -31,13 +31,14 @@ struct DepthScratch;   // point_depths.cpp
 // groups of about that many points in all.
 class PointDepths {
 public:
-    // A part of the points, measured against a part of the mesh (another process's share
-    // of a tiled run's check, shared_check.cpp): no depths for the percentile, and a group
+    // A part of the points, measured against a part of the mesh (a process's share of a
+    // tiled run's check, shared_check.cpp): no depths for the percentile unless asked, and a group
     // is left `unresolved` where the part's triangles cannot decide it (a search beyond
     // complete_within, which the part holds every triangle within, or a side that a ray's
     // crossings would decide).
     struct Part {
         double complete_within = std::numeric_limits<double>::infinity();
+        bool sampled = false;  // its sampled groups' depths go to the percentile (the first process's part)
     };
     // every_point: measure every point (and by a ray's crossings when by_rays) rather than
     // only what the figures need. skip: groups (in group_spans()' order) measured
@@ -84,16 +85,24 @@ public:
         std::size_t inside = 0;                                // points inside
         double depth_min = std::numeric_limits<double>::infinity();  // the least depth of a point inside
         std::vector<double> depths;  // signed depths (negative outside) of the points sampled for the percentile
-        std::vector<std::uint32_t> unresolved;  // of a part: the points (tree order) it could not decide
+        // Of a part: the points (tree order) whose nearest triangle lies beyond its reach, and
+        // those whose distance it measured but whose side only a ray's crossings tell; for
+        // each, whether its depth goes to the percentile.
+        std::vector<std::uint32_t> unresolved, undecided;
+        std::vector<double> undecided_distance;
+        std::vector<std::uint8_t> unresolved_sampled, undecided_sampled;
     };
     Figures figures() const;
-    // Point p's distance to the surface and whether it lies inside (for the points a part
-    // left unresolved: the whole mesh's).
+    // A point's distance to the surface and whether it lies inside (for the points a part
+    // left unresolved, as the slabs answer: slab_queries.hpp).
     struct Depth {
         double distance = 0;
         bool inside = false;
     };
-    Depth depth_of(const Vec3& p) const;
+    // The direction of the rays whose crossings tell a side: one that no grid-aligned edge
+    // of a marching-cubes mesh is parallel to, heading for the nearer face of the mesh's
+    // box [lo, hi] on every axis to cut the walk short.
+    static Vec3 ray_toward(const Vec3& p, const Vec3& lo, const Vec3& hi);
 
 private:
     // Points [begin, end) of the tree, within the box [lo, hi], and what is known of them.
@@ -104,6 +113,7 @@ private:
         bool measured = false;  // point by point
         bool unresolved = false;  // a part's triangles could not decide it
         std::vector<std::uint32_t> undecided;  // nor these points' sides
+        std::vector<double> undecided_distance;  // but their distances
         int side = 0;           // +1 all outside, -1 all inside, 0 not known as a whole
         double low = -std::numeric_limits<double>::infinity();  // no point nearer the surface
         double shallowest = std::numeric_limits<double>::infinity();  // least depth measured inside

@@ -21,9 +21,11 @@ using Tri = std::array<std::uint32_t, 3>;
 // The cell holding coordinate x along an axis of `n` cells (clamped to the grid).
 int cell_of(double x, double origin, double h, int n) { return std::clamp(int(std::floor((x - origin) / h)), 0, n - 1); }
 
+}  // namespace
+
 // One slab's part of a share: its triangles, by their corners' places in `whole` (the
 // whole mesh's vertex numbers, in the order the triangles first use them) and `at`.
-struct SlabGift {
+struct SlabShares::Gift {
     std::vector<Tri> triangles;
     std::vector<std::uint32_t> whole;
     std::vector<Vec3> at;
@@ -51,6 +53,10 @@ struct SlabGift {
 
 // The slab's triangles with a corner near process p (by `near`, a slot a vertex: its own,
 // then the foreign ones). slot: scratch, as many slots, all kNone (and so left).
+namespace {
+
+using SlabGift = SlabShares::Gift;
+
 SlabGift gift_for(const SlabMesh& slabs, const std::vector<std::uint64_t>& near, std::size_t p,
                   std::vector<std::uint32_t>& slot) {
     const SlabPart& part = slabs.part();
@@ -182,7 +188,8 @@ CheckDeal take_check_deal(TileScheduler& on) {
     return deal;
 }
 
-ShareMesh share_from_slabs(const SlabMesh& slabs, const CheckDeal& deal, TileScheduler& on, std::uint64_t& bytes) {
+SlabShares::SlabShares(const SlabMesh& slabs, const CheckDeal& deal, TileScheduler& on)
+    : slabs_(slabs), deal_(deal) {
     const std::size_t P = slabs.processes(), me = slabs.rank();
     const SlabPart& part = slabs.part();
     // Which processes each vertex the slab's triangles use is near: its own, then the foreign.
@@ -192,25 +199,30 @@ ShareMesh share_from_slabs(const SlabMesh& slabs, const CheckDeal& deal, TileSch
     for (std::ptrdiff_t s = 0; s < std::ptrdiff_t(own + foreign); ++s)
         near[std::size_t(s)] = deal.near(std::size_t(s) < own ? part.vertices[s] : slabs.foreign_at()[std::size_t(s) - own]);
     std::vector<std::uint32_t> slot(own + foreign, kNone);
-    std::vector<SlabGift> gifts(me > 0 ? P : 0);
+    gifts_.resize(P);
     std::uint64_t sent = 0;
     exchange_pairwise(
         on,
         [&](int q) {
-            if (q == 0) return;  // the first measures on the whole mesh
             const SlabGift gift = gift_for(slabs, near, std::size_t(q), slot);
             gift.send(on, q);
             sent += gift.bytes();
         },
-        [&](int q) {
-            if (me > 0) gifts[std::size_t(q)].take(on, q, slabs.starts().back());
-        });
+        [&](int q) { gifts_[std::size_t(q)].take(on, q, slabs.starts().back()); });
     std::vector<std::uint64_t> total{sent};
     on.sum(total);
-    bytes = total[0];
-    if (me == 0) return ShareMesh();
-    gifts[me] = gift_for(slabs, near, me, slot);
-    return merged(gifts, slabs, deal);
+    bytes_ = total[0];
+    gifts_[me] = gift_for(slabs, near, me, slot);
+}
+
+SlabShares::~SlabShares() = default;
+
+ShareMesh SlabShares::mine() { return merged(gifts_, slabs_, deal_); }
+
+ShareMesh share_from_slabs(const SlabMesh& slabs, const CheckDeal& deal, TileScheduler& on, std::uint64_t& bytes) {
+    SlabShares shares(slabs, deal, on);
+    bytes = shares.bytes();
+    return shares.mine();
 }
 
 }  // namespace snvr::detail

@@ -43,9 +43,25 @@ struct ShareMesh {
     std::vector<std::uint32_t> measured, measured_whole;
 };
 
-// Every process at once: its slab's triangles to every other process but the first
-// (which measures on the whole mesh), and at each of those its share's mesh back (at the
-// first, none). `bytes`: what all sent, summed.
+// In two steps, so that a process can give the others what they wait for between them:
+// made, every process (all at once) has given every other its slab's triangles near it and
+// taken theirs; mine() then merges this process's share (once).
+class SlabShares {
+public:
+    SlabShares(const SlabMesh& slabs, const CheckDeal& deal, TileScheduler& on);
+    ~SlabShares();
+    std::uint64_t bytes() const { return bytes_; }  // what all sent, summed
+    ShareMesh mine();
+
+    struct Gift;  // one slab's part of a share (slab_shares.cpp)
+
+private:
+    const SlabMesh& slabs_;
+    const CheckDeal& deal_;
+    std::vector<Gift> gifts_;
+    std::uint64_t bytes_ = 0;
+};
+// Both steps at once. `bytes`: what all sent, summed.
 ShareMesh share_from_slabs(const SlabMesh& slabs, const CheckDeal& deal, TileScheduler& on, std::uint64_t& bytes);
 
 }  // namespace snvr::detail

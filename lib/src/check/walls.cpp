@@ -60,8 +60,10 @@ double wall_epsilon(const Mesh& m) {
             lo[d] = std::min(lo[d], p[d]);
             hi[d] = std::max(hi[d], p[d]);
         }
-    return m.vertices.empty() ? 0 : 1e-9 * norm({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    return m.vertices.empty() ? 0 : wall_epsilon(lo, hi);
 }
+
+double wall_epsilon(const Vec3& lo, const Vec3& hi) { return 1e-9 * norm({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}); }
 
 // wall[v], v in [first, last): the distance from vertex v along its inward
 // normal to the first triangle met, ignoring the vertex's own triangles;

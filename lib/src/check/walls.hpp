@@ -9,6 +9,9 @@
 
 #include "check/mesh_topology.hpp"
 #include "check/point_depths.hpp"
+#include "check/slab_mesh.hpp"
+#include "check/slab_queries.hpp"
+#include "check/slab_shares.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "snvr/geometry.hpp"
 #include "snvr/point_cloud.hpp"
@@ -27,6 +30,8 @@ std::vector<Vec3> unit_normals(const Mesh& m);
 // A ray's t_min for the walls: far below any wall, far above the rounding of a hit at the
 // ray's own start.
 double wall_epsilon(const Mesh& m);
+// The same for a mesh whose box is [lo, hi] (not empty).
+double wall_epsilon(const Vec3& lo, const Vec3& hi);
 
 // wall[v], v in [first, last): the distance from vertex v along its inward normal to the
 // first triangle met, ignoring the vertex's own triangles; infinity when nothing is met
@@ -35,11 +40,11 @@ double wall_epsilon(const Mesh& m);
 void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<Vec3>& normals, double eps,
                     std::size_t first, std::size_t last, std::vector<double>& wall, const std::uint8_t* skip = nullptr);
 
-// What other processes measure of the check (make_shell over MPI): the walls of the
-// flagged vertices, and the depths of the points in the flagged groups (PointDepths'
-// groups, `spans` as group_spans made them; empty: none). `fill` writes their walls back (NaN: to be measured here after
-// all) and adds up their points' figures (with the points, by the cloud's order, they
-// could not decide: measured here).
+// What other processes measure of the check (make_shell over MPI, with the surface's
+// figures): the walls of the flagged vertices, and the depths of the points in the flagged
+// groups (PointDepths' groups, `spans` as group_spans made them; empty: none). `fill`
+// writes their walls back and adds up their points' figures, every one decided (what no
+// share could, asked of the slabs: slab_queries.hpp).
 struct CheckElsewhere {
     std::vector<std::uint8_t> vertex;
     std::vector<std::uint8_t> groups;
@@ -58,13 +63,38 @@ constexpr int kCheckRounds = 16;
 // taken from `elsewhere.fill`: the same figures.
 MeshQuality measure_sharing(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
                             const CheckElsewhere& elsewhere, const Told& told = nullptr);
+// measure_shell's figures from its parts: the topology, every vertex's wall (reordered) and
+// the points' figures (the depths reordered).
+MeshQuality shell_figures(const Topology& topology, std::size_t points, double offset, double voxel,
+                          std::vector<double>& walls, PointDepths::Figures& depths);
 // measure_quality (surface) or measure_shell, told how far it has come.
 MeshQuality measure_told(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
                          const Told& told);
 
+// Every group of `depths` measured, in chunks over the threads.
+void measure_groups(PointDepths& depths);
+
 struct KeptRange;  // solver/shared_filing.hpp
 // measure_check_share at another process, where it may have kept its range of the points
-// filed by all (null: none), for a share that names groups of it.
-CheckShareFigures measure_check_share(CheckShare share, KeptRange* kept);
+// filed by all (null: none), for a share that names groups of it; what the share cannot
+// decide asked of the slabs (every process at once: slab_queries.hpp), so that every wall
+// and point comes back decided (`ready`: the slab's answers, or null). measured_whole:
+// each measured vertex's number in the whole mesh.
+CheckShareFigures measure_check_share(CheckShare share, KeptRange* kept, const std::vector<std::uint32_t>& measured_whole,
+                                      const SlabMesh& slabs, TileScheduler& on, const SlabAnswers* ready);
+
+// The first process's own share of the check: the walls of share.measured, and the depths
+// of the groups of `points` made as `spans` that `elsewhere` does not flag (the sampled
+// ones' too); `before_asking` run once they are measured, then what the share cannot
+// decide asked of the slabs (as the others do). eps and reach: the shell's, as the others'.
+struct FirstShare {
+    std::vector<double> walls;  // share.measured's
+    PointDepths::Figures points;
+    std::uint64_t points_asked = 0;  // of the slabs, by every process
+};
+FirstShare measure_first_share(ShareMesh share, const PointTree& points, double voxel,
+                               const std::vector<PointDepths::Span>& spans, const std::vector<std::uint8_t>& elsewhere,
+                               double eps, double reach, const SlabMesh& slabs, TileScheduler& on,
+                               const std::function<void()>& before_asking, const Told& told);
 
 }  // namespace snvr::detail

@@ -504,7 +504,9 @@ void TriangleGrid::scan_cell(const Vec3& p, PointBoxes& boxes, int x, int y, int
             const double nn = dot(n, n), s = dot(sub(p, a), n);
             if (nn > 0 && beyond(s * s / nn * (1 - 1e-6), best.dist_sq)) continue;
             const double d = point_triangle_dist_sq(p, a, b, c);
-            if (d < best.dist_sq) {
+            // Of two at one distance the lower numbered, whatever order the cells come in (a
+            // mesh held in slabs finds the same: check/slab_queries.hpp).
+            if (d < best.dist_sq || (d == best.dist_sq && best.triangle != none && tri < best.triangle)) {
                 best = {d, tri};
                 limit = boxes.limit(d);
             }

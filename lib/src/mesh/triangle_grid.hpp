@@ -27,8 +27,9 @@ public:
         double dist_sq;          // infinity when the mesh has no triangles
         std::uint32_t triangle;  // none when the mesh has no triangles
     };
-    // The triangle nearest to p (p may lie anywhere, inside the grid or not) if its
-    // squared distance is below bound_sq, else {infinity, none}. A tight bound (say
+    // The triangle nearest to p (p may lie anywhere, inside the grid or not; of several at
+    // one distance the lowest numbered) if its squared distance is below bound_sq, else
+    // {infinity, none}. A tight bound (say
     // the distance to a vertex known to be near) spares most of the search.
     Closest closest(const Vec3& p, double bound_sq = std::numeric_limits<double>::infinity()) const;
 

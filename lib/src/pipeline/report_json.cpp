@@ -78,7 +78,7 @@ std::string report_json(const RunReport& report) {
           {"check_walls_elsewhere", r.tiles.check_walls},
           {"check_points_elsewhere", r.tiles.check_points},
           {"check_bytes_sent", r.tiles.check_bytes},
-          {"check_points_back", r.tiles.check_points_back},
+          {"check_points_far", r.tiles.check_points_far},
           {"guard_points_elsewhere", r.tiles.guard_points},
           {"guard_bytes_sent", r.tiles.guard_bytes},
           {"surface_slabs", r.tiles.slabs},

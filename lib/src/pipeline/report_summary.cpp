@@ -115,11 +115,11 @@ std::string report_summary(const RunReport& report) {
                                                                t.check_bytes
                                                                    ? format_text("; the check's walls of %s vertices and depths "
                                                                                  "of %s points measured by the others (%.3g MiB "
-                                                                                 "sent them, %s points back)%s",
+                                                                                 "sent them, %s points asked of every slab)%s",
                                                                                  grouped(t.check_walls).c_str(),
                                                                                  grouped(t.check_points).c_str(),
                                                                                  mib(t.check_bytes),
-                                                                                 grouped(t.check_points_back).c_str(),
+                                                                                 grouped(t.check_points_far).c_str(),
                                                                                  t.check_topology_slabs
                                                                                      ? ", its topology counted by "
                                                                                        "the slabs"

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -14,6 +15,7 @@
 
 #include "check/point_depths.hpp"
 #include "check/slab_mesh.hpp"
+#include "check/slab_queries.hpp"
 #include "check/slab_shares.hpp"
 #include "check/slab_topology.hpp"
 #include "check/walls.hpp"
@@ -46,13 +48,12 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // block's other process is given 84 M points and ends with the first (before each key was
 // made once, at 0.08 it was given 91 M and its check took 24.3 s where 18.9; at 0.13, 68 M).
 constexpr double kWallSeconds = 0.8e-6;
-// Where the slabs count the topology (the others theirs while the first deals the shares),
-// the first counts only its own slab's: on the 50 M-point city block at 1024 cells, 1.5-1.7
-// s where the whole mesh's took about 3 s more there, and 0.6 s at the other, where it
-// ran apart (4.4 and 2.2 M vertices); its first ended 2.5-3 s before the other with the
-// whole's share of the first's work (0.43 a vertex) taken off its own, 1.0 a vertex kept
-// for both.
-constexpr double kFirstWorkAVertex = 1.0;
+// The first's own part of the check, beside its share: its slab's topology (counted as the
+// others begin: 0.83 s for the 50 M-point city block's first slab of 2.2 M vertices), its
+// share's merging, and its slab's grid for the questions no share decides (0.5-0.7 s). At
+// 1.0 a vertex (when it measured on the whole mesh) the first ended 2.5-3 s after the
+// other; at 0.3 the other waited for it 1-2 s (the check 15.1-16.5 s); at 0.6, 13.8-14.8 s.
+constexpr double kFirstWorkAVertex = 0.6;
 constexpr double kShareAWall = 0.12;
 constexpr double kWorkAGroup = 9;
 constexpr double kGiveAPoint = 0.03;
@@ -118,21 +119,15 @@ Measurers check_measurers(const std::vector<int>& near, const std::vector<TileWo
     return by;
 }
 
-// The points of the groups given to one process: runs [begin, end) of the cloud's order,
-// and how many came before each run (to find the i-th again).
+// The points of the groups given to one process: runs [begin, end) of the cloud's order.
 struct PointsGiven {
     std::vector<std::array<std::uint32_t, 2>> runs;
-    std::vector<std::size_t> before{0};
+    std::size_t points = 0;
     void add(std::uint32_t begin, std::uint32_t end) {
         runs.push_back({begin, end});
-        before.push_back(before.back() + (end - begin));
+        points += end - begin;
     }
-    std::size_t count() const { return before.back(); }
-    // The i-th point given, by the cloud's order (i < count()).
-    std::uint32_t at(std::size_t i) const {
-        const std::size_t r = std::size_t(std::upper_bound(before.begin(), before.end(), i) - before.begin()) - 1;
-        return runs[r][0] + std::uint32_t(i - before[r]);
-    }
+    std::size_t count() const { return points; }
     // Their coordinates about the tree's origin, x y z in turn.
     PointArray<float> coordinates(const PointTree& tree) const {
         PointArray<float> xyz(3 * count());
@@ -143,11 +138,12 @@ struct PointsGiven {
     }
 };
 
-// The first's word on the check by slabs: what they are, then the path whose format holds
-// the coordinates (empty: as they are); where the slabs' vertices moved, each's own.
-void tell_slab_check(TileScheduler& on, SlabsAre are, const SlabsForCheck& slabs, const Mesh& mesh,
+// The first's word on the check by slabs: what they are, whether the slabs measure the
+// check whole (not with the surface's figures), then the path whose format holds the
+// coordinates (empty: as they are); where the slabs' vertices moved, each's own.
+void tell_slab_check(TileScheduler& on, SlabsAre are, bool by_slabs, const SlabsForCheck& slabs, const Mesh& mesh,
                      const std::vector<std::size_t>& starts) {
-    const std::string word = std::string(1, char(are)) + slabs.written_as;
+    const std::string word = std::string(1, char(are)) + char(by_slabs) + slabs.written_as;
     for (int q = 1; q < on.processes(); ++q) {
         send_array(on, q, word.data(), word.size());
         if (are == SlabsAre::Moved)
@@ -160,30 +156,29 @@ void tell_slab_check(TileScheduler& on, SlabsAre are, const SlabsForCheck& slabs
 void serve_check(TileScheduler& on, Mesh slab, KeptRange* kept) {
     std::string word;
     receive_array(on, 0, word);
-    if (word.empty()) throw Error("the first process's word on the check is not whole");
+    if (word.size() < 2) throw Error("the first process's word on the check is not whole");
     const auto are = SlabsAre(word[0]);
-    const std::string written_as = word.substr(1);
+    const bool by_slabs = word[1] != 0;
+    const std::string written_as = word.substr(2);
     if (are == SlabsAre::Other) slab = Mesh();  // the first's slab is the whole shell
     else if (are == SlabsAre::Moved) receive_into(on, 0, slab.vertices.data(), slab.vertices.size());
     else if (!written_as.empty()) slab = as_written(std::move(slab), written_as);
-    ShareMesh mine;
-    {
-        SlabMesh slabs(SlabPart::of(slab), on);
-        if (are != SlabsAre::Other) {
-            SlabTopology topology(slabs, on);
-            topology.count();
-            topology.send_to_first();
-        }
-        const CheckDeal deal = take_check_deal(on);
-        std::uint64_t bytes = 0;
-        mine = share_from_slabs(slabs, deal, on, bytes);
+    SlabMesh slabs(SlabPart::of(slab), on);  // kept for the questions no share decides
+    if (by_slabs) {
+        SlabTopology topology(slabs, on);
+        topology.count();
+        topology.send_to_first();
     }
-    slab = Mesh();
+    // Made while the first deals the check (0.5-0.7 s for the 50 M-point city block's slab).
+    const SlabAnswers answers(slabs);
+    const CheckDeal deal = take_check_deal(on);
+    std::uint64_t bytes = 0;
+    ShareMesh mine = share_from_slabs(slabs, deal, on, bytes);
     CheckShare share = on.check_share();
     share.vertices = std::move(mine.vertices);
     share.triangles = std::move(mine.triangles);
     share.measured = std::move(mine.measured);
-    on.send_check(measure_check_share(std::move(share), kept));
+    on.send_check(measure_check_share(std::move(share), kept, mine.measured_whole, slabs, on, &answers));
     // Which of the whole mesh's vertices its walls are.
     send_array(on, 0, mine.measured_whole.data(), mine.measured_whole.size());
 }
@@ -197,13 +192,15 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     const bool whole = starts.size() == std::size_t(on.processes()) + 1 && starts.back() == mesh.vertices.size() &&
                        facts.slab_triangles <= mesh.triangles.size();
     const SlabsAre are = surface || !whole ? SlabsAre::Other : slabs.are;
-    tell_slab_check(on, are, slabs, mesh, starts);
+    // Without the surface's figures the slabs measure the whole check: the topology, every
+    // wall and depth, and what no share decides; this process's slab is the shell's first
+    // vertices and triangles, or all of it where the others' are not its parts.
+    const bool by_slabs = !surface;
+    tell_slab_check(on, are, by_slabs, slabs, mesh, starts);
     facts.check_topology_slabs = are != SlabsAre::Other;
-    // This process's slab: the shell's first vertices and triangles, or all of it.
-    SlabMesh held(facts.check_topology_slabs ? SlabPart::of(mesh, starts[1], facts.slab_triangles) : SlabPart::of(mesh),
-                  on);
+    SlabMesh held(are != SlabsAre::Other ? SlabPart::of(mesh, starts[1], facts.slab_triangles) : SlabPart::of(mesh), on);
     std::optional<SlabTopology> topology;
-    if (facts.check_topology_slabs) topology.emplace(held, on);
+    if (by_slabs) topology.emplace(held, on);
     const Domain& d = run.domain;
     const int core = run.tiles.core_cells;
     const std::array<int, 3> across{(d.nx + core - 1) / core, (d.ny + core - 1) / core, (d.nz + core - 1) / core};
@@ -233,6 +230,7 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     if (!surface) spans = PointDepths::narrowed(tree, d.h, d.h, PointDepths::group_spans(tree, d.h, false));
     constexpr std::uint32_t kHere = std::numeric_limits<std::uint32_t>::max();  // measured here
     std::vector<std::uint32_t> group_tile(spans.size());  // freed once dealt
+    std::vector<std::uint32_t> sampled_tiles;             // where the groups sampled lie
     std::vector<double> work(std::size_t(processes), 0);
     work[0] = kFirstWorkAVertex * double(nv) + meanwhile_seconds / kWallSeconds;
     // Where the others kept their ranges of the points filed by all, each measures the
@@ -245,13 +243,14 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     std::vector<std::uint32_t> range_groups(by_ranges ? tiles * std::size_t(processes) : 0);  // a tile's, by range
     for (std::size_t g = 0; g < spans.size(); ++g) {
         const PointDepths::Span& s = spans[g];
+        Vec3 centre;
+        for (std::size_t a = 0; a < 3; ++a) centre[a] = 0.5 * (s.lo[a] + s.hi[a]);
         if (s.sampled) {
             work[0] += kWorkAGroup;
             group_tile[g] = kHere;
+            sampled_tiles.push_back(tile_at(centre));
             continue;
         }
-        Vec3 centre;
-        for (std::size_t a = 0; a < 3; ++a) centre[a] = 0.5 * (s.lo[a] + s.hi[a]);
         group_tile[g] = tile_at(centre);
         if (by_ranges) {  // the process whose range holds the whole group (the first where it spans a bound)
             const std::size_t p = std::size_t(std::upper_bound(bounds.begin(), bounds.end(), std::size_t(s.begin)) -
@@ -306,9 +305,12 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             (by_ranges && group_range[g] ? ranged : given)[depths_by(g)].add(spans[g].begin, spans[g].end);
             deal.measures_in[group_tile[g]] |= std::uint64_t(1) << depths_by(g);
         }
+    for (std::uint32_t t : sampled_tiles) deal.measures_in[t] |= 1;
     elsewhere.spans = std::move(spans);  // made once
     std::vector<std::uint32_t>().swap(group_tile);
     std::vector<std::uint8_t>().swap(group_range);
+    const double eps = wall_epsilon(held.box()[0], held.box()[1]);  // the whole shell's
+    std::optional<SlabShares> shares;
     {
         // A triangle within the reach of a point or vertex in a tile has a corner within the
         // reach and its longest edge of the tile; a point's group and its run reach 3 voxels
@@ -323,11 +325,10 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
         deal.widened = reach + longest_edge + 3 * d.h;
         if (topology) topology->take_others();  // sent before they take the deal
         send_check_deal(on, deal);
-        // Each slab gives the others their triangles: the share's mesh, from this one's too.
-        std::uint64_t slab_bytes = 0;
-        share_from_slabs(held, deal, on, slab_bytes);
-        facts.check_bytes += slab_bytes;
-        const double eps = wall_epsilon(mesh);
+        // Each slab gives the others their triangles: the share's mesh, from this one's too
+        // (merged once the others have their points).
+        shares.emplace(held, deal, on);
+        facts.check_bytes += shares->bytes();
         for (int p = 1; p < processes; ++p) {
             facts.check_points += given[std::size_t(p)].count() + ranged[std::size_t(p)].count();
             {  // its points first, freed before the rest is made
@@ -356,6 +357,46 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             on.give_check(p, share);
         }
     }
+    if (by_slabs) {
+        // Its own slab counted as the others begin measuring their shares (within measure_
+        // sharing's topology task it ran late in the check: 1.5-1.9 s on the 50 M-point city
+        // block's first slab, 0.83-0.85 s here); its own share measured, then `meanwhile`.
+        const auto started = std::chrono::steady_clock::now();
+        ShareMesh first_share = shares->mine();
+        shares.reset();
+        topology->count();
+        std::vector<std::uint8_t> measured(nv, 0);  // each vertex's wall once
+        const auto mark = [&](const std::vector<std::uint32_t>& ids, const std::string& from) {
+            for (std::uint32_t v : ids) {
+                if (v >= nv || measured[v]) throw Error("the walls from " + from + " name a vertex twice or none");
+                measured[v] = 1;
+            }
+        };
+        mark(first_share.measured_whole, "this process");
+        FirstShare own = measure_first_share(std::move(first_share), tree, d.h, elsewhere.spans, elsewhere.groups, eps,
+                                             reach, held, on, meanwhile, told);
+        facts.check_points_far = own.points_asked;
+        std::vector<double>& walls = own.walls;
+        PointDepths::Figures& depths = own.points;
+        for (int p = 1; p < processes; ++p) {
+            const CheckShareFigures got = on.take_check(p);
+            std::vector<std::uint32_t> ids;  // the vertices whose walls these are
+            receive_array(on, p, ids);
+            const std::string from = "process " + std::to_string(p);
+            if (got.walls.size() != ids.size() || !got.unresolved.empty())
+                throw Error("the check's figures from " + from + " are not whole");
+            mark(ids, from);
+            walls.insert(walls.end(), got.walls.begin(), got.walls.end());
+            facts.check_walls += ids.size();
+            depths.inside += got.points_inside;
+            depths.depth_min = std::min(depths.depth_min, got.depth_min);
+        }
+        // Vertices in no triangle: no wall anywhere (infinity, as alone).
+        walls.resize(nv, std::numeric_limits<double>::infinity());
+        MeshQuality q = shell_figures(topology->joined(), points.size(), run.offset, d.h, walls, depths);
+        q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        return q;
+    }
     // Vertices of another's tiles in no triangle: no wall anywhere (infinity, as alone).
     // `meanwhile` runs first, once this process has measured its own part: while the others
     // finish theirs, or, where this one has the most to do, with their cores free for what
@@ -363,13 +404,14 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     // busy: the city block's 440 MB of STL 0.25 s after the check, 0.77 s beside it).
     elsewhere.fill = [&](std::vector<double>& wall, PointDepths::Figures& depths) {
         if (meanwhile) meanwhile();
+        // The others ask the slabs (this one's the whole shell) what their shares cannot decide.
+        facts.check_points_far = ask_slabs(held, eps, FarQuestions(), on).points_asked;
         for (std::size_t v = 0; v < wall.size(); ++v)
             if (elsewhere.vertex[v]) wall[v] = std::numeric_limits<double>::infinity();
         for (int p = 1; p < processes; ++p) {
             const CheckShareFigures got = on.take_check(p);
             std::vector<std::uint32_t> ids;  // the vertices whose walls these are
             receive_array(on, p, ids);
-            const PointsGiven& points_given = given[std::size_t(p)];
             const std::string from = "process " + std::to_string(p);
             if (got.walls.size() != ids.size()) throw Error("the walls from " + from + " are not whole");
             for (std::size_t k = 0; k < ids.size(); ++k) {
@@ -380,23 +422,9 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             facts.check_walls += ids.size();
             depths.inside += got.points_inside;
             depths.depth_min = std::min(depths.depth_min, got.depth_min);
-            facts.check_points_back += got.unresolved.size();
-            // Places in its range first, then the points given it.
-            const std::size_t b = by_ranges ? bounds[std::size_t(p)] : 0;
-            const std::size_t in_range = by_ranges ? bounds[std::size_t(p) + 1] - b : 0;
-            for (std::uint32_t i : got.unresolved) {
-                if (i >= in_range + points_given.count()) throw Error("the points from " + from + " name one it does not have");
-                depths.unresolved.push_back(i < in_range ? std::uint32_t(b + i) : points_given.at(i - in_range));
-            }
+            if (!got.unresolved.empty()) throw Error("the points from " + from + " are not all decided");
         }
     };
-    // Its own slab counted now, as the others begin measuring their shares: within
-    // measure_sharing's topology task it ran late in the check, in 1.5-1.9 s where here it
-    // takes 0.83-0.85 s (the 50 M-point city block's first slab, 2.2 M vertices).
-    if (topology) {
-        topology->count();
-        elsewhere.topology = [&topology] { return topology->joined(); };
-    }
     return measure_sharing(mesh, points, run.offset, d.h, surface, elsewhere, told);
 }
 

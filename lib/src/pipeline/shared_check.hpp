@@ -1,8 +1,10 @@
 // make_shell's check over the processes of a tiled run (tiles.hpp): the walls and the
 // points' depths, the most of the check's work, measured by each process for the vertices
 // and points in its tiles' cores (the first's own tiles dealt to whoever has the least
-// work) from the triangles near them (given by the slabs: slab_shares.hpp), while the
-// first does the rest of the check.
+// work) from the triangles near them (given by the slabs: check/slab_shares.hpp); what no
+// share decides asked of every slab (check/slab_queries.hpp), the topology counted by them
+// (check/slab_topology.hpp). Without the surface's figures no process measures the check on
+// the whole mesh.
 #pragma once
 #include <functional>
 #include <string>
@@ -20,15 +22,14 @@ namespace snvr::detail {
 // without the surface's figures, its points' depths) shared with the other processes of
 // `on` (each is given its share, empty where it has none); what the others measured goes
 // to `facts` (TileFacts::check_walls and on). `meanwhile` runs here once this process has
-// measured its own part, before it takes the others' figures: about meanwhile_seconds,
-// which it measures less for.
+// measured its own part, before the slabs are asked what no share decides and it takes
+// the others' figures: about meanwhile_seconds, which it measures less for.
 //
 // `slabs`: whether the shell is the slabs' own vertices and triangles in turn, as the
 // processes kept them (surface_in_slabs, each rounded as `written_as` holds them), or
 // their triangles with vertices moved here since (the depth guard run here on the whole
-// surface: each is given its vertices), or neither (a piece dropped: the first's slab is
-// then the whole shell). Then its topology is counted by the slabs (slab_topology.hpp; not
-// with the surface's figures, which need the whole mesh's adjacency:
+// surface: each is given its vertices), or neither (a piece dropped, or the surface's
+// figures asked: the first's slab is then the whole shell, the others' empty;
 // facts.check_topology_slabs says which). Every other process's serve_check hears which
 // first.
 enum class SlabsAre : char { Other = 0, Kept = 1, Moved = 2 };
