@@ -157,35 +157,66 @@ std::uint64_t CheckDeal::near(const Vec3& x) const {
     return bits;
 }
 
-void send_check_deal(TileScheduler& on, const CheckDeal& deal) {
+std::size_t CheckDeal::tiles() const {
+    const auto across = [&](int cells) { return std::size_t((cells + core - 1) / std::max(1, core)); };
+    return across(grid.nx) * across(grid.ny) * across(grid.nz);
+}
+
+void send_check_grid(TileScheduler& on, const CheckDeal& deal) {
     const Domain& g = deal.grid;
-    const double figures[9] = {g.origin[0], g.origin[1], g.origin[2], g.h,           deal.widened,
+    const double figures[8] = {g.origin[0], g.origin[1], g.origin[2], g.h,
                                double(g.nx), double(g.ny), double(g.nz), double(deal.core)};
+    for (int q = 1; q < on.processes(); ++q) send_array(on, q, figures, 8);
+}
+
+CheckDeal take_check_grid(TileScheduler& on) {
+    double figures[8];
+    receive_into(on, 0, figures, 8);
+    CheckDeal deal;
+    deal.grid.origin = {figures[0], figures[1], figures[2]};
+    deal.grid.h = figures[3];
+    deal.grid.nx = int(figures[4]);
+    deal.grid.ny = int(figures[5]);
+    deal.grid.nz = int(figures[6]);
+    deal.core = int(figures[7]);
+    if (deal.core < 1 || deal.grid.nx < 1 || deal.grid.ny < 1 || deal.grid.nz < 1)
+        throw Error("the first process's grid of the check is not whole");
+    return deal;
+}
+
+SlabTiles count_by_tiles(const SlabMesh& slabs, const CheckDeal& deal, TileScheduler& on) {
+    const SlabPart& part = slabs.part();
+    SlabTiles counted;
+    counted.vertices.assign(deal.tiles(), 0);
+    for (std::size_t v = 0; v < part.vertex_count; ++v) ++counted.vertices[deal.tile_at(part.vertices[v])];
+    on.sum(counted.vertices);
+    double longest = 0;
+    for (std::size_t t = 0; t < part.triangle_count; ++t)
+        for (std::size_t c = 0; c < 3; ++c) {
+            const Vec3& a = slabs.position(part.triangles[t][c]);
+            const Vec3& b = slabs.position(part.triangles[t][(c + 1) % 3]);
+            for (std::size_t k = 0; k < 3; ++k) longest = std::max(longest, std::fabs(a[k] - b[k]));
+        }
+    std::vector<double> least{-longest};
+    on.least(least);
+    counted.longest_edge = -least[0];
+    return counted;
+}
+
+void send_check_deal(TileScheduler& on, const CheckDeal& deal) {
     for (int q = 1; q < on.processes(); ++q) {
-        send_array(on, q, figures, 9);
+        send_array(on, q, &deal.widened, 1);
         send_array(on, q, deal.measures_in.data(), deal.measures_in.size());
         send_array(on, q, deal.walls_by.data(), deal.walls_by.size());
     }
 }
 
-CheckDeal take_check_deal(TileScheduler& on) {
-    double figures[9];
-    receive_into(on, 0, figures, 9);
-    CheckDeal deal;
-    deal.grid.origin = {figures[0], figures[1], figures[2]};
-    deal.grid.h = figures[3];
-    deal.widened = figures[4];
-    deal.grid.nx = int(figures[5]);
-    deal.grid.ny = int(figures[6]);
-    deal.grid.nz = int(figures[7]);
-    deal.core = int(figures[8]);
+void take_check_deal(TileScheduler& on, CheckDeal& deal) {
+    receive_into(on, 0, &deal.widened, 1);
     receive_array(on, 0, deal.measures_in);
     receive_array(on, 0, deal.walls_by);
-    const auto across = [&](int cells) { return std::size_t((cells + deal.core - 1) / std::max(1, deal.core)); };
-    const std::size_t tiles = across(deal.grid.nx) * across(deal.grid.ny) * across(deal.grid.nz);
-    if (deal.core < 1 || deal.measures_in.size() != tiles || deal.walls_by.size() != tiles)
+    if (deal.measures_in.size() != deal.tiles() || deal.walls_by.size() != deal.tiles())
         throw Error("the first process's deal of the check is not whole");
-    return deal;
 }
 
 SlabShares::SlabShares(const SlabMesh& slabs, const CheckDeal& deal, TileScheduler& on)

@@ -30,11 +30,23 @@ struct CheckDeal {
     std::uint32_t tile_at(const Vec3& x) const;
     // Bit p: process p measures in a tile within `widened` of x.
     std::uint64_t near(const Vec3& x) const;
+    std::size_t tiles() const;
 };
 
-// The deal from the first to every other process, which takes it.
+// The deal from the first to every other process, in two steps: its grid first (the
+// others take it as a deal with no tiles yet), then, once dealt, the tiles' part.
+void send_check_grid(TileScheduler& on, const CheckDeal& deal);
+CheckDeal take_check_grid(TileScheduler& on);
 void send_check_deal(TileScheduler& on, const CheckDeal& deal);
-CheckDeal take_check_deal(TileScheduler& on);
+void take_check_deal(TileScheduler& on, CheckDeal& deal);
+
+// What the first deals by, counted by the slabs (every process at once): the whole mesh's
+// vertices in each tile, and its longest edge (along an axis).
+struct SlabTiles {
+    std::vector<std::uint64_t> vertices;
+    double longest_edge = 0;
+};
+SlabTiles count_by_tiles(const SlabMesh& slabs, const CheckDeal& deal, TileScheduler& on);
 
 // A share's mesh, and its measured vertices' numbers in the whole mesh (for the walls back).
 struct ShareMesh {

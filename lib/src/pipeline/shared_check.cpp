@@ -164,6 +164,8 @@ void serve_check(TileScheduler& on, Mesh slab, KeptRange* kept) {
     else if (are == SlabsAre::Moved) receive_into(on, 0, slab.vertices.data(), slab.vertices.size());
     else if (!written_as.empty()) slab = as_written(std::move(slab), written_as);
     SlabMesh slabs(SlabPart::of(slab), on);  // kept for the questions no share decides
+    CheckDeal deal = take_check_grid(on);
+    count_by_tiles(slabs, deal, on);
     if (by_slabs) {
         SlabTopology topology(slabs, on);
         topology.count();
@@ -171,7 +173,7 @@ void serve_check(TileScheduler& on, Mesh slab, KeptRange* kept) {
     }
     // Made while the first deals the check (0.5-0.7 s for the 50 M-point city block's slab).
     const SlabAnswers answers(slabs);
-    const CheckDeal deal = take_check_deal(on);
+    take_check_deal(on, deal);
     std::uint64_t bytes = 0;
     ShareMesh mine = share_from_slabs(slabs, deal, on, bytes);
     CheckShare share = on.check_share();
@@ -198,26 +200,23 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     const bool by_slabs = !surface;
     tell_slab_check(on, are, by_slabs, slabs, mesh, starts);
     facts.check_topology_slabs = are != SlabsAre::Other;
-    SlabMesh held(are != SlabsAre::Other ? SlabPart::of(mesh, starts[1], facts.slab_triangles) : SlabPart::of(mesh), on);
-    std::optional<SlabTopology> topology;
-    if (by_slabs) topology.emplace(held, on);
-    const Domain& d = run.domain;
-    const int core = run.tiles.core_cells;
-    const std::array<int, 3> across{(d.nx + core - 1) / core, (d.ny + core - 1) / core, (d.nz + core - 1) / core};
-    const std::size_t tiles = std::size_t(across[0]) * std::size_t(across[1]) * std::size_t(across[2]);
     const int processes = on.processes();
     if (processes > 64) throw ParameterError("the check is shared among at most 64 processes");
+    SlabMesh held(are != SlabsAre::Other ? SlabPart::of(mesh, starts[1], facts.slab_triangles) : SlabPart::of(mesh), on);
+    // What the deal goes by, counted by the slabs: each tile's vertices, the longest edge.
+    const Domain& d = run.domain;
     CheckDeal deal;
     deal.grid = d;
-    deal.core = core;
+    deal.core = run.tiles.core_cells;
+    send_check_grid(on, deal);
+    const SlabTiles counted = count_by_tiles(held, deal, on);
+    std::optional<SlabTopology> topology;
+    if (by_slabs) topology.emplace(held, on);
+    const std::size_t tiles = deal.tiles();
     const auto tile_at = [&deal](const Vec3& x) { return deal.tile_at(x); };
-    const std::size_t nv = mesh.vertices.size();
-    std::vector<std::uint32_t> tile_of(nv);
+    const std::size_t nv = held.starts().back();
     std::vector<TileWork> work_in(tiles);
-    for (std::size_t v = 0; v < nv; ++v) {
-        tile_of[v] = tile_at(mesh.vertices[v]);
-        work_in[tile_of[v]].walls += 1;
-    }
+    for (std::size_t t = 0; t < tiles; ++t) work_in[t].walls = double(counted.vertices[t]);
     // The points' depths go by their groups (PointDepths'), each to its centre's tile; the
     // groups sampled for the percentile stay here, so that it is taken over the same points
     // as alone. Those wider than a voxel (a sparse scan's lone leaves) are cut narrower
@@ -281,8 +280,10 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     // measures: the shells' walls are about twice the offset, a point inside lies within it.
     const double reach = 4 * run.offset + 2 * d.h;
     CheckElsewhere elsewhere;
-    elsewhere.vertex.assign(nv, 0);
-    for (std::size_t v = 0; v < nv; ++v) elsewhere.vertex[v] = measurer.walls[tile_of[v]] != 0;
+    if (surface) {  // measured on the whole mesh here: the vertices whose walls are the others'
+        elsewhere.vertex.assign(nv, 0);
+        for (std::size_t v = 0; v < nv; ++v) elsewhere.vertex[v] = measurer.walls[tile_at(mesh.vertices[v])] != 0;
+    }
     const auto depths_by = [&](std::size_t g) -> std::size_t {
         if (group_tile[g] == kHere) return 0;
         return by_ranges && group_range[g] ? group_range[g] : std::size_t(measurer.depths[group_tile[g]]);
@@ -315,14 +316,7 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
         // A triangle within the reach of a point or vertex in a tile has a corner within the
         // reach and its longest edge of the tile; a point's group and its run reach 3 voxels
         // beyond its tile.
-        double longest_edge = 0;
-        for (const auto& t : mesh.triangles)
-            for (int c = 0; c < 3; ++c) {
-                const Vec3& a = mesh.vertices[t[std::size_t(c)]];
-                const Vec3& b = mesh.vertices[t[std::size_t((c + 1) % 3)]];
-                for (std::size_t k = 0; k < 3; ++k) longest_edge = std::max(longest_edge, std::fabs(a[k] - b[k]));
-            }
-        deal.widened = reach + longest_edge + 3 * d.h;
+        deal.widened = reach + counted.longest_edge + 3 * d.h;
         if (topology) topology->take_others();  // sent before they take the deal
         send_check_deal(on, deal);
         // Each slab gives the others their triangles: the share's mesh, from this one's too
