@@ -54,12 +54,12 @@ struct Undecided {
     void add_points(const detail::PointDepths::Figures& f, const detail::PointTree& tree) {
         for (std::size_t i = 0; i < f.unresolved.size(); ++i) {
             asked.points.push_back(tree.point(f.unresolved[i]));
-            point_sampled.push_back(f.unresolved_sampled.empty() ? 0 : f.unresolved_sampled[i]);
+            point_sampled.push_back(f.unresolved_sampled[i]);
         }
         for (std::size_t i = 0; i < f.undecided.size(); ++i) {
             asked.sides.push_back(tree.point(f.undecided[i]));
             side_distance.push_back(f.undecided_distance[i]);
-            side_sampled.push_back(f.undecided_sampled.empty() ? 0 : f.undecided_sampled[i]);
+            side_sampled.push_back(f.undecided_sampled[i]);
         }
     }
     // The slabs' answers into a share's figures: its walls, the points inside and the least

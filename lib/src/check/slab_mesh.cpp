@@ -99,12 +99,16 @@ std::size_t SlabMesh::owner(std::uint32_t v) const {
     return std::size_t(std::upper_bound(starts_.begin(), starts_.end(), std::uint64_t(v)) - starts_.begin()) - 1;
 }
 
-const Vec3& SlabMesh::position(std::uint32_t v) const {
-    if (v >= starts_[rank_] && v < starts_[rank_ + 1]) return part_.vertices[v - starts_[rank_]];
+std::size_t SlabMesh::slot(std::uint32_t v) const {
+    if (v >= starts_[rank_] && v < starts_[rank_ + 1]) return std::size_t(v - starts_[rank_]);
     const auto at = std::lower_bound(foreign_.begin(), foreign_.end(), v);
-    if (at == foreign_.end() || *at != v)
-        throw Error("a mesh in slabs: vertex " + std::to_string(v) + " is neither this slab's nor used by it");
-    return foreign_at_[std::size_t(at - foreign_.begin())];
+    return at != foreign_.end() && *at == v ? part_.vertex_count + std::size_t(at - foreign_.begin()) : npos;
+}
+
+const Vec3& SlabMesh::position(std::uint32_t v) const {
+    const std::size_t s = slot(v);
+    if (s == npos) throw Error("a mesh in slabs: vertex " + std::to_string(v) + " is neither this slab's nor used by it");
+    return s < part_.vertex_count ? part_.vertices[s] : foreign_at_[s - part_.vertex_count];
 }
 
 }  // namespace snvr::detail

@@ -50,6 +50,10 @@ public:
     const std::array<Vec3, 2>& box() const { return box_; }
     // The slab holding vertex v.
     std::size_t owner(std::uint32_t v) const;
+    // Vertex v's place here: its own vertices first, then the foreign ones (npos where it
+    // is neither this slab's nor used by its triangles).
+    static constexpr std::size_t npos = std::size_t(-1);
+    std::size_t slot(std::uint32_t v) const;
     // Vertex v, of this slab or used by its triangles.
     const Vec3& position(std::uint32_t v) const;
     // The other slabs' vertices its own triangles use (ascending), and where they are.

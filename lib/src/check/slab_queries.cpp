@@ -45,14 +45,10 @@ public:
         }
         grid_.emplace(mesh_);
     }
-    // Vertex v's number here (none where no own triangle uses it).
+    // Vertex v's number here (none where no own triangle uses it): its slot in the slabs.
     std::uint32_t local(std::uint32_t v) const {
-        const std::uint64_t lo = slabs_.starts()[slabs_.rank()];
-        const std::size_t own = slabs_.part().vertex_count;
-        if (v >= lo && v - lo < own) return std::uint32_t(v - lo);
-        const std::vector<std::uint32_t>& foreign = slabs_.foreign();
-        const auto at = std::lower_bound(foreign.begin(), foreign.end(), v);
-        return at != foreign.end() && *at == v ? std::uint32_t(own + std::size_t(at - foreign.begin())) : TriangleGrid::none;
+        const std::size_t s = slabs_.slot(v);
+        return s == SlabMesh::npos ? TriangleGrid::none : std::uint32_t(s);
     }
     std::vector<double> hits(const std::vector<FarWall>& walls, double eps) const {
         std::vector<double> t(walls.size());

@@ -60,12 +60,8 @@ using SlabGift = SlabShares::Gift;
 SlabGift gift_for(const SlabMesh& slabs, const std::vector<std::uint64_t>& near, std::size_t p,
                   std::vector<std::uint32_t>& slot) {
     const SlabPart& part = slabs.part();
-    const std::uint64_t lo = slabs.starts()[slabs.rank()], own = part.vertex_count;
-    const std::vector<std::uint32_t>& foreign = slabs.foreign();
-    const auto slot_of = [&](std::uint32_t v) {
-        if (v >= lo && v - lo < own) return std::size_t(v - lo);
-        return std::size_t(own) + std::size_t(std::lower_bound(foreign.begin(), foreign.end(), v) - foreign.begin());
-    };
+    const std::size_t own = part.vertex_count;
+    const auto slot_of = [&](std::uint32_t v) { return slabs.slot(v); };
     const std::uint64_t bit = std::uint64_t(1) << p;
     SlabGift gift;
     for (std::size_t t = 0; t < part.triangle_count; ++t) {
