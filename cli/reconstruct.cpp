@@ -158,10 +158,15 @@ int run_reconstruct(const std::vector<std::string>& args) {
         // while the check runs (over several processes, the others measure meanwhile).
         snvr::OutputFiles outputs;
         snvr::ShellSettings run_settings = settings;
-        run_settings.mesh_ready = [&](const snvr::Mesh& mesh) {
-            say("write: " + o.output);
-            files.outputs.push_back({o.output, "mesh", outputs.add_mesh(mesh, o.output)});
-        };
+        // The mesh streamed into its file as it comes (over several processes a slab at a
+        // time, none holding it whole), where the format takes it so and no preview needs
+        // it whole.
+        if (o.preview.empty()) run_settings.mesh_sink = outputs.mesh_sink(o.output);
+        if (!run_settings.mesh_sink)
+            run_settings.mesh_ready = [&](const snvr::Mesh& mesh) {
+                say("write: " + o.output);
+                files.outputs.push_back({o.output, "mesh", outputs.add_mesh(mesh, o.output)});
+            };
         // A stage's parts and how far it has come: a line every few seconds at most
         // (the bunny's mesh stage tells four parts in 0.3 s); what it did, always.
         ProgressPace pace;
@@ -178,6 +183,10 @@ int run_reconstruct(const std::vector<std::string>& args) {
         });
         stage.lap();  // make_shell timed its own stages
         if (shell.run.tiles.worker) return 0;  // its tiles are the first process's now
+        if (run_settings.mesh_sink) {  // written as it came
+            say("write: " + o.output);
+            files.outputs.push_back({o.output, "mesh", outputs.staged_bytes(o.output)});
+        }
         const snvr::Result& result = shell.run;
         for (const std::string& w : shell.warnings) warn(w);
 

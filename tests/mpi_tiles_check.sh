@@ -38,6 +38,30 @@ slab_topology() {
         "$2" "$1" || fail "$2: the check's topology was $([ "$1" = 1 ] && echo not) counted by the slabs"
 }
 slab_topology 1 "$tmp/two.json"
+# Whether the surface stayed in the slabs (report $2), as $1 says (1 or 0): no process held
+# the whole mesh, the file written from the slabs in turn.
+slabs_kept() {
+    python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["tiles"]["surface_kept_in_slabs"] == (sys.argv[2] == "1") else 1)' \
+        "$2" "$1" || fail "$2: the surface was $([ "$1" = 1 ] && echo not) kept in the slabs"
+}
+slabs_kept 0 "$tmp/two.json"  # the first keeps the points deep on the whole surface here
+# At 128 cells the slabs keep their points deep, and then the surface stays in them: as STL,
+# PLY and OBJ, the one process's bytes and figures.
+for as in stl ply obj; do
+    kept=(reconstruct "$data/bunny.ply" --resolution 128 --tile-cells 32 --device openmp)
+    "$cli" "${kept[@]}" --report "$tmp/kept1.json" -o "$tmp/kept1.$as" 2>/dev/null || fail "one process ($as)"
+    "${mpi[@]}" -np 2 "$cli" "${kept[@]}" --report "$tmp/kept2.json" -o "$tmp/kept2.$as" 2>/dev/null ||
+        fail "two processes ($as)"
+    cmp "$tmp/kept1.$as" "$tmp/kept2.$as" || fail "two processes wrote other bytes than one ($as)"
+    same_check "$tmp/kept1.json" "$tmp/kept2.json"
+    slabs_kept 1 "$tmp/kept2.json"
+done
+# A preview needs the mesh whole: the first gathers the slabs, and writes the same bytes.
+"${mpi[@]}" -np 2 "$cli" "${kept[@]}" --report "$tmp/kept2.json" -o "$tmp/kept2.stl" --preview "$tmp/kept2.png" \
+    2>/dev/null || fail "two processes with a preview"
+cmp "$tmp/kept1.stl" "$tmp/kept2.stl" || fail "two processes with a preview wrote other bytes than one"
+slabs_kept 0 "$tmp/kept2.json"
+rm "$tmp"/kept[12].*
 # Input $2 (then the run's options) on one process and on two, as "$1": the same bytes and
 # check ($tmp/${1}1.json and ${1}2.json the reports).
 one_and_two() {
@@ -138,6 +162,7 @@ SNVR_TEST_GUARD_GHOSTS=4 one_and_two rerun "$data/bunny.ply" --resolution 128 --
 python3 -c 'import json, sys; t = json.load(open(sys.argv[1]))["tiles"]; sys.exit(0 if t["guard_on_slabs"] and t["guard_run_again_whole"] and t["guard_ghosts_differing"] > 0 else 1)' \
     "$tmp/rerun2.json" || fail "slabs with 4 ghost planes: the slabs' guard was not run again on the whole"
 slab_topology 1 "$tmp/rerun2.json"
+slabs_kept 0 "$tmp/rerun2.json"  # gathered for the guard run again
 rm "$tmp"/rerun[12].*
 # Its binary PLY is read in parts, a part a process, and the points' tree filed by both
 # (above); as text the first reads it and gives the other its part; where the other

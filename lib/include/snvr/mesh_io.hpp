@@ -3,6 +3,7 @@
 // Every writer writes to a temporary file next to the target and renames it on
 // success, so a failure never leaves a half-written output.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -27,6 +28,41 @@ Mesh read_mesh(const std::string& path);
 // Chooses the format from the extension: .stl (binary), .ply (binary little endian), .obj,
 // .3mf (its unit set to millimetres: coordinates are taken to be in mm).
 void write_mesh(const Mesh& mesh, const std::string& path);
+
+// A mesh handed over in parts, in order: a run over several processes hands each
+// process's slab in turn, so that no process need hold the whole mesh. A part is a run of
+// the whole mesh's vertices and one of its triangles, numbered as the whole numbers its
+// vertices (any part's).
+struct MeshPart {
+    std::uint64_t first_vertex = 0;  // the whole mesh's number of vertices[0]
+    const Vec3* vertices = nullptr;
+    std::size_t vertex_count = 0;
+    const std::array<std::uint32_t, 3>* triangles = nullptr;
+    std::size_t triangle_count = 0;
+    // The other parts' vertices its triangles use (ascending) and their positions: given
+    // to triangles() where the sink wants corners.
+    const std::uint32_t* foreign = nullptr;
+    const Vec3* foreign_at = nullptr;
+    std::size_t foreign_count = 0;
+    // Vertex v, this part's or a foreign one; throws InputError where it is neither.
+    const Vec3& position(std::uint32_t v) const;
+};
+// What takes a mesh in parts: begin() with the whole's counts; then, where it does not
+// want corners, vertices() with every part in order; then triangles() with every part
+// in order (with the foreign positions where it wants corners); then finish().
+class MeshSink {
+public:
+    virtual ~MeshSink() = default;
+    // Whether each triangle's corners are wanted with it (STL repeats them) rather than
+    // every vertex first (PLY, OBJ).
+    virtual bool wants_corners() const = 0;
+    virtual void begin(std::uint64_t vertices, std::uint64_t triangles) = 0;
+    virtual void vertices(const MeshPart& part) = 0;
+    virtual void triangles(const MeshPart& part) = 0;
+    virtual void finish() = 0;
+};
+// Hands `mesh` to `sink` whole, as its one part.
+void hand_mesh(const Mesh& mesh, MeshSink& sink);
 
 // Writes the field as VTK image data (.vti, raw appended binary) or NRRD (.nrrd),
 // with the origin at the centre of cell (0,0,0) (domain.origin + h/2) and spacing h.
@@ -65,6 +101,11 @@ public:
     std::uint64_t add_field(const Field& field, const Domain& domain, const std::string& path);
     std::uint64_t add_bytes(const std::string& bytes, const std::string& path);  // as given
     std::uint64_t add_points(const PointSet& points, const std::string& path, const std::string& comment = "");
+    // A sink that stages the mesh at `path` as its parts come (staged at its finish());
+    // null where the format takes a mesh only whole (.3mf: lib3mf builds the model).
+    std::shared_ptr<MeshSink> mesh_sink(const std::string& path);
+    // The size of the file staged for `path` (0: none yet).
+    std::uint64_t staged_bytes(const std::string& path) const;
     void commit();
 
 private:

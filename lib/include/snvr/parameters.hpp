@@ -134,6 +134,13 @@ struct Parameters {
     // giving each other process those; Result::surface_guarded says so. Only where the
     // tube has an inner wall. false, or one process: left to the caller.
     bool surface_guard = false;
+    // And the surface left in its slabs, where nothing asks for it whole (make_shell with a
+    // MeshSink and no stage that needs it whole): the first process keeps its own slab
+    // only (Result::surface then; TileFacts::slabs_kept says so), each other its own, for
+    // the check and then the sink, a slab at a time. The first still gathers them where it
+    // keeps the points deep on the whole surface (TileFacts::guard_slabs false, or
+    // guard_rerun).
+    bool surface_in_parts = false;
     // A memory budget in bytes: what the run may add to the process (the points it files and
     // everything after; lib/src/solver/memory_budget.hpp). The run goes whole where its
     // estimate fits, else in tiles of the largest size that fits, else stops with an error

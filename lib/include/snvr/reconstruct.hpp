@@ -110,6 +110,10 @@ struct TileFacts {
     // lib/src/check/slab_topology.hpp).
     std::vector<std::size_t> slab_starts;
     std::size_t slab_triangles = 0;
+    // The whole surface's triangles, and whether it stays in its slabs, the first holding
+    // its own only (Parameters::surface_in_parts; the slabs' own are not sent it then).
+    std::size_t surface_triangles = 0;
+    bool slabs_kept = false;
     bool check_topology_slabs = false;
 };
 

@@ -17,6 +17,8 @@
 
 namespace snvr {
 
+class MeshSink;  // snvr/mesh_io.hpp
+
 // Where the shell is made: about the points as given, about their round centre (far
 // coordinates), or (Auto, snvr-cl's default) about the centre only where written_as is a
 // print format (STL, 3MF) whose float32 would otherwise move the shell by more than 1% of
@@ -74,6 +76,13 @@ struct ShellSettings {
     // others finish their share of the check (the first process takes that much less of
     // it, reckoning the writing of written_as's format). What it throws, make_shell throws.
     std::function<void(const Mesh&)> mesh_ready;
+    // Or the finished mesh handed to a sink in parts (snvr/mesh_io.hpp: OutputFiles::
+    // mesh_sink writes a file so), once: then Shell::mesh comes back empty. Over several
+    // processes the slabs that made it are handed on in turn after the check, so that no
+    // process holds it whole, where nothing needs it so (a piece filter, the surface's
+    // figures, keep_field, or the depth guard on a dense scan's whole surface:
+    // Result::tiles.slabs_kept says which); else it is handed on whole, as mesh_ready.
+    std::shared_ptr<MeshSink> mesh_sink;
     // Where a tiled run's tiles run (tiles.hpp); none: all in this process.
     std::shared_ptr<TileScheduler> tiles_on;
     // The points' length unit and a factor on it (a print at 1:100 is scale 0.01): the
@@ -89,11 +98,11 @@ struct ShellSettings {
 
 struct ShellSeconds {
     double outliers = 0, reconstruct = 0, mesh = 0, check = 0, total = 0;  // reconstruct: run.seconds has its stages
-    double mesh_ready = 0;  // in ShellSettings::mesh_ready (within total, not in check)
+    double mesh_ready = 0;  // in ShellSettings::mesh_ready or mesh_sink (within total, not in check)
 };
 
 struct Shell {
-    Mesh mesh;                  // shifted by -shift; as written_as holds it
+    Mesh mesh;                  // shifted by -shift; as written_as holds it (empty: given to mesh_sink)
     Result run;                 // the reconstruction; phi only when keep_field
     DroppedOutliers outliers;   // the points dropped, where they were given
     Vec3 shift{0, 0, 0};        // subtracted from the kept points before the run (origin)

@@ -22,15 +22,15 @@ std::string laz_not_read(const std::string& path) {
 
 // A row a format: name, extensions, signature {magic, any start},
 // reading {points, mesh, faces, points not read},
-// writing {mesh, points, field, stores, print, ns a triangle}.
+// writing {mesh whole, points, field, stores, print, ns a triangle, mesh in parts}.
 // STL first: the mesh readers' and writers' lists have always begun with it.
 std::vector<Format> make_formats() {
     return {
-        {"STL", {".stl"}, {"", true}, {nullptr, read_stl_mesh, always}, {write_stl, nullptr, nullptr, Stores::Float32, true, 30}},
-        {"PLY", {".ply"}, {"ply"}, {parse_ply, read_ply_mesh, ply_has_faces}, {write_ply, write_ply_points, nullptr, Stores::Float32, false, 17}},
+        {"STL", {".stl"}, {"", true}, {nullptr, read_stl_mesh, always}, {nullptr, nullptr, nullptr, Stores::Float32, true, 30, stl_sink}},
+        {"PLY", {".ply"}, {"ply"}, {parse_ply, read_ply_mesh, ply_has_faces}, {nullptr, write_ply_points, nullptr, Stores::Float32, false, 17, ply_sink}},
         {"text points", {".xyz", ".pts", ".txt"}, {}, {parse_xyz}, {nullptr, write_text_points}},
         {"CSV", {".csv"}, {}, {parse_xyz}, {}},  // never written: the text writer separates by spaces
-        {"OBJ", {".obj"}, {}, {parse_obj, read_obj_mesh, obj_has_faces}, {write_obj, nullptr, nullptr, Stores::Exactly, false, 200}},
+        {"OBJ", {".obj"}, {}, {parse_obj, read_obj_mesh, obj_has_faces}, {nullptr, nullptr, nullptr, Stores::Exactly, false, 200, obj_sink}},
         {"OFF", {".off"}, {}, {parse_off, read_off_mesh, off_has_faces}, {}},
         {"LAS", {".las"}, {"LASF"}, {parse_las}, {}},
         {"LAZ", {".laz"}, {}, {nullptr, nullptr, nullptr, laz_not_read}, {}},
@@ -75,7 +75,7 @@ bool serves(const Format& format, FormatUse use) {
     switch (use) {
         case FormatUse::ReadPoints: return format.read.points != nullptr;
         case FormatUse::ReadMesh: return format.read.mesh != nullptr;
-        case FormatUse::WriteMesh: return format.write.mesh != nullptr;
+        case FormatUse::WriteMesh: return format.write.mesh || format.write.parts;
         case FormatUse::WritePoints: return format.write.points != nullptr;
         case FormatUse::WriteField: return format.write.field != nullptr;
     }
@@ -112,7 +112,7 @@ bool is_print_format(const std::string& path) {
 
 double mesh_writing_seconds(const std::string& path, std::size_t triangles) {
     const Format* format = format_of(path);
-    return format && format->write.mesh ? format->write.ns_a_triangle * 1e-9 * double(triangles) : 0;
+    return format && (format->write.mesh || format->write.parts) ? format->write.ns_a_triangle * 1e-9 * double(triangles) : 0;
 }
 
 }  // namespace snvr::detail

@@ -3,6 +3,7 @@
 // parser or writer (declared in point_readers.hpp, mesh_readers.hpp or writers.hpp).
 #pragma once
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "snvr/field.hpp"
 #include "snvr/geometry.hpp"
 #include "snvr/formats.hpp"
+#include "snvr/mesh_io.hpp"
 
 namespace snvr::detail {
 
@@ -20,11 +22,22 @@ using PointParser = FloatPoints (*)(InputSource& source, const std::string& path
 using MeshParser = Mesh (*)(std::string_view data, const std::string& path);
 using FacesRule = bool (*)(InputSource& source, const std::string& path);
 using MeshWriter = void (*)(const Mesh& mesh, AtomicFile& out);
+using MeshPartsWriter = std::unique_ptr<MeshSink> (*)(AtomicFile& out);
 using PointsWriter = void (*)(const PointSet& points, const std::string& comment, AtomicFile& out);
 using FieldWriter = void (*)(const Field& field, const Domain& domain, AtomicFile& out);
 
 // How a written file holds a coordinate.
 enum class Stores { Exactly, Float32, Float32SixDecimals };
+
+// How far writing vertices to path's format moves a coordinate at most, and the farthest
+// coordinate (written_mesh.cpp); require_written_moves throws require_written_precision's
+// error (snvr/mesh_io.hpp) where they break its rule, so that slabs held apart are
+// checked as the whole mesh.
+struct WrittenMoves {
+    double largest = 0, farthest = 0;
+};
+WrittenMoves written_moves(const Vec3* vertices, std::size_t count, const std::string& path);
+void require_written_moves(const WrittenMoves& moves, const std::string& path, double voxel);
 
 // Checked on the first inflated bytes of a gzipped file, before the rest is inflated.
 struct Signature {
@@ -43,7 +56,7 @@ struct Reading {
 };
 
 struct Writing {
-    MeshWriter mesh = nullptr;
+    MeshWriter mesh = nullptr;  // the mesh whole (a format that takes it only so)
     PointsWriter points = nullptr;
     FieldWriter field = nullptr;
     Stores stores = Stores::Exactly;  // by the mesh writer
@@ -51,6 +64,7 @@ struct Writing {
     // Writing a mesh, about, on one thread (this machine, the bunny's 3.3 M triangles): what
     // a run may do meanwhile is planned on it, never its result.
     double ns_a_triangle = 0;
+    MeshPartsWriter parts = nullptr;  // the mesh as its parts come (snvr/mesh_io.hpp's MeshSink)
 };
 
 struct Format {

@@ -107,9 +107,12 @@ std::string report_summary(const RunReport& report) {
                                                                t.slab_bytes
                                                                    ? format_text("; the surface welded and faired in %d "
                                                                                  "slabs of planes, %d planes of ghosts "
-                                                                                 "either side, %.3g MiB between them%s",
+                                                                                 "either side, %.3g MiB between them%s%s",
                                                                                  t.slabs, t.slab_ghost, mib(t.slab_bytes),
-                                                                                 slab_guard_text(t).c_str())
+                                                                                 slab_guard_text(t).c_str(),
+                                                                                 t.slabs_kept ? ", kept in them and "
+                                                                                                "written from them in turn"
+                                                                                              : "")
                                                                          .c_str()
                                                                    : "",
                                                                t.check_bytes

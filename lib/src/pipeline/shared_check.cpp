@@ -139,11 +139,12 @@ struct PointsGiven {
 };
 
 // The first's word on the check by slabs: what they are, whether the slabs measure the
-// check whole (not with the surface's figures), then the path whose format holds the
-// coordinates (empty: as they are); where the slabs' vertices moved, each's own.
-void tell_slab_check(TileScheduler& on, SlabsAre are, bool by_slabs, const SlabsForCheck& slabs, const Mesh& mesh,
-                     const std::vector<std::size_t>& starts) {
-    const std::string word = std::string(1, char(are)) + char(by_slabs) + slabs.written_as;
+// check whole (not with the surface's figures), whether they are the shell's only copy,
+// then the path whose format holds the coordinates (empty: as they are); where the slabs'
+// vertices moved, each's own.
+void tell_slab_check(TileScheduler& on, SlabsAre are, bool by_slabs, bool kept, const SlabsForCheck& slabs,
+                     const Mesh& mesh, const std::vector<std::size_t>& starts) {
+    const std::string word = std::string(1, char(are)) + char(by_slabs) + char(kept) + slabs.written_as;
     for (int q = 1; q < on.processes(); ++q) {
         send_array(on, q, word.data(), word.size());
         if (are == SlabsAre::Moved)
@@ -151,18 +152,30 @@ void tell_slab_check(TileScheduler& on, SlabsAre are, bool by_slabs, const Slabs
     }
 }
 
+// Where the slabs are the shell's only copy: the format's rule on the moves of every slab's
+// vertices rounded as written (the largest of each figure over the processes), which the
+// first tells.
+void require_slabs_written(TileScheduler& on, const WrittenMoves& mine, const std::string& written_as, double voxel) {
+    std::vector<double> most{-mine.largest, -mine.farthest};
+    on.least(most);
+    if (on.rank() == 0) require_written_moves({-most[0], -most[1]}, written_as, voxel);
+}
+
 }  // namespace
 
 void serve_check(TileScheduler& on, Mesh slab, KeptRange* kept) {
     std::string word;
     receive_array(on, 0, word);
-    if (word.size() < 2) throw Error("the first process's word on the check is not whole");
+    if (word.size() < 3) throw Error("the first process's word on the check is not whole");
     const auto are = SlabsAre(word[0]);
-    const bool by_slabs = word[1] != 0;
-    const std::string written_as = word.substr(2);
+    const bool by_slabs = word[1] != 0, slabs_kept = word[2] != 0;
+    const std::string written_as = word.substr(3);
     if (are == SlabsAre::Other) slab = Mesh();  // the first's slab is the whole shell
     else if (are == SlabsAre::Moved) receive_into(on, 0, slab.vertices.data(), slab.vertices.size());
-    else if (!written_as.empty()) slab = as_written(std::move(slab), written_as);
+    else if (!written_as.empty()) {
+        if (slabs_kept) require_slabs_written(on, written_moves(slab.vertices.data(), slab.vertices.size(), written_as), written_as, 0);
+        slab = as_written(std::move(slab), written_as);
+    }
     SlabMesh slabs(SlabPart::of(slab), on);  // kept for the questions no share decides
     CheckDeal deal = take_check_grid(on);
     count_by_tiles(slabs, deal, on);
@@ -183,6 +196,7 @@ void serve_check(TileScheduler& on, Mesh slab, KeptRange* kept) {
     on.send_check(measure_check_share(std::move(share), kept, mine.measured_whole, slabs, on, &answers));
     // Which of the whole mesh's vertices its walls are.
     send_array(on, 0, mine.measured_whole.data(), mine.measured_whole.size());
+    if (slabs_kept) give_slab(slabs, on);
 }
 
 MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
@@ -191,14 +205,19 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     // The topology by the slabs: the ghosts exchanged first; the others count theirs while
     // this one deals the shares, and send them before they take theirs.
     const std::vector<std::size_t>& starts = facts.slab_starts;
-    const bool whole = starts.size() == std::size_t(on.processes()) + 1 && starts.back() == mesh.vertices.size() &&
-                       facts.slab_triangles <= mesh.triangles.size();
+    const bool kept = facts.slabs_kept;  // `mesh` is this process's slab, the others hold theirs
+    const bool whole = starts.size() == std::size_t(on.processes()) + 1 &&
+                       (kept ? starts[1] == mesh.vertices.size() && facts.slab_triangles == mesh.triangles.size()
+                             : starts.back() == mesh.vertices.size() && facts.slab_triangles <= mesh.triangles.size());
     const SlabsAre are = surface || !whole ? SlabsAre::Other : slabs.are;
+    if (kept && (are != SlabsAre::Kept || !slabs.handover))
+        throw Error("the check: the slabs are the shell's only copy, but not as they were kept, or not handed on");
     // Without the surface's figures the slabs measure the whole check: the topology, every
     // wall and depth, and what no share decides; this process's slab is the shell's first
     // vertices and triangles, or all of it where the others' are not its parts.
     const bool by_slabs = !surface;
-    tell_slab_check(on, are, by_slabs, slabs, mesh, starts);
+    tell_slab_check(on, are, by_slabs, kept, slabs, mesh, starts);
+    if (kept && !slabs.written_as.empty()) require_slabs_written(on, slabs.moves, slabs.written_as, run.domain.h);
     facts.check_topology_slabs = are != SlabsAre::Other;
     const int processes = on.processes();
     if (processes > 64) throw ParameterError("the check is shared among at most 64 processes");
@@ -367,8 +386,13 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             }
         };
         mark(first_share.measured_whole, "this process");
+        // Where the slabs are kept, this one's goes to the sink first, while the others measure.
+        const std::function<void()> then = [&] {
+            if (kept) slabs.handover->own(held);
+            if (meanwhile) meanwhile();
+        };
         FirstShare own = measure_first_share(std::move(first_share), tree, d.h, elsewhere.spans, elsewhere.groups, eps,
-                                             reach, held, on, meanwhile, told);
+                                             reach, held, on, then, told);
         facts.check_points_far = own.points_asked;
         std::vector<double>& walls = own.walls;
         PointDepths::Figures& depths = own.points;
@@ -389,6 +413,7 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
         walls.resize(nv, std::numeric_limits<double>::infinity());
         MeshQuality q = shell_figures(topology->joined(), points.size(), run.offset, d.h, walls, depths);
         q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        if (kept) slabs.handover->rest(held);
         return q;
     }
     // Vertices of another's tiles in no triangle: no wall anywhere (infinity, as alone).

@@ -9,7 +9,10 @@
 #include <functional>
 #include <string>
 
+#include "check/slab_mesh.hpp"
 #include "check/walls.hpp"
+#include "io/formats.hpp"
+#include "pipeline/slab_handover.hpp"
 #include "snvr/mesh.hpp"
 #include "snvr/point_cloud.hpp"
 #include "snvr/quality.hpp"
@@ -32,10 +35,18 @@ namespace snvr::detail {
 // figures asked: the first's slab is then the whole shell, the others' empty;
 // facts.check_topology_slabs says which). Every other process's serve_check hears which
 // first.
+//
+// Where the slabs are the shell's only copy (TileFacts::slabs_kept: `mesh` is the first's
+// own slab), `moves` are the first's slab's before it was rounded as written (the others'
+// are joined to them, the format's rule checked on them all), and `handover` takes the
+// first's slab before `meanwhile` and the others' once the check is measured
+// (slab_handover.hpp).
 enum class SlabsAre : char { Other = 0, Kept = 1, Moved = 2 };
 struct SlabsForCheck {
     SlabsAre are = SlabsAre::Other;
     std::string written_as;
+    WrittenMoves moves;
+    SlabHandover* handover = nullptr;
 };
 MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Result& run, bool surface,
                           TileScheduler& on, TileFacts& facts, const SlabsForCheck& slabs,
@@ -44,7 +55,8 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
 struct KeptRange;  // solver/shared_filing.hpp
 // At another process: its slab's part of the shell's topology, where the first counts it
 // by the slabs (`slab`: surface_in_slabs's), its slab's part of every share of the check,
-// then its own share measured (`kept`: its range of the points, or null).
+// then its own share measured (`kept`: its range of the points, or null); where the slabs
+// are the shell's only copy, its slab handed to the first's sink after.
 void serve_check(TileScheduler& on, Mesh slab, KeptRange* kept);
 
 }  // namespace snvr::detail

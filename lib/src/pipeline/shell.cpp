@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <new>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -18,6 +19,7 @@
 #include "solver/plan_guard.hpp"
 #include "pipeline/shared_guard.hpp"
 #include "pipeline/shell_mesh.hpp"
+#include "pipeline/slab_handover.hpp"
 #include "process_limits.hpp"
 #include "spilled_memory.hpp"
 #include "told_pace.hpp"
@@ -76,6 +78,7 @@ void ShellSettings::validate() const {
     if (!millimetres_per_unit(units)) throw ParameterError("unknown length unit '" + units + "': expected mm, cm, m or in");
     if (!(scale >= min_scale && scale <= max_scale))
         throw ParameterError(std::string("the scale must be ") + scale_range + format_text(", got %g", scale));
+    if (mesh_ready && mesh_sink) throw ParameterError("the mesh goes to mesh_ready or to mesh_sink, not to both");
 }
 
 Shell make_shell(const PointSet& points, const ShellSettings& settings, const ProgressCallback& progress) {
@@ -151,6 +154,9 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
         settings.params.surface_fairing = settings.fairing;
         settings.params.surface_guard = true;
     }
+    // And left in its slabs where it goes to a sink and no stage needs it whole.
+    settings.params.surface_in_parts = settings.mesh_sink && !settings.keep_field && !settings.measure &&
+                                       settings.pieces.min_volume == 0 && settings.pieces.keep_largest == 0;
     settings.pieces.min_volume *= to_mm * to_mm * to_mm;
 
     enter("outliers");
@@ -209,19 +215,24 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
              format_text("%zu solid piece%s dropped (%.4g mm^3 in all), %zu kept", shell.pieces.dropped,
                          shell.pieces.dropped == 1 ? "" : "s", shell.pieces.dropped_volume, shell.pieces.kept),
              true);
-    if (shell.mesh.triangles.empty() && shell.pieces.dropped)
+    // Where the slabs are the shell's only copy, this one's is its first part.
+    const bool in_slabs = run.tiles.slabs_kept;
+    const std::size_t triangles = in_slabs ? run.tiles.surface_triangles : shell.mesh.triangles.size();
+    if (!triangles && shell.pieces.dropped)
         throw Error("every solid piece of the shell (" + std::to_string(shell.pieces.dropped) +
                     format_text(", %.4g in all) is smaller than the least volume kept, %g (--min-piece-volume): nothing "
                            "to write",
                            shell.pieces.dropped_volume, settings.pieces.min_volume));
-    if (shell.mesh.triangles.empty())
+    if (!triangles)
         throw Error("the reconstructed shell is empty (no triangles on the " + std::to_string(run.domain.nx) + " x " +
                     std::to_string(run.domain.ny) + " x " + std::to_string(run.domain.nz) + " grid, " +
                     format_text("offset %.6g, voxel %.6g); try a larger --offset or a finer --resolution", run.offset,
                            run.domain.h));
+    detail::WrittenMoves moves;  // where the slabs are kept: this one's, the others' joined in the check
     if (!settings.written_as.empty()) {
         const std::string as = written_file(settings.written_as);
-        require_written_precision(shell.mesh, as, run.domain.h);
+        if (in_slabs) moves = detail::written_moves(shell.mesh.vertices.data(), shell.mesh.vertices.size(), as);
+        else require_written_precision(shell.mesh, as, run.domain.h);
         // As the file holds it, for the check too: writing it again changes nothing.
         shell.mesh = as_written(std::move(shell.mesh), as);
     }
@@ -232,11 +243,13 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     enter("check");
     // The mesh is final: the caller may write it now.
     const auto hand_over = [&] {
-        if (!settings.mesh_ready) return;
+        if (in_slabs || (!settings.mesh_ready && !settings.mesh_sink)) return;
         Stopwatch handing;
-        settings.mesh_ready(shell.mesh);
+        if (settings.mesh_ready) settings.mesh_ready(shell.mesh);
+        else hand_mesh(shell.mesh, *settings.mesh_sink);
         shell.seconds.mesh_ready = handing.lap();
     };
+    std::optional<detail::SlabHandover> handover;  // where the slabs are kept
     // The walls and depths take a while (48 s for the 12.5 M-point city block at 2048
     // cells on one thread): how far they have come, every few seconds.
     const detail::Told told =
@@ -244,9 +257,11 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     // Over several processes, each measures the walls and points of its own tiles (the
     // mesh handed over once this one has measured its own part, the others finishing theirs).
     if (on && on->processes() > 1) {
-        const double writing = settings.mesh_ready ? detail::mesh_writing_seconds(written_file(settings.written_as),
-                                                                                  shell.mesh.triangles.size())
-                                                   : 0;
+        // (Where the slabs are kept, this one's own part is written meanwhile, the rest after.)
+        const double writing = settings.mesh_ready || settings.mesh_sink
+                                   ? detail::mesh_writing_seconds(written_file(settings.written_as),
+                                                                  in_slabs ? shell.mesh.triangles.size() : triangles)
+                                   : 0;
         // The shell is the slabs the others kept, but where a piece was dropped; its
         // vertices as they kept them (rounded as written) but where the depth guard ran here
         // on the whole surface.
@@ -256,6 +271,9 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
                             ? detail::SlabsAre::Moved
                             : detail::SlabsAre::Kept;
         slabs.written_as = settings.written_as.empty() ? "" : written_file(settings.written_as);
+        slabs.moves = moves;
+        if (in_slabs) handover.emplace(*on, *settings.mesh_sink);
+        slabs.handover = handover ? &*handover : nullptr;
         shell.quality = detail::check_sharing(shell.mesh, points, run, settings.measure, *on, shell.run.tiles, slabs,
                                               hand_over, writing, told);
     } else {
@@ -270,7 +288,12 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
                                                                         : count_point_clusters(points, 2 * run.offset);
     for (std::string& w : shell_warnings(shell.quality, points.size(), shell.clusters, shell.pieces.dropped))
         shell.warnings.push_back(std::move(w));
-    const Bounds box = bounds(shell.mesh.vertices);
+    Bounds box = bounds(shell.mesh.vertices);
+    if (handover) {  // over the slabs, handed on
+        box = {handover->box()[0], handover->box()[1]};
+        shell.seconds.mesh_ready = handover->seconds();
+    }
+    if (settings.mesh_sink) shell.mesh = Mesh();  // handed on
     shell.size = {box.extent(0), box.extent(1), box.extent(2)};
     const double across = box.longest();
     if (across < 2)

@@ -190,49 +190,131 @@ DepthGuardReport summed_guard(const std::uint64_t* at, std::size_t processes) {
     return g;
 }
 
-// At the first, the whole surface gathered: each slab's checked ghosts against their
-// owners'. Where any differs, the slabs' vertices before their guard come back and the
-// guard runs here on the whole surface. Each other process's side: slab_guard_checked.
-DepthGuardReport check_slab_guards(TileScheduler& on, Mesh& whole, const std::vector<std::size_t>& starts,
+// The whole mesh's vertices each slab's checked ghosts copy: the runs just below and above
+// its own, two a slab in turn.
+using VertexRun = std::array<std::uint64_t, 2>;
+std::vector<VertexRun> band_runs(const std::vector<SlabBands>& bands, const std::vector<std::size_t>& starts) {
+    std::vector<VertexRun> runs;
+    for (std::size_t q = 0; q < bands.size(); ++q) {
+        if (bands[q].below.size() > starts[q] || starts[q + 1] + bands[q].above.size() > starts.back())
+            throw Error("a slab's ghosts reach beyond the whole surface");
+        runs.push_back({starts[q] - bands[q].below.size(), starts[q]});
+        runs.push_back({starts[q + 1], starts[q + 1] + bands[q].above.size()});
+    }
+    return runs;
+}
+// Of `runs`, the vertices a slab owns (its own from the whole mesh's `first`), in turn.
+std::vector<Vec3> owned_in(const std::vector<VertexRun>& runs, const std::vector<Vec3>& own, std::size_t first) {
+    std::vector<Vec3> out;
+    for (const VertexRun& r : runs)
+        for (std::uint64_t v = std::max<std::uint64_t>(r[0], first); v < std::min<std::uint64_t>(r[1], first + own.size()); ++v)
+            out.push_back(own[v - first]);
+    return out;
+}
+// The slabs kept where they are: the runs of `bands` against their owners' vertices, which
+// each other process gives from its own (the first's side of give_band_owners).
+std::size_t bands_differing_by_owners(TileScheduler& on, const std::vector<SlabBands>& bands,
+                                      const std::vector<std::size_t>& starts, const std::vector<Vec3>& own) {
+    const std::vector<VertexRun> runs = band_runs(bands, starts);
+    const std::size_t P = bands.size();
+    std::vector<std::vector<Vec3>> owned(P);
+    owned[0] = owned_in(runs, own, 0);
+    for (std::size_t q = 1; q < P; ++q) {
+        detail::send_array(on, int(q), runs.data(), runs.size());
+        detail::receive_array(on, int(q), owned[q]);
+    }
+    // Each run's vertices come from the slabs in turn; each owner's reply holds its part of every run.
+    std::vector<std::size_t> read(P, 0);
+    std::size_t differ = 0;
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+        const SlabBands& b = bands[r / 2];
+        const std::vector<Vec3>& ghosts = r % 2 ? b.above : b.below;
+        std::size_t k = 0;
+        for (std::size_t q = 0; q < P; ++q) {
+            const std::uint64_t lo = std::max<std::uint64_t>(runs[r][0], starts[q]), hi = std::min<std::uint64_t>(runs[r][1], starts[q + 1]);
+            for (std::uint64_t v = lo; v < hi; ++v, ++k) {
+                if (read[q] >= owned[q].size()) throw Error("the vertices at a slab's ghosts from another process are not whole");
+                differ += ghosts[k] != owned[q][read[q]++];
+            }
+        }
+    }
+    return differ;
+}
+void give_band_owners(TileScheduler& on, const std::vector<Vec3>& own, std::size_t first) {
+    std::vector<VertexRun> runs;
+    detail::receive_array(on, 0, runs);
+    const std::vector<Vec3> owned = owned_in(runs, own, first);
+    detail::send_array(on, 0, owned.data(), owned.size());
+}
+
+// At the first: each slab's checked ghosts against their owners' vertices (the whole
+// surface's, gathered, or where the slabs are kept, each owner's). Where any differs, the
+// slabs' vertices before their guard come back (with their triangles, where they were
+// kept) and the guard runs here on the whole surface. Each other process's side:
+// slab_guard_checked.
+DepthGuardReport check_slab_guards(TileScheduler& on, Mesh& surface, const std::vector<std::size_t>& starts,
                                    const SlabBands& bands, const std::vector<Vec3>& unguarded, const SlabsGuard& guard,
                                    DepthGuardReport summed, TileFacts& facts) {
     const std::size_t P = starts.size() - 1;
-    std::size_t differ = bands_differing(bands, whole.vertices, 0, starts[1]);
+    std::vector<SlabBands> all(P);
+    all[0] = bands;
     for (std::size_t q = 1; q < P; ++q) {
-        SlabBands theirs;
-        detail::receive_array(on, int(q), theirs.below);
-        detail::receive_array(on, int(q), theirs.above);
-        differ += bands_differing(theirs, whole.vertices, starts[q], starts[q + 1] - starts[q]);
+        detail::receive_array(on, int(q), all[q].below);
+        detail::receive_array(on, int(q), all[q].above);
     }
+    std::size_t differ = 0;
+    if (facts.slabs_kept) {
+        differ = bands_differing_by_owners(on, all, starts, surface.vertices);
+    } else {
+        for (std::size_t q = 0; q < P; ++q)
+            differ += bands_differing(all[q], surface.vertices, starts[q], starts[q + 1] - starts[q]);
+    }
+    all.clear();
     facts.guard_ghosts_differing = differ;
     const std::uint8_t again = differ > 0;
     for (std::size_t q = 1; q < P; ++q) detail::send_array(on, int(q), &again, 1);
     facts.guard_rerun = again;
     if (!again) return summed;
-    std::copy(unguarded.begin(), unguarded.end(), whole.vertices.begin());
-    for (std::size_t q = 1; q < P; ++q)
-        detail::receive_into(on, int(q), whole.vertices.data() + starts[q], starts[q + 1] - starts[q]);
+    const bool kept = facts.slabs_kept;
+    facts.slabs_kept = false;
+    surface.vertices.resize(starts.back());
+    std::copy(unguarded.begin(), unguarded.end(), surface.vertices.begin());
+    for (std::size_t q = 1; q < P; ++q) {
+        detail::receive_into(on, int(q), surface.vertices.data() + starts[q], starts[q + 1] - starts[q]);
+        if (kept) {
+            std::vector<std::array<std::uint32_t, 3>> theirs;
+            detail::receive_array(on, int(q), theirs);
+            surface.triangles.insert(surface.triangles.end(), theirs.begin(), theirs.end());
+        }
+    }
+    if (surface.triangles.size() != facts.surface_triangles)
+        throw Error("the slabs' triangles from the other processes are not whole");
     detail::VertexLists rings, fans;
-    detail::rings_and_fans(whole, rings, &fans);
+    detail::rings_and_fans(surface, rings, &fans);
     const detail::KeepDeep& d = guard.deep;
-    return detail::keep_points_deep(whole, detail::tree_of(*guard.points), d.depth, d.voxel, d.lone, std::move(rings),
+    return detail::keep_points_deep(surface, detail::tree_of(*guard.points), d.depth, d.voxel, d.lone, std::move(rings),
                                     fans);
 }
-void slab_guard_checked(TileScheduler& on, const SlabBands& bands, const std::vector<Vec3>& unguarded) {
+void slab_guard_checked(TileScheduler& on, const SlabBands& bands, const std::vector<Vec3>& unguarded, const Mesh& own,
+                        std::size_t first, bool kept) {
     detail::send_array(on, 0, bands.below.data(), bands.below.size());
     detail::send_array(on, 0, bands.above.data(), bands.above.size());
+    if (kept) give_band_owners(on, own.vertices, first);
     std::uint8_t again = 0;
     detail::receive_into(on, 0, &again, 1);
-    if (again) detail::send_array(on, 0, unguarded.data(), unguarded.size());
+    if (!again) return;
+    detail::send_array(on, 0, unguarded.data(), unguarded.size());
+    if (kept) detail::send_array(on, 0, own.triangles.data(), own.triangles.size());
 }
 
 }  // namespace
 
 Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const Domain& whole, int core_cells,
-                      const MeshFairing& fairing, const SlabsGuard* guard, TileScheduler* on, TileFacts& facts,
-                      DepthGuardReport* report) {
+                      const MeshFairing& fairing, const SlabsGuard* guard, bool in_parts, TileScheduler* on,
+                      TileFacts& facts, DepthGuardReport* report) {
     const int processes = on ? on->processes() : 1, me = on ? on->rank() : 0;
     if (processes == 1) guard = nullptr;
+    const bool guard_asked = guard != nullptr;
     if (guard && me == 0 && !guard->points) throw Error("surface_in_slabs: the guard's points are not given");
     const detail::KeepDeep* deep = guard ? &guard->deep : nullptr;
     std::vector<std::uint64_t> by_plane(std::size_t(whole.nz), 0);
@@ -317,23 +399,33 @@ Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const
     facts.slab_starts = starts;
     facts.slab_triangles = own.triangles.size();
     facts.guard_slabs = guard != nullptr;
-    // The slabs' own to the first as well.
-    facts.slab_bytes = counts[2 * P] + (all_vertices - counts[0]) * sizeof(Vec3) +
-                       (all_triangles - counts[P]) * sizeof(std::array<std::uint32_t, 3>);
+    facts.surface_triangles = all_triangles;
+    // The slabs stay where they are where the surface is asked for in parts, and its
+    // points, where they are kept deep, were so on the slabs (else the first gathers them
+    // to guard the whole surface); else they come to the first as well.
+    facts.slabs_kept = processes > 1 && in_parts && (guard || !guard_asked);
+    facts.slab_bytes = counts[2 * P];
+    if (!facts.slabs_kept)
+        facts.slab_bytes += (all_vertices - counts[0]) * sizeof(Vec3) +
+                            (all_triangles - counts[P]) * sizeof(std::array<std::uint32_t, 3>);
     if (processes == 1) return own;
     if (me != 0) {
-        detail::send_array(*on, 0, own.vertices.data(), own.vertices.size());
-        detail::send_array(*on, 0, own.triangles.data(), own.triangles.size());
-        if (guard) slab_guard_checked(*on, bands, unguarded);
+        if (!facts.slabs_kept) {
+            detail::send_array(*on, 0, own.vertices.data(), own.vertices.size());
+            detail::send_array(*on, 0, own.triangles.data(), own.triangles.size());
+        }
+        if (guard) slab_guard_checked(*on, bands, unguarded, own, starts[std::size_t(me)], facts.slabs_kept);
         return own;  // kept for the check (pipeline/shared_check.hpp)
     }
-    own.vertices.resize(all_vertices);
-    own.triangles.resize(std::size_t(all_triangles));
-    std::size_t t = counts[P];
-    for (std::size_t q = 1; q < P; ++q) {
-        detail::receive_into(*on, int(q), own.vertices.data() + starts[q], std::size_t(counts[q]));
-        detail::receive_into(*on, int(q), own.triangles.data() + t, std::size_t(counts[P + q]));
-        t += counts[P + q];
+    if (!facts.slabs_kept) {
+        own.vertices.resize(all_vertices);
+        own.triangles.resize(std::size_t(all_triangles));
+        std::size_t t = counts[P];
+        for (std::size_t q = 1; q < P; ++q) {
+            detail::receive_into(*on, int(q), own.vertices.data() + starts[q], std::size_t(counts[q]));
+            detail::receive_into(*on, int(q), own.triangles.data() + t, std::size_t(counts[P + q]));
+            t += counts[P + q];
+        }
     }
     if (guard) {
         const DepthGuardReport g =

@@ -23,7 +23,9 @@ namespace snvr {
 // are several processes; freed); `faces`: at the first, the whole grid's field with every
 // tile's face bricks placed (elsewhere unused). Returns the whole surface, faired, at the
 // first; elsewhere the slab's own vertices and triangles (kept for the check: pipeline/
-// shared_check.hpp). Sets facts.slabs, slab_ghost, slab_bytes, slab_starts and slab_triangles.
+// shared_check.hpp). `in_parts` (Parameters::surface_in_parts): at the first too, its own
+// slab only, where the guard allows (facts.slabs_kept). Sets facts.slabs, slab_ghost,
+// slab_bytes, slab_starts, slab_triangles, surface_triangles and slabs_kept.
 //
 // With `guard` (several processes), each slab's points are kept deep as well (slab_surface.hpp),
 // where the points near the others' slabs are no more than the vertices they own (else the
@@ -39,7 +41,7 @@ struct SlabsGuard {
     const PointCloud* points = nullptr;
 };
 Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const Domain& whole, int core_cells,
-                      const MeshFairing& fairing, const SlabsGuard* guard, TileScheduler* on, TileFacts& facts,
-                      DepthGuardReport* report);
+                      const MeshFairing& fairing, const SlabsGuard* guard, bool in_parts, TileScheduler* on,
+                      TileFacts& facts, DepthGuardReport* report);
 
 }  // namespace snvr

@@ -127,7 +127,7 @@ void merge_steps(const std::vector<TileRun>& runs, int steps, Result& res) {
 // faired and guarded (the root's word: it may have chosen the tiles for a budget). The root
 // appends its tree's frame (4 more), then whether the tiles' needs and points go by the
 // processes' ranges (ranged_tile_points.hpp).
-constexpr std::size_t kPlanFigures = 23;
+constexpr std::size_t kPlanFigures = 24;
 constexpr std::size_t kSharedFigures = kPlanFigures + 5;
 std::vector<double> plan_figures(const DomainPlan& p, const Parameters& params) {
     const Domain& d = p.domain;
@@ -135,7 +135,7 @@ std::vector<double> plan_figures(const DomainPlan& p, const Parameters& params) 
     return {d.origin[0], d.origin[1], d.origin[2], d.h, double(d.nx), double(d.ny), double(d.nz), double(d.levels),
             double(d.unit_cells), p.offset, p.xi, p.eps, p.dt, double(p.planned_steps), p.tube_inner, p.tube_outer,
             double(params.tile_cells), params.whole_field ? 1.0 : 0.0, double(f.passes), f.lambda, f.pass_band,
-            params.surface_guard ? 1.0 : 0.0, p.gap};
+            params.surface_guard ? 1.0 : 0.0, p.gap, params.surface_in_parts ? 1.0 : 0.0};
 }
 DomainPlan plan_of(const std::vector<double>& f, Parameters& params) {
     if (f.size() != kSharedFigures) throw Error("tiles: the plan from the first process is not whole");
@@ -145,6 +145,7 @@ DomainPlan plan_of(const std::vector<double>& f, Parameters& params) {
     params.surface_fairing.lambda = f[19];
     params.surface_fairing.pass_band = f[20];
     params.surface_guard = f[21] != 0;
+    params.surface_in_parts = f[23] != 0;
     DomainPlan p;
     Domain& d = p.domain;
     d.origin = {f[0], f[1], f[2]};
@@ -336,7 +337,8 @@ public:
             for (detail::MeshPiece& p : of_tile) pieces.push_back(std::move(p));
         surfaces_.clear();
         res_.surface = surface_in_slabs(pieces, std::move(faces), plan_.domain, facts.core_cells, slab_fairing_,
-                                        guard_slabs ? &guard : nullptr, on_, facts, &res_.surface_guard);
+                                        guard_slabs ? &guard : nullptr, params_.surface_in_parts, on_, facts,
+                                        &res_.surface_guard);
         res_.surface_made = root();
         res_.surface_faired = root() && slab_fairing_.passes > 0;
         res_.surface_guarded = root() && facts.guard_slabs;
