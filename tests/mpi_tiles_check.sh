@@ -44,7 +44,9 @@ slabs_kept() {
     python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["tiles"]["surface_kept_in_slabs"] == (sys.argv[2] == "1") else 1)' \
         "$2" "$1" || fail "$2: the surface was $([ "$1" = 1 ] && echo not) kept in the slabs"
 }
-slabs_kept 0 "$tmp/two.json"  # the first keeps the points deep on the whole surface here
+# Its points near the other's slab are more than that slab's vertices, but the surface stays
+# in the slabs, which then keep the points deep.
+slabs_kept 1 "$tmp/two.json"
 # At 128 cells the slabs keep their points deep, and then the surface stays in them: as STL,
 # PLY and OBJ, the one process's bytes and figures.
 for as in stl ply obj; do
@@ -56,12 +58,17 @@ for as in stl ply obj; do
     same_check "$tmp/kept1.json" "$tmp/kept2.json"
     slabs_kept 1 "$tmp/kept2.json"
 done
-# A preview needs the mesh whole: the first gathers the slabs, and writes the same bytes.
-"${mpi[@]}" -np 2 "$cli" "${kept[@]}" --report "$tmp/kept2.json" -o "$tmp/kept2.stl" --preview "$tmp/kept2.png" \
-    2>/dev/null || fail "two processes with a preview"
-cmp "$tmp/kept1.stl" "$tmp/kept2.stl" || fail "two processes with a preview wrote other bytes than one"
-slabs_kept 0 "$tmp/kept2.json"
 rm "$tmp"/kept[12].*
+# A preview needs the mesh whole: the first gathers the slabs and, their points near the
+# other's slab being more than its vertices, keeps the points deep on the whole surface;
+# the same bytes.
+"${mpi[@]}" -np 2 "$cli" "${run[@]/--quiet/--report}" "$tmp/whole.json" -o "$tmp/whole.stl" --preview "$tmp/whole.png" \
+    2>/dev/null || fail "two processes with a preview"
+cmp "$tmp/one.stl" "$tmp/whole.stl" || fail "two processes with a preview wrote other bytes than one"
+slabs_kept 0 "$tmp/whole.json"
+python3 -c 'import json, sys; t = json.load(open(sys.argv[1]))["tiles"]; sys.exit(0 if not t["guard_on_slabs"] else 1)' \
+    "$tmp/whole.json" || fail "with a preview the first did not keep the points deep on the whole surface"
+rm "$tmp"/whole.*
 # Input $2 (then the run's options) on one process and on two, as "$1": the same bytes and
 # check ($tmp/${1}1.json and ${1}2.json the reports).
 one_and_two() {
@@ -90,35 +97,36 @@ slab_topology 0 "$tmp/balls2.json"
 rm "$tmp"/balls*
 # A dense sphere (318,054 points, over the 2^18 the check samples for its percentile): the
 # points' depths are measured by the process whose range of the points filed by both holds
-# them (half of those the first does not sample: 79 k), where it kept them since the filing,
-# and the depth guard's first search of its range (159 k points) too (the points near the
-# other's slab of the surface, 256 k, are more than its vertices: the first guards).
+# them (half of those the first does not sample: 79 k), where it kept them since the filing.
+# The points near the other's slab of the surface (256 k) are more than its vertices, but
+# the surface stays in the slabs, which keep them deep.
 "$cli" sample noisy-sphere --spacing 0.0022 -o "$tmp/dense.ply" >/dev/null || fail "the sampler"
 one_and_two dense "$tmp/dense.ply" --resolution 64 --tile-cells 16
 python3 - "$tmp/dense2.json" <<'PY' || fail "the other process measured none of the check"
 import json, sys
 t = json.load(open(sys.argv[1]))["tiles"]
 print(f"the other process: {t['check_walls_elsewhere']} walls, {t['check_points_elsewhere']} points' depths "
-      f"({t['check_points_far']} asked of every slab), the depth guard's search of {t['guard_points_elsewhere']} points")
+      f"({t['check_points_far']} asked of every slab), {t['guard_slab_points']} points given its slab for the depth guard")
 sys.exit(0 if t["check_walls_elsewhere"] > 0 and t["check_points_elsewhere"] > 60000
-         and t["guard_points_elsewhere"] > 100000 and not t["guard_on_slabs"] else 1)
+         and t["guard_slab_points"] > 100000 and t["guard_on_slabs"] and t["surface_kept_in_slabs"] else 1)
 PY
-# The first guarded the whole surface: it gave each slab its vertices for the topology.
 slab_topology 1 "$tmp/dense2.json"
 # The other measures them where it kept them since the filing: scaled as the first's (in
 # centimetres: told while the outlier rules ask, or, where they ask nothing, with its share
-# of the check) and moved as the first's (centred): the same bytes and figures.
-one_and_two dense_cm "$tmp/dense.ply" --resolution 64 --tile-cells 16 --units cm --origin center
+# of the check) and moved as the first's (centred): the same bytes and figures. With a
+# preview the mesh is gathered whole, and the first keeps the points deep on the whole
+# surface, the other searching its range of them for it, moved alike.
+one_and_two dense_cm "$tmp/dense.ply" --resolution 64 --tile-cells 16 --units cm --origin center --preview "$tmp/p.png"
 one_and_two dense_kept "$tmp/dense.ply" --resolution 64 --tile-cells 16 --units cm --origin center --keep-outliers
 # (Points it holds elsewhere than the first's would come back undecided: the same figures,
-# but measured by the first.) The depth guard's search goes by the same ranges, moved alike.
+# but measured by the first.)
 python3 - "$tmp/dense_cm2.json" "$tmp/dense_kept2.json" <<'PY' || fail "the other process measured none of the points moved"
 import json, sys
 t = [json.load(open(f))["tiles"] for f in sys.argv[1:]]
 sys.exit(0 if all(x["check_points_elsewhere"] > 60000 and x["check_points_far"] < 0.05 * x["check_points_elsewhere"]
-                  and x["guard_points_elsewhere"] > 100000 for x in t) else 1)
+                  for x in t) and t[0]["guard_points_elsewhere"] > 100000 and not t[0]["surface_kept_in_slabs"] else 1)
 PY
-rm "$tmp"/dense_cm[12].* "$tmp"/dense_kept[12].*
+rm "$tmp"/dense_cm[12].* "$tmp"/dense_kept[12].* "$tmp/p.png"
 # The whole field kept (--volume): the level set made from it, the guard's search shared
 # alike, the same field and shell.
 for p in 1 2; do
@@ -139,8 +147,7 @@ rm "$tmp"/field[12].*
     --report "$tmp/dense3.json" -o "$tmp/dense3.stl" 2>/dev/null || fail "dense on three processes"
 cmp "$tmp/dense1.stl" "$tmp/dense3.stl" || fail "dense: other bytes on three processes"
 same_check "$tmp/dense1.json" "$tmp/dense3.json"
-python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["tiles"]["guard_points_elsewhere"] > 150000 else 1)' \
-    "$tmp/dense3.json" || fail "three processes: the others searched too few points for the depth guard"
+slabs_kept 1 "$tmp/dense3.json"
 python3 -c 'import json, sys; t = json.load(open(sys.argv[1]))["tiles"]; sys.exit(0 if t["points_sent"] > 0 and t["points_from_ranges"] > 0 else 1)' \
     "$tmp/dense3.json" || fail "three processes: the tiles' points did not go by the ranges the others kept"
 slab_topology 1 "$tmp/dense3.json"

@@ -159,7 +159,17 @@ PointCloud take_slab_points(TileScheduler& on) {
 // and 1.02; the 50 M-point block at 1024 (13 M points for 2.2 M
 // vertices) 3.4-5.7 s where 3.9-5.0; the 200 M-point block at 1024 (54 M points) 9.9 s where
 // 6.5, its other process 0.8 GB more.
-bool slabs_guard(std::uint64_t points_given, std::uint64_t their_vertices) { return points_given <= their_vertices; }
+//
+// Where the surface is to stay in its slabs (Parameters::surface_in_parts), they guard
+// whatever their points: the first guarding would gather the whole surface (and send it
+// the others for their search, 211 MB on the 50 M-point block), which then no process
+// need hold. On two processes against the first guarding, the same bytes: the 50 M-point
+// block at 1024 55.4 s where 56.3, its first's peak 2.10 GB where 2.16, the other's 1.89
+// where 1.48; the 200 M-point block under --max-memory 4G 137.8 s where 134.4 (the mesh
+// stage 10.8 s where 7.0), its peaks 2.93 and 2.82 GB where 3.08 and 2.82.
+bool slabs_guard(std::uint64_t points_given, std::uint64_t their_vertices, bool in_parts) {
+    return in_parts || points_given <= their_vertices;
+}
 
 // For tests only: SNVR_TEST_GUARD_GHOSTS=N has the slabs guard, welded with N planes of
 // ghosts, half of them checked, so that too few fail the check (every process alike).
@@ -330,7 +340,7 @@ Mesh surface_in_slabs(std::vector<detail::MeshPiece>& pieces, Field faces, const
                                          detail::guard_point_reach(deep->depth, deep->voxel, deep->lone));
             for (const PointRuns& r : guard_runs) word[1] += count_of(r);
             const std::uint64_t theirs = std::accumulate(by_plane.begin() + plan.cuts[1], by_plane.end(), std::uint64_t(0));
-            word[0] = slabs_guard(word[1], theirs) || guard_test_ghosts(deep);
+            word[0] = slabs_guard(word[1], theirs, in_parts) || guard_test_ghosts(deep);
         }
         on->sum(word);
         facts.guard_slab_points = word[1];
