@@ -34,10 +34,13 @@ struct SlabShares::Gift {
         send_array(on, to, whole.data(), whole.size());
         send_array(on, to, at.data(), at.size());
     }
-    void take(TileScheduler& on, int from, std::uint64_t vertices) {
+    void take(TileScheduler& on, int from) {
         receive_array(on, from, triangles);
         receive_array(on, from, whole);
         receive_array(on, from, at);
+    }
+    // Taken from process `from`: its parts agree, and name vertices of the mesh.
+    void check(int from, std::uint64_t vertices) const {
         const std::string who = "the check's share of the slab of process " + std::to_string(from);
         if (at.size() != whole.size()) throw Error(who + " is not whole");
         for (std::uint32_t v : whole)
@@ -225,21 +228,27 @@ SlabShares::SlabShares(const SlabMesh& slabs, const CheckDeal& deal, TileSchedul
 #pragma omp parallel for schedule(static) if (std::ptrdiff_t(own + foreign) > kParallelItems)
     for (std::ptrdiff_t s = 0; s < std::ptrdiff_t(own + foreign); ++s)
         near[std::size_t(s)] = deal.near(std::size_t(s) < own ? part.vertices[s] : slabs.foreign_at()[std::size_t(s) - own]);
+    // Every gift made before any is sent, and those taken checked once all are in, so that
+    // the processes make and check theirs at once (made and checked in turn with the
+    // exchange, the 50 M-point city block's two took 1.3 s over it).
     std::vector<std::uint32_t> slot(own + foreign, kNone);
     gifts_.resize(P);
+    std::vector<SlabGift> giving(P);  // to the others; this one's own among gifts_
+    for (std::size_t q = 0; q < P; ++q) (q == me ? gifts_[q] : giving[q]) = gift_for(slabs, near, q, slot);
     std::uint64_t sent = 0;
     exchange_pairwise(
         on,
         [&](int q) {
-            const SlabGift gift = gift_for(slabs, near, std::size_t(q), slot);
-            gift.send(on, q);
-            sent += gift.bytes();
+            giving[std::size_t(q)].send(on, q);
+            sent += giving[std::size_t(q)].bytes();
+            giving[std::size_t(q)] = SlabGift();
         },
-        [&](int q) { gifts_[std::size_t(q)].take(on, q, slabs.starts().back()); });
+        [&](int q) { gifts_[std::size_t(q)].take(on, q); });
+    for (std::size_t q = 0; q < P; ++q)
+        if (q != me) gifts_[q].check(int(q), slabs.starts().back());
     std::vector<std::uint64_t> total{sent};
     on.sum(total);
     bytes_ = total[0];
-    gifts_[me] = gift_for(slabs, near, me, slot);
 }
 
 SlabShares::~SlabShares() = default;

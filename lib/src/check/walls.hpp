@@ -77,16 +77,17 @@ void measure_groups(PointDepths& depths);
 struct KeptRange;  // solver/shared_filing.hpp
 // measure_check_share at another process, where it may have kept its range of the points
 // filed by all (null: none), for a share that names groups of it; what the share cannot
-// decide asked of the slabs (every process at once: slab_queries.hpp), so that every wall
-// and point comes back decided (`ready`: the slab's answers, or null). measured_whole:
-// each measured vertex's number in the whole mesh.
+// decide asked of the slabs (every process at once: slab_queries.hpp; the slab's answers
+// made then, where this process would wait for the first), so that every wall and point
+// comes back decided. measured_whole: each measured vertex's number in the whole mesh.
 CheckShareFigures measure_check_share(CheckShare share, KeptRange* kept, const std::vector<std::uint32_t>& measured_whole,
-                                      const SlabMesh& slabs, TileScheduler& on, const SlabAnswers* ready);
+                                      const SlabMesh& slabs, TileScheduler& on);
 
 // The first process's own share of the check: the walls of share.measured, and the depths
 // of the groups of `points` made as `spans` that `elsewhere` does not flag (the sampled
 // ones' too); `before_asking` run once they are measured, then what the share cannot
-// decide asked of the slabs (as the others do). eps and reach: the shell's, as the others'.
+// decide asked of the slabs (as the others do; `ready`: this slab's answers, or null).
+// eps and reach: the shell's, as the others'.
 struct FirstShare {
     std::vector<double> walls;  // share.measured's
     PointDepths::Figures points;
@@ -95,6 +96,7 @@ struct FirstShare {
 FirstShare measure_first_share(ShareMesh share, const PointTree& points, double voxel,
                                const std::vector<PointDepths::Span>& spans, const std::vector<std::uint8_t>& elsewhere,
                                double eps, double reach, const SlabMesh& slabs, TileScheduler& on,
-                               const std::function<void()>& before_asking, const Told& told);
+                               const SlabAnswers* ready, const std::function<void()>& before_asking,
+                               const Told& told);
 
 }  // namespace snvr::detail

@@ -184,8 +184,9 @@ void serve_check(TileScheduler& on, Mesh slab, KeptRange* kept) {
         topology.count();
         topology.send_to_first();
     }
-    // Made while the first deals the check (0.5-0.7 s for the 50 M-point city block's slab).
-    const SlabAnswers answers(slabs);
+    // (Its slab's answers to what no share decides are made once its share is measured,
+    // where it waits for the first: made before the deal, they held the first 0.7 s in the
+    // shares' exchange on the 50 M-point city block.)
     take_check_deal(on, deal);
     std::uint64_t bytes = 0;
     ShareMesh mine = share_from_slabs(slabs, deal, on, bytes);
@@ -193,7 +194,7 @@ void serve_check(TileScheduler& on, Mesh slab, KeptRange* kept) {
     share.vertices = std::move(mine.vertices);
     share.triangles = std::move(mine.triangles);
     share.measured = std::move(mine.measured);
-    on.send_check(measure_check_share(std::move(share), kept, mine.measured_whole, slabs, on, &answers));
+    on.send_check(measure_check_share(std::move(share), kept, mine.measured_whole, slabs, on));
     // Which of the whole mesh's vertices its walls are.
     send_array(on, 0, mine.measured_whole.data(), mine.measured_whole.size());
     if (slabs_kept) give_slab(slabs, on);
@@ -331,11 +332,16 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     std::vector<std::uint8_t>().swap(group_range);
     const double eps = wall_epsilon(held.box()[0], held.box()[1]);  // the whole shell's
     std::optional<SlabShares> shares;
+    std::optional<SlabAnswers> answers;
     {
         // A triangle within the reach of a point or vertex in a tile has a corner within the
         // reach and its longest edge of the tile; a point's group and its run reach 3 voxels
         // beyond its tile.
         deal.widened = reach + counted.longest_edge + 3 * d.h;
+        // Its slab's answers to what no share decides, made while the others count their
+        // topology (it waited 0.4 s for them on the 50 M-point city block; made when asked,
+        // 0.6 s at the end, which the others waited for).
+        if (by_slabs) answers.emplace(held);
         if (topology) topology->take_others();  // sent before they take the deal
         send_check_deal(on, deal);
         // Each slab gives the others their triangles: the share's mesh, from this one's too
@@ -392,7 +398,7 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
             if (meanwhile) meanwhile();
         };
         FirstShare own = measure_first_share(std::move(first_share), tree, d.h, elsewhere.spans, elsewhere.groups, eps,
-                                             reach, held, on, then, told);
+                                             reach, held, on, &*answers, then, told);
         facts.check_points_far = own.points_asked;
         std::vector<double>& walls = own.walls;
         PointDepths::Figures& depths = own.points;
