@@ -83,6 +83,7 @@ struct PieceFilter {
     double min_volume = 0;         // drop pieces of less volume (world units cubed)
     std::size_t keep_largest = 0;  // then keep at most this many, largest first (0: all)
     void validate() const;         // throws ParameterError naming the bad value
+    bool keeps_all() const { return min_volume == 0 && keep_largest == 0; }  // drops no piece
 };
 struct PieceReport {
     std::size_t kept = 0, dropped = 0;

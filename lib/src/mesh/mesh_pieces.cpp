@@ -41,7 +41,7 @@ PieceReport filter_pieces(Mesh& mesh, const PieceFilter& filter) {
     filter.validate();
     PieceReport report;
     const std::size_t nt = mesh.triangles.size();
-    if (nt == 0 || (filter.min_volume == 0 && filter.keep_largest == 0)) return report;  // nothing to drop
+    if (nt == 0 || filter.keeps_all()) return report;  // nothing to drop
     // Components: triangles sharing a vertex.
     DisjointSets sets(mesh.vertices.size());
     for (const auto& t : mesh.triangles) {

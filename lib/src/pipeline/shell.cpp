@@ -155,8 +155,8 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
         settings.params.surface_guard = true;
     }
     // And left in its slabs where it goes to a sink and no stage needs it whole.
-    settings.params.surface_in_parts = settings.mesh_sink && !settings.keep_field && !settings.measure &&
-                                       settings.pieces.min_volume == 0 && settings.pieces.keep_largest == 0;
+    settings.params.surface_in_parts =
+        settings.mesh_sink && !settings.keep_field && !settings.measure && settings.pieces.keeps_all();
     settings.pieces.min_volume *= to_mm * to_mm * to_mm;
 
     enter("outliers");

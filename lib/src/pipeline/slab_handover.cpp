@@ -34,7 +34,10 @@ void send_triangles(TileScheduler& on, const SlabPart& part, std::uint64_t first
         std::uint64_t lo = first_vertex + part.vertex_count, hi = first_vertex;
         for (std::uint64_t k = 0; k < n; ++k)
             for (std::uint32_t v : t[k])
-                if (v >= first_vertex && v < first_vertex + part.vertex_count) lo = std::min<std::uint64_t>(lo, v), hi = std::max<std::uint64_t>(hi, v + 1);
+                if (v >= first_vertex && v < first_vertex + part.vertex_count) {
+                    lo = std::min<std::uint64_t>(lo, v);
+                    hi = std::max<std::uint64_t>(hi, v + 1);
+                }
         if (lo > hi) lo = hi;
         send_array(on, 0, &lo, 1);
         send_array(on, 0, part.vertices + (lo - first_vertex), hi - lo);
@@ -64,10 +67,11 @@ void give_slab(const SlabMesh& slabs, TileScheduler& on) {
     std::uint8_t corners = 0;
     receive_into(on, 0, &corners, 1);
     const std::uint64_t first = slabs.starts()[slabs.rank()];
-    if (!corners) by_runs(part.vertex_count, [&](std::uint64_t at, std::uint64_t n) { send_array(on, 0, part.vertices + at, n); });
     if (corners) {
         send_array(on, 0, slabs.foreign().data(), slabs.foreign().size());
         send_array(on, 0, slabs.foreign_at().data(), slabs.foreign_at().size());
+    } else {
+        by_runs(part.vertex_count, [&](std::uint64_t at, std::uint64_t n) { send_array(on, 0, part.vertices + at, n); });
     }
     by_runs(part.triangle_count, [&](std::uint64_t at, std::uint64_t n) { send_triangles(on, part, first, at, n, corners); });
 }
