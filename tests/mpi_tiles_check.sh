@@ -224,15 +224,16 @@ PY
 rm "$tmp"/random*
 # A sparse city block (300,000 points, past the 2^18 whose groups are all sampled) at a
 # voxel finer than its scan lines' spacing: the tree's leaves run along the lines, many
-# voxels long; cut narrower, their depths are dealt too (115 k points to the other, 76 k
-# when such groups stayed with the first), in the groups the first made.
+# voxels long; cut narrower, their depths are dealt too (94 k points to the other, which
+# makes its slab's answers before it measures; 115 k when it made them after; 76 k when
+# such groups stayed with the first), in the groups the first made.
 "$cli" sample city --points 300000 -o "$tmp/city.ply" >/dev/null || fail "the sampler (city)"
 one_and_two city "$tmp/city.ply" --resolution 384 --tile-cells 64
 python3 - "$tmp/city2.json" <<'PY' || fail "the sparse block's wide groups were not dealt"
 import json, sys
 t = json.load(open(sys.argv[1]))["tiles"]
 print(f"sparse block: {t['check_points_elsewhere']} points' depths by the other ({t['check_points_far']} asked of every slab)")
-sys.exit(0 if t["check_points_elsewhere"] > 100000 else 1)
+sys.exit(0 if t["check_points_elsewhere"] > 85000 else 1)
 PY
 rm "$tmp"/city[12].* "$tmp/city.ply"
 # The same with six stray points far off: the outlier rules drop them and shrink the box,

@@ -229,7 +229,7 @@ CheckShareFigures measure_check_share(CheckShare share) { return measure_share(s
 
 
 CheckShareFigures detail::measure_check_share(CheckShare share, KeptRange* kept, const std::vector<std::uint32_t>& measured_whole,
-                                              const SlabMesh& slabs, TileScheduler& on) {
+                                              const SlabMesh& slabs, TileScheduler& on, const SlabAnswers* ready) {
     const double eps = share.epsilon;
     if (measured_whole.size() != share.measured.size())
         throw InputError("measure_check_share: one number in the whole mesh a measured vertex");
@@ -237,7 +237,7 @@ CheckShareFigures detail::measure_check_share(CheckShare share, KeptRange* kept,
     // What the share could not decide, asked of the slabs.
     for (std::size_t i = 0; i < got.far.wall_at.size(); ++i) got.far.asked.walls[i].vertex = measured_whole[got.far.wall_at[i]];
     CheckShareFigures& out = got.figures;
-    got.far.settle(ask_slabs(slabs, eps, got.far.asked, on), out.walls, out.points_inside, out.depth_min, nullptr);
+    got.far.settle(ask_slabs(slabs, eps, got.far.asked, on, ready), out.walls, out.points_inside, out.depth_min, nullptr);
     out.unresolved.clear();
     return out;
 }

@@ -77,11 +77,11 @@ void measure_groups(PointDepths& depths);
 struct KeptRange;  // solver/shared_filing.hpp
 // measure_check_share at another process, where it may have kept its range of the points
 // filed by all (null: none), for a share that names groups of it; what the share cannot
-// decide asked of the slabs (every process at once: slab_queries.hpp; the slab's answers
-// made then, where this process would wait for the first), so that every wall and point
-// comes back decided. measured_whole: each measured vertex's number in the whole mesh.
+// decide asked of the slabs (every process at once: slab_queries.hpp; `ready`: this slab's
+// answers, made before, or null: made then), so that every wall and point comes back
+// decided. measured_whole: each measured vertex's number in the whole mesh.
 CheckShareFigures measure_check_share(CheckShare share, KeptRange* kept, const std::vector<std::uint32_t>& measured_whole,
-                                      const SlabMesh& slabs, TileScheduler& on);
+                                      const SlabMesh& slabs, TileScheduler& on, const SlabAnswers* ready);
 
 // The first process's own share of the check: the walls of share.measured, and the depths
 // of the groups of `points` made as `spans` that `elsewhere` does not flag (the sampled

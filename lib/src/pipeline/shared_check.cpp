@@ -64,6 +64,10 @@ constexpr double kSendAPoint = 0.08;
 // was set; 7.3-7.6 us once the slabs counted the topology, the other then ending 2-2.7 s
 // after the first, its mesh written).
 constexpr double kRangeGroupShare = 1.0;
+// Another process's answers for its slab (a grid over its triangles), made before it
+// measures, a vertex of its slab: 0.5 (0.6 s for the first slab of the 50 M-point city
+// block at 1024 cells, 2.2 M vertices; the other's, made after its share, 1.2 s).
+constexpr double kAnswersAVertex = 0.5;
 
 // What a tile holds of the check's work: its vertices' walls, and its points' groups.
 struct TileWork {
@@ -184,17 +188,20 @@ void serve_check(TileScheduler& on, Mesh slab, KeptRange* kept) {
         topology.count();
         topology.send_to_first();
     }
-    // (Its slab's answers to what no share decides are made once its share is measured,
-    // where it waits for the first: made before the deal, they held the first 0.7 s in the
-    // shares' exchange on the 50 M-point city block.)
     take_check_deal(on, deal);
     std::uint64_t bytes = 0;
     ShareMesh mine = share_from_slabs(slabs, deal, on, bytes);
+    // Its slab's answers to what no share decides, made before it measures (which the deal
+    // reckons: kAnswersAVertex): made before the deal, they held the first in the shares'
+    // exchange (0.7 s on the 50 M-point city block); made when asked, the first waited for
+    // them at the end (0.7 s at 1024 cells, 2.7 s at 2048, where they took 1.2 and 6 s).
+    std::optional<SlabAnswers> answers;
+    if (by_slabs) answers.emplace(slabs);
     CheckShare share = on.check_share();
     share.vertices = std::move(mine.vertices);
     share.triangles = std::move(mine.triangles);
     share.measured = std::move(mine.measured);
-    on.send_check(measure_check_share(std::move(share), kept, mine.measured_whole, slabs, on));
+    on.send_check(measure_check_share(std::move(share), kept, mine.measured_whole, slabs, on, answers ? &*answers : nullptr));
     // Which of the whole mesh's vertices its walls are.
     send_array(on, 0, mine.measured_whole.data(), mine.measured_whole.size());
     if (slabs_kept) give_slab(slabs, on);
@@ -252,6 +259,9 @@ MeshQuality check_sharing(const Mesh& mesh, const PointCloud& points, const Resu
     std::vector<std::uint32_t> sampled_tiles;             // where the groups sampled lie
     std::vector<double> work(std::size_t(processes), 0);
     work[0] = kFirstWorkAVertex * double(nv) + meanwhile_seconds / kWallSeconds;
+    if (by_slabs && are != SlabsAre::Other)
+        for (int p = 1; p < processes; ++p)
+            work[std::size_t(p)] += kAnswersAVertex * double(starts[std::size_t(p) + 1] - starts[std::size_t(p)]);
     // Where the others kept their ranges of the points filed by all, each measures the
     // groups within its range where they are (none sent, none filed again); the rest (the
     // first's range's, and all where there are no ranges) are dealt by tile, their points
