@@ -78,8 +78,8 @@ SlabGift gift_for(const SlabMesh& slabs, const std::vector<std::uint64_t>& near,
     gift.at.reserve(count / 2 + 1024);
     for (std::size_t t = 0; t < part.triangle_count; ++t) {
         const Tri& T = part.triangles[t];
-        if (!gives(T)) continue;
         const std::size_t s[3] = {slot_of(T[0]), slot_of(T[1]), slot_of(T[2])};
+        if (((near[s[0]] | near[s[1]] | near[s[2]]) & bit) == 0) continue;  // gives(T), its slots kept
         Tri mine;
         for (int c = 0; c < 3; ++c) {
             std::uint32_t& at = slot[s[c]];
