@@ -1,8 +1,8 @@
 // snvr-bench --quick as CI runs it, so the suite cannot rot: it finishes, covers every
 // device with every section, reports no failed case, measures the quality section's
 // cases with both tools (or notes the peer is not built), runs the points section's
-// tiny clouds through snvr-cl and the peers and the tiles section's one case, and prints
-// the tables it writes.
+// tiny clouds through snvr-cl and the peers, the tiles section's one case and the stages
+// section's (each stage's cost a unit beside its floor), and prints the tables it writes.
 #include <doctest/doctest.h>
 #include <sys/wait.h>
 
@@ -45,7 +45,7 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
 
     std::ifstream jsonl(out / "results.jsonl");
     std::set<std::string> devices, seen, quality;
-    int points_rows = 0, tiles_rows = 0;
+    int points_rows = 0, tiles_rows = 0, stages_rows = 0;
     std::string line;
     int records = 0;
     while (std::getline(jsonl, line)) {
@@ -80,6 +80,16 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
             CHECK(line.find("\"tiled_over_whole_s\": ") != std::string::npos);
             continue;
         }
+        if (field(line, "section") == "stages") {
+            // Once: every stage priced a unit, above its floor, beside OpenVDB (or its note).
+            ++stages_rows;
+            CHECK(line.find("_error\"") == std::string::npos);
+            for (const char* key : {"\"triad_gbps\": ", "\"snvr_check_ns\": ", "\"snvr_check_floor_ns\": ", "\"snvr_steps_over_floor\": ",
+                                    "\"snvr_init_units\": ", "\"snvr_mesh_floor_bytes\": "})
+                CHECK(line.find(key) != std::string::npos);
+            CHECK((line.find("\"snvr_over_openvdb_s\": ") != std::string::npos || field(line, "openvdb_note").rfind("not built", 0) == 0));
+            continue;
+        }
         const std::string device = field(line, "device");
         if (field(line, "backend") != "host") devices.insert(device);
         seen.insert(field(line, "section") + " on " + device);
@@ -102,8 +112,9 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
     md << md_file.rdbuf();
     CHECK(points_rows == 2);
     CHECK(tiles_rows == 1);
+    CHECK(stages_rows == 1);
     for (const char* heading : {"### Paper's Table 1", "### Paper's Table 2", "### Roofline", "### Scaling", "### Quality", "### Points",
-                                "### Tiles"}) {
+                                "### Tiles", "### Stages"}) {
         CHECK(md.str().find(heading) != std::string::npos);
         CHECK(printed.find(heading) != std::string::npos);
     }

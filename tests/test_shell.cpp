@@ -77,6 +77,25 @@ TEST_CASE("make_shell writes what snvr-cl writes, byte for byte, and reports wha
     CHECK(json.find("\"triangles\": " + std::to_string(shell.quality.triangles)) != std::string::npos);
     CHECK(summary.find("2 dropped") != std::string::npos);
     CHECK(json.find("\"dropped\": 2") != std::string::npos);
+
+    // Each stage by its unit of work: the seconds over the units, beside the bytes at the least.
+    const std::vector<snvr::StageUnit> units = snvr::stage_units(report);
+    REQUIRE(units.size() == 6);
+    const double band = double(shell.run.active_cells), triangles = double(shell.quality.triangles);
+    CHECK(units[0].stage == "distance");
+    CHECK(units[0].units == band);
+    CHECK(units[0].ns == doctest::Approx(shell.run.seconds.distance / band * 1e9));
+    CHECK(units[1].floor_bytes == double(shell.run.solver_bytes));  // the fields written once
+    CHECK(units[2].units == band * double(shell.run.steps.size()));
+    CHECK(units[2].floor_bytes == double(report.cycles.total) * double(shell.run.solver_bytes));
+    CHECK(units[4].stage == "check");
+    CHECK(units[4].units == triangles);
+    CHECK(units[4].ns == doctest::Approx(shell.seconds.check / triangles * 1e9));
+    CHECK(units[4].floor_bytes == 24.0 * double(shell.quality.vertices) + 12 * triangles);
+    CHECK(units[3].floor_bytes == units[4].floor_bytes + 4 * band);  // the phase read, the mesh written
+    CHECK(units[5].floor_bytes == 0);  // nothing written by the caller
+    CHECK(summary.find("ns a band cell a step") != std::string::npos);
+    CHECK(json.find("\"per_unit\"") != std::string::npos);
 }
 
 TEST_CASE("make_shell: units and scale take the points and every length to millimetres") {

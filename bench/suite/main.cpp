@@ -3,17 +3,18 @@
 // (or a chosen subset), each case in its own process with a warm-up and repetitions,
 // then the quality comparison with the OpenVDB peer (quality.hpp: once, on the default
 // device or the first of --devices) and the cost against the number of points
-// (points.hpp: snvr-cl and the peers as processes, once) and tiled runs against whole
-// ones (tiles.hpp, once), and writes results.jsonl,
+// (points.hpp: snvr-cl and the peers as processes, once), tiled runs against whole
+// ones (tiles.hpp, once) and each stage against its unit of work and its floor
+// (stages.hpp, beside the OpenVDB peer), and writes results.jsonl,
 // results.md (and points.md), the data for bench/plots.gp and the quality section's
 // PNG previews.
 //
-//   snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality,points,tiles] [--devices D1,D2]
+//   snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality,points,tiles,stages] [--devices D1,D2]
 //              [--precisions double,float] [--repeat N] [--table2 128,256,512] [--scaling 128,256,384,512]
 //              [--data DIR] [--out DIR]
 //              [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]
 //              [--points-clouds noisy-sphere,torus,bunny,...] [--points-max N] [--points-grids 256,512] [--points-scratch DIR]
-//              [--tiles-cases bunny@512/128,lidar@256/64,...]
+//              [--tiles-cases bunny@512/128,lidar@256/64,...] [--stages-cases bunny@256,bunny@1024,...]
 // Cases above 256 cells on the longest axis run once, without a warm-up (minutes each).
 #include <sys/stat.h>
 #include <unistd.h>
@@ -36,6 +37,7 @@
 #include "points_report.hpp"
 #include "quality.hpp"
 #include "report.hpp"
+#include "stages.hpp"
 #include "tiles.hpp"
 #include "snvr/shapes.hpp"
 
@@ -46,7 +48,7 @@ namespace {
 
 struct Options {
     bool quick = false;
-    std::set<std::string> sections{"table1", "table2", "roofline", "scaling", "quality", "points", "tiles"};
+    std::set<std::string> sections{"table1", "table2", "roofline", "scaling", "quality", "points", "tiles", "stages"};
     std::vector<std::string> devices, precisions;  // empty: all available / by mode
     int repeat = 3;
     std::vector<int> table2{128, 256, 512};  // 512^3 where memory allows (else "not measured")
@@ -58,6 +60,7 @@ struct Options {
     int quality_reference = 256;             // the grid a case's offset is given in (--quick: 64)
     PointsOptions points;                    // its device and data are filled in from the above
     TilesOptions tiles;                      // likewise
+    StagesOptions stages;                    // likewise
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -254,6 +257,14 @@ void run_tiles_section(Options& o, std::ofstream& jsonl, std::vector<Record>& re
     run_tiles(to, SNVR_CL_PROGRAM, keeper(jsonl, records));
 }
 
+// The stages section: snvr-cl's stages by their units and floors, beside the OpenVDB peer.
+void run_stages_section(Options& o, std::ofstream& jsonl, std::vector<Record>& records) {
+    StagesOptions& so = o.stages;
+    share_options(o, so);
+    so.scratch = scratch_folder("stages");
+    run_stages(so, SNVR_CL_PROGRAM, SNVR_OPENVDB_PEER_PROGRAM, keeper(jsonl, records));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -286,6 +297,7 @@ int main(int argc, char** argv) {
         else if (opt == "--points-grids") o.points.grids = resolutions(val);
         else if (opt == "--points-scratch") o.points.scratch = val;
         else if (opt == "--tiles-cases") o.tiles.cases = split(val);
+        else if (opt == "--stages-cases") o.stages.cases = split(val);
         else return usage(("unknown option " + opt).c_str());
     }
     if (o.repeat < 1) return usage("--repeat must be at least 1");
@@ -366,6 +378,7 @@ int main(int argc, char** argv) {
     if (o.sections.count("quality")) run_quality(o, o.devices.empty() ? "auto" : devices.front().first, jsonl, records);
     if (o.sections.count("points")) run_points_section(o, jsonl, records);
     if (o.sections.count("tiles")) run_tiles_section(o, jsonl, records);
+    if (o.sections.count("stages")) run_stages_section(o, jsonl, records);
 
     // Table 1: the paper's seconds where known.
     for (Record& r : records)
@@ -379,7 +392,7 @@ int main(int argc, char** argv) {
     for (const Record& r : found) heading += " " + r.text("device") + " (" + r.text("name") + ")";
     heading += ". Repetitions: " + std::to_string(o.repeat) +
                " after one warm-up (above 256 cells: one run, no warm-up); medians, (min-max) is the spread.";
-    const std::string md = markdown(records, heading) + tiles_markdown(records);
+    const std::string md = markdown(records, heading) + tiles_markdown(records) + stages_markdown(records);
     std::ofstream(o.out + "/results.md") << md;
     const std::string points_md = points_markdown(records);
     if (!points_md.empty()) std::ofstream(o.out + "/points.md") << heading << "\n" << points_md;

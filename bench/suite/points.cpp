@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "spawn.hpp"
+#include "program_runs.hpp"
 
 namespace snvr::bench {
 
@@ -92,68 +92,6 @@ std::vector<Cloud> plan_clouds(const PointsOptions& o) {
     return kept;
 }
 
-std::string exact(double v) {
-    char s[40];
-    std::snprintf(s, sizeof s, "%.17g", v);
-    return s;
-}
-
-// What a run of ours gives the peers: the voxel and offset, in the input's units.
-struct Lengths {
-    double voxel = 0, offset = 0;
-};
-
-// snvr-cl at one grid, as a user runs it; false when it failed (the record says why).
-bool measure_ours(const PointsOptions& o, const PointsPrograms& p, const std::string& cloud, int grid, const std::string& dir, Record& r,
-                  Lengths& lengths) {
-    const std::string report = dir + "/snvr.json";
-    std::vector<std::string> argv{p.snvr_cl, "reconstruct", cloud, "-o", dir + "/snvr.stl", "--resolution", std::to_string(grid),
-                                  "--report", report, "--quiet"};
-    if (!o.device.empty()) argv.insert(argv.end(), {"--device", o.device});
-    const ProgramRun run = run_program(argv);
-    r.set("snvr_process_s", run.seconds).set("snvr_cpu_s", run.cpu_seconds).set("snvr_peak_mib", run.peak_mib);
-    if (!run.ok()) {
-        r.set("snvr_error", run.why());
-        return false;
-    }
-    try {
-        std::ifstream in(report);
-        const json rep = json::parse(in);
-        // The report's lengths are in millimetres; the peers take the input's units.
-        const double to_input = 1 / rep.at("input").at("to_millimetres").get<double>();
-        lengths.voxel = rep.at("grid").at("voxel").get<double>() * to_input;
-        lengths.offset = rep.at("offset").at("length").get<double>() * to_input;
-        const json& g = rep.at("grid");
-        const double dropped = rep.at("outliers").at("dropped").get<double>();
-        r.set("points", rep.at("input").at("points").get<double>() + dropped).set("outliers_dropped", dropped);
-        r.set("grid", std::to_string(g.at("nx").get<int>()) + "x" + std::to_string(g.at("ny").get<int>()) + "x" +
-                          std::to_string(g.at("nz").get<int>()));
-        r.set("voxel", lengths.voxel).set("offset", lengths.offset).set("offset_h", lengths.offset / lengths.voxel);
-        r.set("band_cells", g.at("active_cells").get<double>()).set("backend", rep.at("backend").get<std::string>());
-        for (const char* stage : {"read", "outliers", "domain", "distance", "init", "steps", "mesh", "write", "check", "total"})
-            r.set(std::string("snvr_") + stage + "_s", rep.at("seconds").at(stage).get<double>());
-        r.set("snvr_triangles", rep.at("mesh").at("triangles").get<double>());
-    } catch (const std::exception& e) {
-        r.set("snvr_error", std::string("reading its report: ") + e.what());
-        return false;
-    }
-    return true;
-}
-
-// A peer at our voxel and offset (`name` prefixes its figures: process seconds, CPU
-// seconds, peak memory, or the error); the run when it succeeded.
-std::optional<ProgramRun> run_peer(const std::string& name, const std::string& program, const std::string& cloud,
-                                   const Lengths& l, const std::string& dir, Record& r) {
-    ProgramRun run = run_program({program, cloud, "-o", dir + "/" + name + ".stl", "--voxel", exact(l.voxel), "--offset",
-                                  exact(l.offset)});
-    r.set(name + "_process_s", run.seconds).set(name + "_cpu_s", run.cpu_seconds).set(name + "_peak_mib", run.peak_mib);
-    if (!run.ok()) {
-        r.set(name + "_error", run.why());
-        return std::nullopt;
-    }
-    return run;
-}
-
 // The distance + marching cubes peer: its stages from the JSON line it prints last.
 void measure_distance_peer(const PointsPrograms& p, const std::string& cloud, const Lengths& l, const std::string& dir, Record& r) {
     const std::optional<ProgramRun> run = run_peer("distance_mc", p.distance_mc_peer, cloud, l, dir, r);
@@ -166,17 +104,6 @@ void measure_distance_peer(const PointsPrograms& p, const std::string& cloud, co
     } catch (const std::exception& e) {
         r.set("distance_mc_error", std::string("reading its JSON line: ") + e.what());
     }
-}
-
-void measure_openvdb_peer(const PointsPrograms& p, const std::string& cloud, const Lengths& l, const std::string& dir, Record& r) {
-    if (p.openvdb_peer.empty()) {
-        r.set("openvdb_note", "not built (needs libopenvdb-dev and libboost-dev at configure time)");
-        return;
-    }
-    const std::optional<ProgramRun> run = run_peer("openvdb", p.openvdb_peer, cloud, l, dir, r);
-    if (!run) return;
-    const std::size_t at = run->output.find("triangles ");
-    if (at != std::string::npos) r.set("openvdb_triangles", std::atof(run->output.c_str() + at + 10));
 }
 
 // Short runs are the noisiest on a shared machine, and the smallest clouds are the base
@@ -269,10 +196,10 @@ void run_points(const PointsOptions& o, const PointsPrograms& p, const std::func
                          c.label().c_str(), c.points, grid);
             Record r = base(c, grid);
             Lengths lengths;
-            measure_repeated("snvr", o.repeat, r, [&](Record& run) { measure_ours(o, p, path, grid, dir, run, lengths); });
+            measure_repeated("snvr", o.repeat, r, [&](Record& run) { measure_ours(p.snvr_cl, o.device, path, grid, dir, run, lengths); });
             if (!r.has("snvr_error")) {
                 measure_repeated("distance_mc", o.repeat, r, [&](Record& run) { measure_distance_peer(p, path, lengths, dir, run); });
-                measure_repeated("openvdb", o.repeat, r, [&](Record& run) { measure_openvdb_peer(p, path, lengths, dir, run); });
+                measure_repeated("openvdb", o.repeat, r, [&](Record& run) { measure_openvdb_peer(p.openvdb_peer, path, lengths, dir, run); });
                 set_ratios(r);
             }
             const std::string key = c.family + "/" + std::to_string(grid);

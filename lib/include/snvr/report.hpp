@@ -41,6 +41,20 @@ struct RunReport {
 };
 
 RunReport make_report(const Shell& shell, const RunFiles& files = {});
+
+// A stage's cost by the unit of work it grows with, beside the bytes it must touch at the
+// least (each once): at a machine's stream rate those bytes are a floor the stage cannot go
+// below (snvr-bench's stages section sets the two side by side). The distance and the
+// initialisation go by band cell, the steps by band cell and step, the mesh stage, the
+// check and the write by triangle of the shell.
+struct StageUnit {
+    std::string stage;        // as the report's seconds name it
+    std::string unit;         // "band cell", "band cell a step", "triangle"
+    double units = 0;         // how many
+    double ns = 0;            // nanoseconds a unit (0 where there are none)
+    double floor_bytes = 0;   // bytes the stage must read or write at the least
+};
+std::vector<StageUnit> stage_units(const RunReport& report);
 CycleTotals cycle_totals(const std::vector<StepStats>& steps);
 
 // The summary's rows, "  key  value" a line (values printable: control bytes escaped).

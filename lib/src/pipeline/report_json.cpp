@@ -21,6 +21,9 @@ std::string report_json(const RunReport& report) {
     const MeshReport& m = run.quality.report;
     const double L = d.length_scale(), dt_cells = r.dt * (L / d.h) * (L / d.h);
 
+    json per_unit = json::object();
+    for (const StageUnit& u : stage_units(report))
+        per_unit[u.stage] = {{"unit", u.unit}, {"units", u.units}, {"ns", u.ns}, {"floor_bytes", u.floor_bytes}};
     json outputs = json::array();
     for (const RunFiles::Output& o : files.outputs) outputs.push_back({{"path", o.path}, {"kind", o.kind}, {"bytes", o.bytes}});
     const json doc = {
@@ -129,6 +132,7 @@ std::string report_json(const RunReport& report) {
           {"write", files.write_seconds},
           {"check", run.seconds.check},
           {"total", report.total_seconds}}},
+        {"per_unit", per_unit},
         {"size", {run.size[0], run.size[1], run.size[2]}},
         {"mesh",
          {{"triangles", m.triangles},

@@ -175,6 +175,20 @@ std::string report_summary(const RunReport& report) {
                        files.read_seconds, run.seconds.outliers, s.domain, s.distance, s.init, s.steps));
     row("", format_text("mesh %.2f, write %.2f, check %.2f; total %.2f", run.seconds.mesh, files.write_seconds,
                 run.seconds.check, report.total_seconds));
+    // Each stage's cost by its unit of work, a row a unit ("mesh 321, check 483 ns a triangle").
+    const std::vector<StageUnit> units = stage_units(report);
+    const char* key = "per unit";
+    for (std::size_t i = 0; i < units.size();) {
+        std::string stages;
+        std::size_t j = i;
+        for (; j < units.size() && units[j].unit == units[i].unit; ++j)
+            if (units[j].units > 0) stages += format_text("%s%s %.3g", stages.empty() ? "" : ", ", units[j].stage.c_str(), units[j].ns);
+        if (!stages.empty()) {
+            row(key, stages + " ns a " + units[i].unit);
+            key = "";
+        }
+        i = j;
+    }
     const MeshQuality& q = run.quality;
     const MeshReport& m = q.report;
     row("size", format_text("%.4g x %.4g x %.4g mm%s", run.size[0], run.size[1], run.size[2],
