@@ -11,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <random>
 #include <string>
 #include <type_traits>
@@ -177,6 +178,33 @@ TEST_CASE("quality: a sphere has genus 0, a torus genus 1") {
     CHECK(t.inside_disagreements == 0);
     CHECK(t.depth_min == doctest::Approx(1).epsilon(0.05));   // the core circle is 0.1 = l deep
     CHECK(t.depth_p01 == doctest::Approx(-2).epsilon(0.05));  // the axis is 0.2 outside
+}
+
+TEST_CASE("quality: the walls measured in blocks of space are the walls in vertex order") {
+    const Mesh& mesh = shell();
+    const std::size_t nv = mesh.vertices.size();
+    const std::vector<std::uint32_t> order = detail::wall_order(mesh);
+    REQUIRE(order.size() == nv);
+    std::vector<std::uint32_t> sorted = order, identity(nv);
+    std::sort(sorted.begin(), sorted.end());
+    std::iota(identity.begin(), identity.end(), 0u);
+    REQUIRE(sorted == identity);  // each vertex once
+    CHECK(order != sorted);  // the mesher's order is not the blocks'
+    // Neighbours in the order are near in space: far nearer than in the mesh's own order.
+    const auto mean_step = [&](const std::vector<std::uint32_t>& o) {
+        double sum = 0;
+        for (std::size_t k = 1; k < nv; ++k) sum += dist(mesh.vertices[o[k]], mesh.vertices[o[k - 1]]);
+        return sum / double(nv - 1);
+    };
+    CHECK(mean_step(order) < 0.5 * mean_step(sorted));
+    const TriangleGrid grid(mesh);
+    const std::vector<Vec3> normals = detail::unit_normals(mesh);
+    const double eps = detail::wall_epsilon(mesh);
+    std::vector<double> by_blocks(nv, kInf), in_order(nv, kInf);
+    detail::wall_thickness(mesh, grid, normals, eps, order, 0, nv, by_blocks);
+    detail::wall_thickness(mesh, grid, normals, eps, sorted, 0, nv, in_order);
+    CHECK(by_blocks == in_order);
+    CHECK(*std::min_element(in_order.begin(), in_order.end()) == thinnest_wall(mesh));
 }
 
 TEST_CASE("quality: a spherical shell of radii R - l and R + l") {

@@ -346,6 +346,7 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
     std::optional<TriangleGrid> grid;
     std::optional<detail::PointDepths> depths;
     std::vector<Vec3> normals;
+    std::vector<std::uint32_t> order;  // the walls' (detail::wall_order)
     std::size_t points_inside = 0;
     std::exception_ptr failed[3];  // A, B and the pieces: an exception may not leave a task
     const auto guarded = [&](std::exception_ptr& slot, auto&& part) {
@@ -378,6 +379,7 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
         guarded(failed[1], [&] {
             grid.emplace(mesh);
             normals = unit_normals(mesh);
+            order = detail::wall_order(mesh);
             if (surface && points.size()) {
                 // The second opinion (rays along z from every point) takes the points as a set.
                 PointSet all(points.size());
@@ -412,8 +414,9 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
                     for (std::size_t c = round_of(wall_chunks, r); c < round_of(wall_chunks, r + 1); ++c)
 #pragma omp task firstprivate(c)
                         guarded(failed[2], [&] {
-                            wall_thickness(mesh, *grid, normals, eps, c * kWallChunk, std::min(nv, (c + 1) * kWallChunk),
-                                           wall, elsewhere ? elsewhere->vertex.data() : nullptr);
+                            wall_thickness(mesh, *grid, normals, eps, order, c * kWallChunk,
+                                           std::min(nv, (c + 1) * kWallChunk), wall,
+                                           elsewhere ? elsewhere->vertex.data() : nullptr);
                         });
                     for (std::size_t c = round_of(group_chunks, r); c < round_of(group_chunks, r + 1); ++c)
 #pragma omp task firstprivate(c)
@@ -497,9 +500,10 @@ double thinnest_wall(const Mesh& mesh) {
     const double eps = wall_epsilon(mesh);
     const std::size_t nv = mesh.vertices.size();
     std::vector<double> wall(nv, kInf);
+    const std::vector<std::uint32_t> order = detail::wall_order(mesh);
 #pragma omp parallel for schedule(dynamic, 1) if (std::ptrdiff_t(nv) > detail::kParallelItems)
     for (std::ptrdiff_t c = 0; c < std::ptrdiff_t((nv + kWallChunk - 1) / kWallChunk); ++c)
-        wall_thickness(mesh, grid, normals, eps, std::size_t(c) * kWallChunk,
+        wall_thickness(mesh, grid, normals, eps, order, std::size_t(c) * kWallChunk,
                        std::min(nv, std::size_t(c + 1) * kWallChunk), wall);
     return wall.empty() ? kInf : *std::min_element(wall.begin(), wall.end());
 }

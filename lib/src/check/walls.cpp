@@ -69,8 +69,10 @@ double wall_epsilon(const Vec3& lo, const Vec3& hi) { return 1e-9 * norm({hi[0] 
 // normal to the first triangle met, ignoring the vertex's own triangles;
 // infinity when nothing is met.
 void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<Vec3>& normals, double eps,
-                    std::size_t first, std::size_t last, std::vector<double>& wall, const std::uint8_t* skip) {
-    for (std::size_t v = first; v < last; ++v) {
+                    const std::vector<std::uint32_t>& order, std::size_t first, std::size_t last,
+                    std::vector<double>& wall, const std::uint8_t* skip) {
+    for (std::size_t k = first; k < last; ++k) {
+        const std::uint32_t v = order[k];
         if (skip && skip[v]) continue;
         const Vec3& n = normals[v];
         if (dot(n, n) == 0) continue;
@@ -79,6 +81,41 @@ void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<V
 }
 
 
+std::vector<std::uint32_t> wall_order(const Mesh& m) {
+    constexpr int kBits = 6;  // blocks an axis: 2^kBits
+    constexpr std::size_t kBlocks = std::size_t(1) << (3 * kBits);
+    const std::size_t nv = m.vertices.size();
+    if (nv >= std::numeric_limits<std::uint32_t>::max()) throw ResourceError("the walls: more than 2^32 vertices");
+    Vec3 lo{kInf, kInf, kInf};
+    double extent = 0;
+    {
+        Vec3 hi{-kInf, -kInf, -kInf};
+        for (const Vec3& p : m.vertices)
+            for (int d = 0; d < 3; ++d) {
+                lo[d] = std::min(lo[d], p[d]);
+                hi[d] = std::max(hi[d], p[d]);
+            }
+        for (int d = 0; d < 3; ++d) extent = std::max(extent, hi[d] - lo[d]);
+    }
+    const double scale = extent > 0 ? double(1 << kBits) / extent : 0;
+    const auto block = [&](const Vec3& p) {
+        std::uint32_t key = 0;
+        for (int b = kBits - 1; b >= 0; --b)
+            for (int d = 2; d >= 0; --d) {
+                // Non-finite coordinates (none in a checked mesh) go to block 0.
+                const double x = (p[d] - lo[d]) * scale;
+                const std::uint32_t c = x > 0 ? std::uint32_t(std::min(x, double((1 << kBits) - 1))) : 0;
+                key = key << 1 | (c >> b & 1);
+            }
+        return key;
+    };
+    // A counting sort by block: linear, and in vertex order within a block.
+    std::vector<std::uint32_t> keys(nv), start(kBlocks + 1, 0), order(nv);
+    for (std::size_t v = 0; v < nv; ++v) ++start[(keys[v] = block(m.vertices[v])) + 1];
+    for (std::size_t b = 0; b < kBlocks; ++b) start[b + 1] += start[b];
+    for (std::size_t v = 0; v < nv; ++v) order[start[keys[v]]++] = std::uint32_t(v);
+    return order;
+}
 
 }  // namespace detail
 

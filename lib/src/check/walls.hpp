@@ -33,12 +33,20 @@ double wall_epsilon(const Mesh& m);
 // The same for a mesh whose box is [lo, hi] (not empty).
 double wall_epsilon(const Vec3& lo, const Vec3& hi);
 
-// wall[v], v in [first, last): the distance from vertex v along its inward normal to the
-// first triangle met, ignoring the vertex's own triangles; infinity when nothing is met
-// (and where the normal vanishes).
+// wall[v] for the vertices order[k], k in [first, last): the distance from vertex v along
+// its inward normal to the first triangle met, ignoring the vertex's own triangles;
+// infinity when nothing is met (and where the normal vanishes).
 // skip: vertices to leave as they are (measured elsewhere), or null.
 void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<Vec3>& normals, double eps,
-                    std::size_t first, std::size_t last, std::vector<double>& wall, const std::uint8_t* skip = nullptr);
+                    const std::vector<std::uint32_t>& order, std::size_t first, std::size_t last,
+                    std::vector<double>& wall, const std::uint8_t* skip = nullptr);
+
+// The vertices in the order their walls are measured in: by blocks of space (a coarse
+// Morton order of 64 blocks an axis over the mesh's box), so that rays cast one after
+// another meet the same cells, triangles and vertices in the caches; each wall is the same
+// in any order. (The bunny at 1024 cells: its rays 16-20% faster than in the mesher's order,
+// one thread or two.)
+std::vector<std::uint32_t> wall_order(const Mesh& m);
 
 // What other processes measure of the check (make_shell over MPI, with the surface's
 // figures): the walls of the flagged vertices, and the depths of the points in the flagged
