@@ -3,7 +3,9 @@
 # network): finds the driver's OpenCL library, points the bundled ICD loader at it in a
 # vendors folder of its own, and writes into FOLDER: devices.txt; the bunny at 128 cells
 # on the GPU and on OpenMP, float and double (same_bytes.txt: are the STLs the same
-# bytes?); the bunny
+# bytes? same_check.txt: are the check's verdicts and figures the same, the walls' rays
+# cast on the GPU by the rule against the host's? each report's per_unit prices the
+# stages); the bunny
 # at 256, 1024 and 2048 cells on the GPU (and at 256 and 1024 on OpenMP), each run's
 # --report with its seconds per stage; every kernel's GB/s against the device's copy
 # (roofline/, and roofline_planes/ for the CPU variant of the kernels); run.log. Under 5 minutes on a 16-core machine with one GPU.
@@ -86,6 +88,20 @@ run() {
   grep -E "Elapsed|Maximum resident|^wall|^device memory" "$out/$tag.time" | sed "s/^/  $tag: /"
 }
 
+# The check's verdicts and figures in a run's report, but its seconds and where its rays went.
+check_figures() { awk '/^  "check": \{/{on=1; next} on && /^  \}/{exit} on' "$1" | grep -v -E '"(seconds|walls_on)"'; }
+same_check() {  # TAG_A TAG_B LABEL
+  [ -f "$out/$1.json" ] && [ -f "$out/$2.json" ] || return 0
+  local on
+  on=$(grep -o '"walls_on": "[^"]*"' "$out/$1.json" | cut -d'"' -f4)
+  if diff <(check_figures "$out/$1.json") <(check_figures "$out/$2.json") > /dev/null; then
+    echo "$3: same check figures (walls cast on $on)" >> "$out/same_check.txt"
+  else
+    echo "$3: check figures differ (walls cast on $on): $(diff <(check_figures "$out/$1.json") <(check_figures "$out/$2.json") | head -4 | tr '\n' ' ')" >> "$out/same_check.txt"
+  fi
+}
+: > "$out/same_check.txt"
+
 run openmp 128 b128_openmp
 run openmp 128 b128d_openmp --precision double
 if [ -n "$gpu" ]; then
@@ -97,6 +113,8 @@ if [ -n "$gpu" ]; then
     else echo "$p: different: $(cmp "$out/${p}_gpu.stl" "$out/${p}_openmp.stl" 2>&1 | head -1)" >> "$out/same_bytes.txt"; fi
   done
   say "bunny at 128, GPU against OpenMP (float; double): $(tr '\n' ' ' < "$out/same_bytes.txt")"
+  same_check b128_gpu b128_openmp b128
+  same_check b128d_gpu b128d_openmp b128d
   say "kernels against the device's copy (roofline, bunny at ${SNVR_RUN_ROOFLINE:-1024})"
   "$bench" --sections roofline --devices "$gpu,openmp" --precisions float,double --repeat 5 \
     --roofline-resolution "${SNVR_RUN_ROOFLINE:-1024}" --data "$here/data" --out "$out/roofline" > "$out/roofline.log" 2>&1 || say "roofline failed"
@@ -118,6 +136,7 @@ for n in ${SNVR_RUN_OPENMP_GRIDS:-256 1024}; do
   if cmp -s "$out/b${n}_gpu_warm.stl" "$out/b${n}_openmp.stl"; then echo "b$n: same bytes" >> "$out/same_bytes.txt"
   else echo "b$n: different: $(cmp "$out/b${n}_gpu_warm.stl" "$out/b${n}_openmp.stl" 2>&1 | head -1)" >> "$out/same_bytes.txt"; fi
 done
+for n in ${SNVR_RUN_OPENMP_GRIDS:-256 1024}; do same_check "b${n}_gpu_warm" "b${n}_openmp" "b$n"; done
 # A large scan: the 24.6 M-point noisy sphere at 512 cells, on the GPU (twice) and on the host.
 spacing=${SNVR_RUN_SPHERE_SPACING:-0.00025}
 if [ "$spacing" != none ]; then
@@ -132,10 +151,12 @@ if [ "$spacing" != none ]; then
       if cmp -s "$out/s512_gpu_warm.stl" "$out/s512_openmp.stl"; then echo "s512: same bytes" >> "$out/same_bytes.txt"
       else echo "s512: different: $(cmp "$out/s512_gpu_warm.stl" "$out/s512_openmp.stl" 2>&1 | head -1)" >> "$out/same_bytes.txt"; fi
     fi
+    same_check s512_gpu_warm s512_openmp s512
     rm -f "$out/sphere.ply" "$out"/s512*.stl
   fi
 fi
 [ -f "$out/same_bytes.txt" ] && say "same bytes: $(tr '\n' ' ' < "$out/same_bytes.txt")"
+[ -s "$out/same_check.txt" ] && say "same check: $(tr '\n' ' ' < "$out/same_check.txt")"
 rm -f "$out"/b[0-9]*_*.stl.tmp* "$out"/b256*.stl "$out"/b1024*.stl "$out"/b2048*.stl
 rm -rf "$out/kernel-cache"
 say "done: $out"

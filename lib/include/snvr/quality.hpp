@@ -80,6 +80,8 @@ struct MeshQuality {
     double wall_min_2l = 0, wall_p01_2l = 0;  // the same over 2l
     std::size_t wall_misses = 0;              // vertices whose inward ray meets nothing (at a saddle-like
                                               // crease -normal can point out of the solid)
+    std::string walls_on = "host";            // where the walls' rays were cast: the host, or an OpenCL
+                                              // device (by a rule on the device the run used: make_shell)
 
     bool has_exact = false;  // the exact figures below were computed
     double exact_rms = 0;    // RMS over vertices of |exact(v)|, in h

@@ -324,7 +324,8 @@ void finish_figures(const Mesh& mesh, bool surface, const std::vector<Vec3>& nor
 // elsewhere: walls and points another process measures (or null).
 MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, double offset, double voxel,
                     bool surface, const std::function<double(const Vec3&)>& exact,
-                    const detail::CheckElsewhere* elsewhere = nullptr, const detail::Told& told = nullptr) {
+                    const detail::CheckElsewhere* elsewhere = nullptr, const detail::Told& told = nullptr,
+                    const detail::WallRays& rays = nullptr) {
     const auto started = std::chrono::steady_clock::now();
     MeshQuality q = start_figures(who, mesh, points, offset, voxel, surface);
     // Tasks on the team's threads, each part on one thread (their loops run
@@ -407,22 +408,45 @@ MeshQuality measure(const char* who, const Mesh& mesh, const PointTree& points, 
                 return !failed[2];
             };
             const auto round_of = [](std::size_t n, int r) { return n * std::size_t(r) / std::size_t(kCheckRounds); };
+            // Where the rays go elsewhere, they go at once, as the first round's task (the
+            // depths' first pass beside them); the host casts them where that fails.
+            const std::uint8_t* skip = elsewhere ? elsewhere->vertex.data() : nullptr;
+            bool cast_elsewhere = bool(rays);
+            const auto cast_chunk = [&](std::size_t c) {
+                guarded(failed[2], [&] {
+                    wall_thickness(mesh, *grid, normals, eps, order, c * kWallChunk, std::min(nv, (c + 1) * kWallChunk),
+                                   wall, skip);
+                });
+            };
             bool going = tell(0);
             for (int r = 0; going && r < kCheckRounds; ++r) {
 #pragma omp taskgroup
                 {
-                    for (std::size_t c = round_of(wall_chunks, r); c < round_of(wall_chunks, r + 1); ++c)
+                    for (std::size_t c = round_of(wall_chunks, r); !cast_elsewhere && c < round_of(wall_chunks, r + 1); ++c)
 #pragma omp task firstprivate(c)
+                        cast_chunk(c);
+                    if (cast_elsewhere && r == 0)
+#pragma omp task
                         guarded(failed[2], [&] {
-                            wall_thickness(mesh, *grid, normals, eps, order, c * kWallChunk,
-                                           std::min(nv, (c + 1) * kWallChunk), wall,
-                                           elsewhere ? elsewhere->vertex.data() : nullptr);
+                            std::vector<std::uint32_t> cast;
+                            cast.reserve(nv);
+                            for (std::uint32_t v : order)
+                                if (!skip || !skip[v]) cast.push_back(v);
+                            const std::string on = rays(mesh, *grid, normals, eps, cast, wall);
+                            if (!on.empty()) q.walls_on = on;
                         });
                     for (std::size_t c = round_of(group_chunks, r); c < round_of(group_chunks, r + 1); ++c)
 #pragma omp task firstprivate(c)
                         guarded(failed[2], [&] { depths->bound(c * chunk, std::min(groups, (c + 1) * chunk)); });
                 }
-                going = tell(std::min(nv, round_of(wall_chunks, r + 1) * kWallChunk) +
+                if (cast_elsewhere && r == 0 && q.walls_on == "host") {  // it could not: the host casts them all
+                    cast_elsewhere = false;
+#pragma omp taskgroup
+                    for (std::size_t c = 0; c < round_of(wall_chunks, 1); ++c)
+#pragma omp task firstprivate(c)
+                        cast_chunk(c);
+                }
+                going = tell(std::min(nv, (cast_elsewhere ? nv : round_of(wall_chunks, r + 1) * kWallChunk)) +
                              std::min(groups, round_of(group_chunks, r + 1) * chunk));
             }
             const double shallowest = going ? depths->shallowest() : 0;
@@ -488,9 +512,9 @@ MeshQuality detail::shell_figures(const Topology& topology, std::size_t points, 
 }
 
 MeshQuality detail::measure_told(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
-                                 const Told& told) {
+                                 const Told& told, const WallRays& rays) {
     return measure(surface ? "measure_quality" : "measure_shell", mesh, detail::tree_of(points), offset, voxel, surface,
-                   {}, nullptr, told);
+                   {}, nullptr, told, rays);
 }
 
 double thinnest_wall(const Mesh& mesh) {

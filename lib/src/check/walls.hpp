@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "check/mesh_topology.hpp"
@@ -41,6 +42,12 @@ void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<V
                     const std::vector<std::uint32_t>& order, std::size_t first, std::size_t last,
                     std::vector<double>& wall, const std::uint8_t* skip = nullptr);
 
+// Casts the walls' rays elsewhere (an OpenCL device: devices/check_device.hpp): wall[order[k]]
+// as wall_thickness would give it for every k; returns where it cast them, or "" where it
+// could not (the host casts them then).
+using WallRays = std::function<std::string(const Mesh& m, const TriangleGrid& grid, const std::vector<Vec3>& normals,
+                                           double eps, const std::vector<std::uint32_t>& order, std::vector<double>& wall)>;
+
 // The vertices in the order their walls are measured in: by blocks of space (a coarse
 // Morton order of 64 blocks an axis over the mesh's box), so that rays cast one after
 // another meet the same cells, triangles and vertices in the caches; each wall is the same
@@ -75,9 +82,10 @@ MeshQuality measure_sharing(const Mesh& mesh, const PointCloud& points, double o
 // the points' figures (the depths reordered).
 MeshQuality shell_figures(const Topology& topology, std::size_t points, double offset, double voxel,
                           std::vector<double>& walls, PointDepths::Figures& depths);
-// measure_quality (surface) or measure_shell, told how far it has come.
+// measure_quality (surface) or measure_shell, told how far it has come; the walls' rays cast
+// by `rays` where given (and able).
 MeshQuality measure_told(const Mesh& mesh, const PointCloud& points, double offset, double voxel, bool surface,
-                         const Told& told);
+                         const Told& told, const WallRays& rays = nullptr);
 
 // Every group of `depths` measured, in chunks over the threads.
 void measure_groups(PointDepths& depths);

@@ -481,6 +481,22 @@ void TriangleGrid::fill_cells() {
 
 int TriangleGrid::cell(int d, double v) const { return clamp_cell((v - lo_[d]) * inv_size_, n_[d]); }
 
+TriangleGrid::Cells TriangleGrid::cells() const {
+    Cells c;
+    if (start_.empty()) return c;
+    c.lo = lo_;
+    c.size = size_;
+    c.inv_size = inv_size_;
+    c.margin = margin_;
+    c.n = n_;
+    c.start = start_.data();
+    c.cells = start_.size() - 1;
+    c.items = items_.get();
+    c.boxes = item_boxes_.get();
+    c.stride = stride_;
+    return c;
+}
+
 double TriangleGrid::cell_gap_sq(const Vec3& p, int x, int y, int z) const {
     return detail::cell_gap_sq(lo_, size_, {x, y, z}, p);
 }

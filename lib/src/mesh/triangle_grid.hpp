@@ -52,6 +52,23 @@ public:
     // to be parallel to. (first_hit widens triangles by a sliver instead.)
     std::size_t count_crossings(const Vec3& origin, const Vec3& dir) const;
 
+    // The grid as plain arrays, for a device that walks it as first_hit does
+    // (kernels/wall_rays.cl): cell (x, y, z), c = x + n0 (y + n1 z), lists items start[c]
+    // .. start[c + 1]; item k is triangle items[k], its box near the cell the six bytes
+    // boxes[j stride + k] (lo x y z, hi x y z; see plane()). No cells where the mesh has
+    // no triangles.
+    struct Cells {
+        Vec3 lo{0, 0, 0};
+        double size = 1, inv_size = 1, margin = 0;
+        std::array<int, 3> n{0, 0, 0};
+        const std::uint32_t* start = nullptr;  // cells + 1 entries
+        std::size_t cells = 0;
+        const std::uint32_t* items = nullptr;
+        const std::uint8_t* boxes = nullptr;
+        std::size_t stride = 0;  // items, and the padding after them
+    };
+    Cells cells() const;
+
 private:
     // The construction's steps: the box, cell size and margins; each cell's triangles.
     void size_cells();

@@ -21,6 +21,8 @@ std::string report_json(const RunReport& report) {
     const MeshReport& m = run.quality.report;
     const double L = d.length_scale(), dt_cells = r.dt * (L / d.h) * (L / d.h);
 
+    json check = json::parse(quality_json(run.quality));
+    check["walls_on"] = run.quality.walls_on;
     json per_unit = json::object();
     for (const StageUnit& u : stage_units(report))
         per_unit[u.stage] = {{"unit", u.unit}, {"units", u.units}, {"ns", u.ns}, {"floor_bytes", u.floor_bytes}};
@@ -149,7 +151,7 @@ std::string report_json(const RunReport& report) {
             {"repair_rounds", run.guard.repair_rounds},
             {"shallow_points", run.guard.shallow_points},
             {"lone_points", run.guard.lone_points}}}}},
-        {"check", json::parse(quality_json(run.quality))},
+        {"check", check},
         {"warnings", run.warnings},
     };
     return doc.dump(2) + "\n";

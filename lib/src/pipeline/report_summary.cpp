@@ -205,8 +205,8 @@ std::string report_summary(const RunReport& report) {
                 m.zero_area_triangles ? format_text(", %zu zero-area triangles", m.zero_area_triangles).c_str() : ""));
     row("points enclosed", format_text("%s of %s; the nearest to the surface %.3g x offset deep (1st percentile %.3g)",
                                grouped(q.points_inside).c_str(), grouped(q.points).c_str(), q.depth_min, q.depth_p01));
-    row("walls", format_text("thinnest 1%% at %.3g voxels = %.3g x 2 offset (thinnest of all %.3g voxels)", q.wall_p01,
-                     q.wall_p01_2l, q.wall_min));
+    row("walls", format_text("thinnest 1%% at %.3g voxels = %.3g x 2 offset (thinnest of all %.3g voxels)%s", q.wall_p01,
+                     q.wall_p01_2l, q.wall_min, q.walls_on == "host" ? "" : ("; rays cast on " + q.walls_on).c_str()));
     if (q.has_surface)
         row("surface", format_text("distance to the points - offset: RMS %.3g voxels, mean %+.3g; dihedral RMS %.3g deg, "
                            "normal noise %.3g deg; genus %ld",

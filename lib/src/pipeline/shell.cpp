@@ -12,6 +12,7 @@
 
 #include "geometry/point_tree.hpp"
 #include "check/walls.hpp"
+#include "devices/check_device.hpp"
 #include "geometry/vec3_math.hpp"
 #include "io/formats.hpp"
 #include "pipeline/outlier_policy.hpp"
@@ -279,7 +280,7 @@ Shell shell_stages(PointCloud points, const ShellSettings& given, const Progress
     } else {
         hand_over();
         shell.quality = detail::measure_told(shell.mesh, points, run.offset, run.domain.h, settings.measure,
-                                             told);
+                                             told, detail::wall_rays_for(run.backend));
     }
     // The outlier rules' last count is this one when it was taken on these points (not
     // moved since) at this link (0.5-0.7 s for 1.5-25 M points, twice over).
