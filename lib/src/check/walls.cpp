@@ -80,7 +80,6 @@ void wall_thickness(const Mesh& m, const TriangleGrid& grid, const std::vector<V
     }
 }
 
-
 std::vector<std::uint32_t> wall_order(const Mesh& m) {
     constexpr int kBits = 6;  // blocks an axis: 2^kBits
     constexpr std::size_t kBlocks = std::size_t(1) << (3 * kBits);
@@ -99,14 +98,14 @@ std::vector<std::uint32_t> wall_order(const Mesh& m) {
     }
     const double scale = extent > 0 ? double(1 << kBits) / extent : 0;
     const auto block = [&](const Vec3& p) {
+        std::uint32_t c[3];
+        for (int d = 0; d < 3; ++d) {  // non-finite coordinates (none in a checked mesh) go to block 0
+            const double x = (p[d] - lo[d]) * scale;
+            c[d] = x > 0 ? std::uint32_t(std::min(x, double((1 << kBits) - 1))) : 0;
+        }
         std::uint32_t key = 0;
         for (int b = kBits - 1; b >= 0; --b)
-            for (int d = 2; d >= 0; --d) {
-                // Non-finite coordinates (none in a checked mesh) go to block 0.
-                const double x = (p[d] - lo[d]) * scale;
-                const std::uint32_t c = x > 0 ? std::uint32_t(std::min(x, double((1 << kBits) - 1))) : 0;
-                key = key << 1 | (c >> b & 1);
-            }
+            for (int d = 2; d >= 0; --d) key = key << 1 | (c[d] >> b & 1);
         return key;
     };
     // A counting sort by block: linear, and in vertex order within a block.
