@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "check/walls.hpp"
+#include "devices/check_device.hpp"
 #include "mesh/triangle_grid.hpp"
 #include "opencl/device_walls.hpp"
 #include "opencl/runtime.hpp"
@@ -111,6 +112,29 @@ TEST_CASE("make_shell's check with its walls on the device: the same figures, th
     const std::string report = report_json(make_report(device));
     CHECK(report.find("\"walls_on\": \"opencl:") != std::string::npos);
     CHECK(report_summary(make_report(device)).find("rays cast on opencl:") != std::string::npos);
+}
+
+TEST_CASE("the walls on a device too small for them: refused with the sizes, cast on the host instead") {
+    if (!device_has_fp64()) return;
+    const Mesh m = shell_of(PointCloud(shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.03)), 32);
+    const PointCloud points(shapes::sphere({0.5, 0.5, 0.5}, 0.3, 0.03));
+    ::setenv("SNVR_OPENCL_MEMORY", "65536", 1);  // 64 KiB: the solver's device, but not its walls
+    ::setenv("SNVR_CHECK_WALLS", "device", 1);
+    const TriangleGrid grid(m);
+    std::vector<double> wall(m.vertices.size(), kInf);
+    CHECK_THROWS_WITH_AS(opencl::device_walls("opencl", m, grid, detail::unit_normals(m), detail::wall_epsilon(m),
+                                              detail::wall_order(m), wall),
+                         doctest::Contains("MiB on OpenCL device"), ResourceError);
+    const detail::WallRays rays = detail::wall_rays_for("opencl:0:0 (the test's)");
+    REQUIRE(rays);  // the rule sends them there; the device cannot take them
+    const MeshQuality fallen = detail::measure_told(m, points, 0.03, 0.01, false, nullptr, rays);
+    ::unsetenv("SNVR_CHECK_WALLS");
+    ::unsetenv("SNVR_OPENCL_MEMORY");
+    const MeshQuality host = detail::measure_told(m, points, 0.03, 0.01, false, nullptr);
+    CHECK(fallen.walls_on == "host");
+    CHECK(fallen.wall_p01 == host.wall_p01);
+    CHECK(fallen.wall_min == host.wall_min);
+    CHECK(fallen.wall_misses == host.wall_misses);
 }
 
 TEST_CASE("the walls on an OpenCL device: refused by name without double precision") {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <string>
 
 #include "opencl/runtime.hpp"
 #include "opencl/work_groups.hpp"
@@ -35,6 +36,11 @@ void device_walls(const std::string& spec, const Mesh& m, const TriangleGrid& gr
         throw ParameterError("the walls on a device: one normal a vertex, fewer than 2^32 of them");
     const DeviceEntry device = choose_device(spec);
     if (!device.fp64) throw ParameterError("OpenCL device '" + device.name + "' has no double precision: the walls stay on the host");
+    // Fail before allocating, with the sizes, rather than at an upload.
+    const std::size_t need = device_walls_bytes(m, grid);
+    if (need > device.memory)
+        throw ResourceError("the walls need " + std::to_string(need >> 20) + " MiB on OpenCL device '" + device.name +
+                            "', which has " + std::to_string(device.memory >> 20) + " MiB");
     // The solver's program (a float run's build options): built once a process.
     Runtime rt(device, "float", work_groups(device, sizeof(float)).build_options());
     guarded("the walls", [&] {

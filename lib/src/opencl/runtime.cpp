@@ -102,6 +102,12 @@ std::vector<DeviceEntry> devices() {
                 e.fp64 = devs[d].getInfo<CL_DEVICE_DOUBLE_FP_CONFIG>() != 0 && !(no_fp64 && std::string(no_fp64) == "1");
                 e.memory = std::size_t(devs[d].getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>());
                 e.max_alloc = std::size_t(devs[d].getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>());
+                // SNVR_OPENCL_MEMORY=N: every device as one of at most N bytes (tests).
+                if (const char* most = std::getenv("SNVR_OPENCL_MEMORY")) {
+                    const std::size_t n = std::size_t(std::strtoull(most, nullptr, 10));
+                    e.memory = std::min(e.memory, n);
+                    e.max_alloc = std::min(e.max_alloc, n);
+                }
                 e.max_group = devs[d].getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
                 const std::vector<std::size_t> items = devs[d].getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
                 if (!items.empty()) e.max_group = std::min(e.max_group, items[0]);
