@@ -85,7 +85,7 @@ TEST_CASE("snvr-bench --quick covers every device and section and prints its tab
             ++stages_rows;
             CHECK(line.find("_error\"") == std::string::npos);
             for (const char* key : {"\"triad_gbps\": ", "\"snvr_check_ns\": ", "\"snvr_check_floor_ns\": ", "\"snvr_steps_over_floor\": ",
-                                    "\"snvr_init_units\": ", "\"snvr_mesh_floor_bytes\": "})
+                                    "\"snvr_init_units\": ", "\"snvr_mesh_floor_bytes\": ", "\"snvr_walls_on\": "})
                 CHECK(line.find(key) != std::string::npos);
             CHECK((line.find("\"snvr_over_openvdb_s\": ") != std::string::npos || field(line, "openvdb_note").rfind("not built", 0) == 0));
             continue;

@@ -80,13 +80,14 @@ std::vector<int> resolutions(const std::string& s) {
 
 int usage(const char* why) {
     std::fprintf(stderr,
-                 "snvr-bench: %s\nusage: snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality,points,tiles] [--devices D1,D2]\n"
+                 "snvr-bench: %s\nusage: snvr-bench [--quick] [--sections table1,table2,roofline,scaling,quality,points,tiles,stages] [--devices D1,D2]\n"
                  "                  [--precisions double,float] [--repeat N] [--table2 128,256,512] [--scaling 128,256,384,512]\n"
                  "                  [--roofline-resolution 256] [--data DIR] [--out DIR]\n"
                  "                  [--quality-resolutions 128,256,512] [--quality-cases bunny,sheets,...] [--quality-reference 256]\n"
                  "                  [--points-clouds noisy-sphere,torus,helicoid,bunny,...] [--points-max N (7000000)]\n"
                  "                  [--points-grids 256,512] [--points-scratch DIR ($TMPDIR/snvr-bench-points-PID)]\n"
-                 "                  [--tiles-cases CLOUD@CELLS/TILE,... (bunny@256/128,bunny@512/128,lidar@256/64)]\n",
+                 "                  [--tiles-cases CLOUD@CELLS/TILE,... (bunny@256/128,bunny@512/128,lidar@256/64)]\n"
+                 "                  [--stages-cases SCAN@CELLS,... (bunny@256,bunny@1024)]\n",
                  why);
     return 2;
 }

@@ -45,6 +45,7 @@ bool measure_ours(const std::string& snvr_cl, const std::string& device, const s
         for (const char* stage : {"read", "outliers", "domain", "distance", "init", "steps", "mesh", "write", "check", "total"})
             r.set(std::string("snvr_") + stage + "_s", rep.at("seconds").at(stage).get<double>());
         r.set("snvr_triangles", rep.at("mesh").at("triangles").get<double>());
+        r.set("snvr_walls_on", rep.at("check").at("walls_on").get<std::string>());
         for (const auto& [stage, u] : rep.at("per_unit").items()) {
             const std::string key = "snvr_" + stage;
             r.set(key + "_ns", u.at("ns").get<double>()).set(key + "_units", u.at("units").get<double>());

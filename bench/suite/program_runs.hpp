@@ -21,8 +21,8 @@ std::string exact(double v);
 // snvr-cl at one grid (`device`: its --device, empty for its own choice): process seconds,
 // CPU seconds and peak memory, the stages' seconds ("snvr_<stage>_s") and, for each stage
 // its report prices by a unit, the nanoseconds a unit and the bytes it must touch
-// ("snvr_<stage>_ns", "snvr_<stage>_floor_bytes", "snvr_<stage>_units"). False when it
-// failed (the record says why).
+// ("snvr_<stage>_ns", "snvr_<stage>_floor_bytes", "snvr_<stage>_units"), and where the
+// check's walls were cast ("snvr_walls_on"). False when it failed (the record says why).
 bool measure_ours(const std::string& snvr_cl, const std::string& device, const std::string& cloud, int grid,
                   const std::string& dir, Record& r, Lengths& lengths);
 
