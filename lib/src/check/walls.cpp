@@ -85,17 +85,9 @@ std::vector<std::uint32_t> wall_order(const Mesh& m) {
     constexpr std::size_t kBlocks = std::size_t(1) << (3 * kBits);
     const std::size_t nv = m.vertices.size();
     if (nv >= std::numeric_limits<std::uint32_t>::max()) throw ResourceError("the walls: more than 2^32 vertices");
-    Vec3 lo{kInf, kInf, kInf};
-    double extent = 0;
-    {
-        Vec3 hi{-kInf, -kInf, -kInf};
-        for (const Vec3& p : m.vertices)
-            for (int d = 0; d < 3; ++d) {
-                lo[d] = std::min(lo[d], p[d]);
-                hi[d] = std::max(hi[d], p[d]);
-            }
-        for (int d = 0; d < 3; ++d) extent = std::max(extent, hi[d] - lo[d]);
-    }
+    const Bounds box = bounds(m.vertices);
+    const Vec3& lo = box.lo;
+    const double extent = box.longest();
     const double scale = extent > 0 ? double(1 << kBits) / extent : 0;
     const auto block = [&](const Vec3& p) {
         std::uint32_t c[3];
