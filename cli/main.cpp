@@ -34,13 +34,28 @@ int dispatch(const std::string& command, const std::vector<std::string>& rest) {
 
 bool is_subcommand(const std::string& s) { return s == "reconstruct" || s == "devices" || s == "sample"; }
 
-// OpenMP's default spinning wait made a 64^3 linear step take 15x longer on a shared
-// 2-core machine. libgomp reads OMP_WAIT_POLICY when it loads, before main, so the
-// only way to choose passive waiting for the user is to set it and start again.
-void prefer_passive_waiting(char** argv) {
-    if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
-    ::setenv("OMP_WAIT_POLICY", "passive", 1);
-    ::execv("/proc/self/exe", argv);  // returns only on failure: carry on spinning
+// Settings that the C and OpenMP runtimes read once as the process loads, before main:
+// where the user has not chosen them, they are set and the program started again
+// (once: the second start finds them chosen).
+// - OMP_WAIT_POLICY=passive: OpenMP's default spinning wait made a 64^3 linear step
+//   take 15x longer on a shared 2-core machine.
+// - glibc.malloc.hugetlb=1 (GLIBC_TUNABLES): the large arrays (the fields, PoCL's
+//   buffers, the mesh and its check) advised into transparent huge pages. On a VM
+//   (bench/RESULTS.md, "Huge pages") a fresh 4 KiB page cost so much that the bunny
+//   at 1024 cells took 35 s with them and 18 s without; peak memory the same.
+void start_with_runtime_settings(char** argv) {
+    bool changed = false;
+    if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
+        ::setenv("OMP_WAIT_POLICY", "passive", 1);
+        changed = true;
+    }
+    const char* tunables = std::getenv("GLIBC_TUNABLES");
+    const std::string chosen = tunables ? tunables : "";
+    if (chosen.find("glibc.malloc.hugetlb") == std::string::npos) {
+        ::setenv("GLIBC_TUNABLES", (chosen.empty() ? "" : chosen + ":").append("glibc.malloc.hugetlb=1").c_str(), 1);
+        changed = true;
+    }
+    if (changed) ::execv("/proc/self/exe", argv);  // returns only on failure: carry on as started
 }
 
 // Ctrl-C, a terminal closing or a SIGTERM while a temporary has a name (briefly before
@@ -114,7 +129,7 @@ int run(const std::vector<std::string>& args, const std::string& command) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    prefer_passive_waiting(argv);
+    start_with_runtime_settings(argv);
     remove_temporaries_on_signals();
     writes_fail_rather_than_kill();
     try {

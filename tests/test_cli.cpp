@@ -143,3 +143,40 @@ TEST_CASE("devices: both backends listed; without a usable OpenCL device auto fa
     expect_failure("reconstruct " + cloud + o + " --device opencl:3:7", 1, "no such OpenCL platform/device", t);
     expect_failure("reconstruct " + cloud + o + " --device quantum", 1, "unknown device 'quantum'", t);
 }
+
+// snvr-cl starts itself again with glibc.malloc.hugetlb=1 (main.cpp): its large arrays
+// advised into transparent huge pages, which the report counts; the user's own
+// GLIBC_TUNABLES choice stands; the shell the same bytes either way.
+TEST_CASE("the large arrays in huge pages unless the user chose otherwise") {
+    TempDir t;
+    std::ifstream mode_file("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string mode;
+    std::getline(mode_file, mode);
+    const bool advised_only = mode.find("[madvise]") != std::string::npos;
+    const bool possible = advised_only || mode.find("[always]") != std::string::npos;
+    const std::string bunny = std::string(SNVR_DATA_DIR) + "/bunny.ply";
+    auto huge_bytes = [&](const std::string& env, const std::string& out) {
+        const std::string report = (t.path / "r.json").string();
+        const Run r = run("reconstruct " + bunny + " -o " + out + " --resolution 256 --report " + report, env);
+        CAPTURE(r.output);
+        REQUIRE(r.code == 0);
+        std::ifstream in(report);
+        const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::size_t at = json.find("\"huge_page_bytes\":");
+        REQUIRE(at != std::string::npos);
+        return std::stoull(json.substr(at + 18));
+    };
+    const std::string advised = (t.path / "advised.stl").string(), plain = (t.path / "plain.stl").string();
+    CAPTURE(mode);
+    if (possible)
+        CHECK(huge_bytes("env -u GLIBC_TUNABLES", advised) > 0);
+    else
+        CHECK(huge_bytes("env -u GLIBC_TUNABLES", advised) == 0);
+    const unsigned long long declined = huge_bytes("GLIBC_TUNABLES=glibc.malloc.hugetlb=0", plain);
+    if (advised_only) CHECK(declined == 0);
+    std::ifstream a(advised, std::ios::binary), b(plain, std::ios::binary);
+    const std::string bytes_a((std::istreambuf_iterator<char>(a)), std::istreambuf_iterator<char>()),
+        bytes_b((std::istreambuf_iterator<char>(b)), std::istreambuf_iterator<char>());
+    CHECK(!bytes_a.empty());
+    CHECK(bytes_a == bytes_b);
+}

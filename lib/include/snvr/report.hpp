@@ -37,6 +37,7 @@ struct RunReport {
     RunFiles files;
     CycleTotals cycles;                   // over shell.run.steps
     std::size_t peak_rss_bytes = 0;       // this process's, when the report was made
+    std::size_t huge_page_bytes = 0;      // of its memory then, what lies in transparent huge pages
     double total_seconds = 0;             // files.total_seconds, or the read, the shell and the write
 };
 
@@ -64,6 +65,8 @@ std::string report_json(const RunReport& report);
 
 // Peak resident set size of this process in bytes (0 if unknown).
 std::size_t peak_rss_bytes();
+// This process's anonymous memory in transparent huge pages now, in bytes (0 if unknown).
+std::size_t huge_page_bytes();
 // 1234567 -> "1,234,567".
 std::string grouped(std::size_t n);
 // printf into a std::string (the summary's rows, and messages about a run).

@@ -99,6 +99,7 @@ std::string report_json(const RunReport& report) {
         {"memory",
          {{"solver_bytes", r.solver_bytes},
           {"peak_rss_bytes", report.peak_rss_bytes},
+          {"huge_page_bytes", report.huge_page_bytes},
           {"budget_bytes", r.memory.budget},
           {"budget_given", r.memory.budget_given},
           {"held_bytes", r.memory.held},

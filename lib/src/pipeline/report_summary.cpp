@@ -149,8 +149,11 @@ std::string report_summary(const RunReport& report) {
                             cells > 0 ? 100.0 * double(r.active_cells) / cells : 0.0,
                             t.core_cells > 0 ? ", the tiles' halos counted" : ""));
     const MemoryFacts& budget = r.memory;
-    row("memory", format_text("solver %.1f MiB%s, peak RSS %.1f MiB", mib(r.solver_bytes),
-                              t.core_cells > 0 ? " (the largest tile's)" : "", mib(report.peak_rss_bytes)));
+    row("memory", format_text("solver %.1f MiB%s, peak RSS %.1f MiB%s", mib(r.solver_bytes),
+                              t.core_cells > 0 ? " (the largest tile's)" : "", mib(report.peak_rss_bytes),
+                              report.huge_page_bytes ? format_text(" (at the end %.1f MiB in huge pages)",
+                                                                   mib(report.huge_page_bytes)).c_str()
+                                                     : ""));
     if (budget.budget)
         row("", format_text("%s %.1f MiB%s: estimated peak %.1f MiB, set by %s (held %.1f MiB, the solver %.1f MiB "
                             "whole%s, %s %.1f%s, the mesh and its check %.1f, the grid's tables %.1f%s)",

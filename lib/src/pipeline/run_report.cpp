@@ -30,6 +30,17 @@ std::size_t peak_rss_bytes() {
 #endif
 }
 
+std::size_t huge_page_bytes() {
+    std::FILE* f = std::fopen("/proc/self/smaps_rollup", "r");
+    if (!f) return 0;
+    char line[256];
+    unsigned long long kib = 0;
+    while (std::fgets(line, sizeof line, f))
+        if (std::sscanf(line, "AnonHugePages: %llu kB", &kib) == 1) break;
+    std::fclose(f);
+    return std::size_t(kib) * 1024;
+}
+
 std::string format_text(const char* format, ...) {
     va_list args;
     va_start(args, format);
@@ -55,7 +66,7 @@ std::string grouped(std::size_t n) {
 RunReport make_report(const Shell& shell, const RunFiles& files) {
     const double total = files.total_seconds > 0 ? files.total_seconds
                                                  : files.read_seconds + shell.seconds.total + files.write_seconds;
-    return RunReport{shell, files, cycle_totals(shell.run.steps), peak_rss_bytes(), total};
+    return RunReport{shell, files, cycle_totals(shell.run.steps), peak_rss_bytes(), huge_page_bytes(), total};
 }
 
 }  // namespace snvr
