@@ -451,7 +451,7 @@ BandDistance<Real> band_distance(const detail::PointTree& tree, const Domain& d,
     BandDistance<Real> out;
     out.near_bricks = todo;
     out.far = far;
-    out.near_values.assign(todo.size() * std::size_t(kBrick * kBrick * kBrick), far);
+    out.near_values.resize(todo.size() * std::size_t(kBrick * kBrick * kBrick));  // each brick's own thread writes it
     if (todo.empty()) return out;
 
     // Cell centres per axis, as Domain::cell_center computes them.
@@ -498,6 +498,8 @@ BandDistance<Real> band_distance(const detail::PointTree& tree, const Domain& d,
                 }
             }
             Real* const to = out.near_values.data() + t * std::size_t(kBrick * kBrick * kBrick);
+            if (r.i1 - r.i0 < kBrick || r.j1 - r.j0 < kBrick || r.k1 - r.k0 < kBrick)
+                std::fill(to, to + kBrick * kBrick * kBrick, far);  // its cells beyond the grid
             for (int k = r.k0; k < r.k1; ++k)
                 for (int j = r.j0; j < r.j1; ++j) {
                     const std::size_t row = std::size_t(kBrick) * std::size_t((j - r.j0) + kBrick * (k - r.k0));

@@ -8,6 +8,7 @@
 #include <functional>
 #include <vector>
 
+#include "fresh_vector.hpp"
 #include "grid/brick_tiling.hpp"
 #include "geometry/point_tree.hpp"
 #include "snvr/domain.hpp"
@@ -24,7 +25,7 @@ struct Band {
 template <class Real>
 struct BandDistance {
     std::vector<std::uint32_t> near_bricks;  // level-0 bricks within l + cut of a point (queried), ascending
-    std::vector<Real> near_values;           // kBrick^3 per near brick, in near_bricks' order, x fastest
+    detail::FreshVector<Real> near_values;   // kBrick^3 per near brick, in near_bricks' order, x fastest
                                              // inside the brick (cells beyond the grid: far)
     Real far = 0;                            // every other cell: beyond the band
     std::vector<std::uint8_t> brick_mask;    // level-0 bricks holding a cell with |l - d| <= cut

@@ -21,7 +21,7 @@ using opencl::guarded;
 // work_groups() chose: on CPUs one work-item per plane (8), the sweep one per brick, on
 // GPUs one per row; restrict_coefficient one per coarse cell; in groups of the sizes
 // work_groups() chose for the device.
-constexpr std::size_t kRows = 64, kPlanes = 8;
+constexpr std::size_t kRows = 64, kPlanes = 8, kRowCells = kBrickCells / kRows;
 
 // The five ints kernels take as LEVEL_PARAMS.
 struct Shape {
@@ -53,6 +53,7 @@ public:
           prolong_(rt_.kernel("prolong_correct")),
           nonlinear_(rt_.kernel("nonlinear")),
           copy_(rt_.kernel("copy_bricks")),
+          zero_(rt_.kernel("zero_field")),
           coarse_solve_(rt_.kernel("coarse_solve")) {
         // A kernel may allow less than the device (registers): the sizes not compiled in
         // shrink to fit; the compiled ones must fit as they are.
@@ -61,7 +62,7 @@ public:
             for (const cl::Kernel* k : ks) n = std::min(n, rt_.kernel_group_limit(*k));
             return n;
         };
-        groups_.rows = opencl::fit_group(groups_.rows, limit({&init_, &nonlinear_, &copy_, &coarse_solve_}));
+        groups_.rows = opencl::fit_group(groups_.rows, limit({&init_, &nonlinear_, &copy_, &zero_, &coarse_solve_}));
         groups_.bricks = opencl::fit_group(groups_.bricks, limit({&smooth_}));
         groups_.cells = opencl::fit_group(groups_.cells, limit({&restrict_coefficient_}));
         const std::size_t brick_group = rows_variant() ? groups_.brick_rows : groups_.planes;
@@ -266,7 +267,8 @@ public:
 private:
     cl::Buffer zeroed_field(std::size_t cells) {
         cl::Buffer f = rt_.buffer(cells * sizeof(Real), "a solver field");
-        rt_.queue().enqueueFillBuffer(f, Real(0), 0, cells * sizeof(Real));
+        static_assert(kBrickCells % kRowCells == 0, "a field is whole rows");
+        launch_items(zero_, cells / kRowCells, groups_.rows, f);
         return f;
     }
 
@@ -341,7 +343,7 @@ private:
     opencl::WorkGroups groups_;
     opencl::Runtime rt_;
     cl::Kernel init_, restrict_coefficient_, smooth_, residual_norm_, sum_partials_, restrict_residual_, prolong_, nonlinear_, copy_,
-        coarse_solve_;
+        zero_, coarse_solve_;
     Hierarchy hier_;
     std::vector<BrickGrid> grids_;
     std::vector<LevelBuffers> levels_;

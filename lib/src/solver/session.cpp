@@ -188,7 +188,7 @@ void SolverSession<Real>::prepare(const PointCloud& measured, const Parameters& 
     // The band's distance moves into the layout's storage before the fields exist, and
     // from there into the backend: never three copies at once.
     std::vector<Real> packed = pack_band(layout_, dist);
-    dist.near_values = std::vector<Real>();
+    dist.near_values = detail::FreshVector<Real>();
     setup_backend(backend_, params.device, layout_, facts_.notes);
     facts_.backend = backend_->name();
     backend_->init_phase(std::move(packed), Real(band.offset), Real(problem_.profile_slope), Real(band.cut));
