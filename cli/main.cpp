@@ -1,5 +1,6 @@
 // snvr-cl: the command-line front end of libsnvr. Dispatches the subcommand and
 // turns exceptions into messages and exit codes (0 ok, 1 failure, 2 usage).
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -42,7 +43,17 @@ bool is_subcommand(const std::string& s) { return s == "reconstruct" || s == "de
 // - glibc.malloc.hugetlb=1 (GLIBC_TUNABLES): the large arrays (the fields, PoCL's
 //   buffers, the mesh and its check) advised into transparent huge pages. On a VM
 //   (bench/RESULTS.md, "Huge pages") a fresh 4 KiB page cost so much that the bunny
-//   at 1024 cells took 35 s with them and 18 s without; peak memory the same.
+//   at 1024 cells took 35 s with them and 18 s without; peak memory the same. Not
+//   under a limit of address space or data: glibc then rounds its heap's growth to 2 MiB,
+//   and a tight limit met that in libgomp's start, which aborts, before ours could say so.
+bool memory_limited() {
+    for (const int resource : {RLIMIT_AS, RLIMIT_DATA}) {
+        rlimit limit{};
+        if (::getrlimit(resource, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) return true;
+    }
+    return false;
+}
+
 void start_with_runtime_settings(char** argv) {
     bool changed = false;
     if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
@@ -51,7 +62,7 @@ void start_with_runtime_settings(char** argv) {
     }
     const char* tunables = std::getenv("GLIBC_TUNABLES");
     const std::string chosen = tunables ? tunables : "";
-    if (chosen.find("glibc.malloc.hugetlb") == std::string::npos) {
+    if (chosen.find("glibc.malloc.hugetlb") == std::string::npos && !memory_limited()) {
         ::setenv("GLIBC_TUNABLES", (chosen.empty() ? "" : chosen + ":").append("glibc.malloc.hugetlb=1").c_str(), 1);
         changed = true;
     }
