@@ -1,4 +1,5 @@
 #include "openmp/openmp_backend.hpp"
+#include "fresh_vector.hpp"
 #include "solver/brick_grid.hpp"
 #include "solver/phase_math.hpp"
 #include "solver/reduction.hpp"
@@ -18,9 +19,25 @@ namespace {
 
 template <class Real>
 struct LevelFields {
-    std::vector<Real> phi, rhs, g;  // brick-major (brick_grid.hpp)
-    std::vector<Real> distance;     // level 0 only: the normalised distance (for the tube)
+    std::vector<Real> phi;                 // brick-major (brick_grid.hpp)
+    detail::FreshVector<Real> rhs, g;      // zeroed by zeroed_field
+    std::vector<Real> distance;            // level 0 only: the normalised distance (for the tube)
 };
+
+// n zeros, each thread writing (and first touching) its own part: a serial assign faulted
+// every page on one core.
+template <class Real>
+detail::FreshVector<Real> zeroed_field(std::size_t n) {
+    detail::FreshVector<Real> f(n);
+    constexpr std::size_t kPart = std::size_t(1) << 16;
+    const std::ptrdiff_t parts = std::ptrdiff_t((n + kPart - 1) / kPart);
+#pragma omp parallel for schedule(static) if (parts > 1)
+    for (std::ptrdiff_t p = 0; p < parts; ++p) {
+        const std::size_t first = std::size_t(p) * kPart;
+        std::fill(f.data() + first, f.data() + std::min(n, first + kPart), Real(0));
+    }
+    return f;
+}
 
 // The neighbours of the 8 cells of one brick row: the row itself for -x/+x (and the
 // cells just beyond its ends), whole rows for -y +y -z +z, taken from this brick or
@@ -55,8 +72,8 @@ public:
         for (std::size_t l = 0; l < hier_.levels.size(); ++l) {
             const std::size_t n = grids_[l].storage();
             fields_[l].phi.assign(n, Real(0));
-            fields_[l].rhs.assign(n, Real(0));
-            fields_[l].g.assign(n, Real(0));
+            fields_[l].rhs = zeroed_field<Real>(n);
+            fields_[l].g = zeroed_field<Real>(n);
             std::fill_n(fields_[l].phi.begin() + kPlusSlot * kBrickCells, kBrickCells, Real(1));
             std::fill_n(fields_[l].phi.begin() + kMinusSlot * kBrickCells, kBrickCells, Real(-1));
         }
@@ -269,11 +286,11 @@ public:
     }
 
     void upload(int level, FieldKind field, const Real* dense) override {
-        pack_active(grids_[std::size_t(level)], hier_.levels[std::size_t(level)], dense, storage(level, field).data());
+        pack_active(grids_[std::size_t(level)], hier_.levels[std::size_t(level)], dense, storage(level, field));
     }
 
     void download(int level, FieldKind field, Real* dense) override {
-        unpack(grids_[std::size_t(level)], storage(level, field).data(), dense);
+        unpack(grids_[std::size_t(level)], storage(level, field), dense);
     }
 
     std::vector<Real> take_phase() override {
@@ -283,15 +300,15 @@ public:
     }
 
 private:
-    std::vector<Real>& storage(int level, FieldKind field) {
+    Real* storage(int level, FieldKind field) {
         LevelFields<Real>& f = fields_[std::size_t(level)];
         switch (field) {
-            case FieldKind::phi: return f.phi;
-            case FieldKind::rhs: return f.rhs;
-            case FieldKind::g: return f.g;
+            case FieldKind::phi: return f.phi.data();
+            case FieldKind::rhs: return f.rhs.data();
+            case FieldKind::g: return f.g.data();
             case FieldKind::distance: break;
         }
-        return f.distance;
+        return f.distance.data();
     }
 
     static int clamp_index(int i, int n) { return i < 0 ? 0 : (i >= n ? n - 1 : i); }
